@@ -1,0 +1,42 @@
+# quatspline — build / demo / test / lint / bench.
+# Every target sets itself up on a fresh machine: it creates .venv/ and installs what it needs.
+
+PY      ?= python3
+VENV    := .venv
+VPY     := $(VENV)/bin/python
+STAMP   := $(VENV)/.deps-stamp
+
+.PHONY: build demo test test-rust test-python lint bench clean
+
+$(STAMP): pyproject.toml
+	test -x $(VPY) || $(PY) -m venv $(VENV)
+	$(VPY) -m pip install --quiet --upgrade pip
+	$(VPY) -m pip install --quiet "maturin>=1.5,<2" numpy scipy pytest hypothesis mpmath \
+		numpy-quaternion pytransform3d splines ruff matplotlib
+	touch $(STAMP)
+
+build: $(STAMP)
+	$(VPY) -m maturin develop --release --quiet
+
+demo: build
+	$(VENV)/bin/quatspline demo
+
+test: build test-rust test-python lint
+
+test-rust:
+	cargo test --workspace --release
+
+test-python: build
+	$(VPY) -m pytest
+
+lint: $(STAMP)
+	cargo fmt --all --check
+	cargo clippy --workspace --all-targets --release -- -D warnings
+	$(VENV)/bin/ruff check python tests benchmarks
+	$(VENV)/bin/ruff format --check python tests benchmarks
+
+bench: build
+	$(VPY) benchmarks/bench.py
+
+clean:
+	rm -rf target $(VENV) out

@@ -1,0 +1,137 @@
+//! Array plumbing shared by every binding: shape checks, row access, output allocation,
+//! error mapping and the panic guard.
+
+use numpy::ndarray::ArrayView2;
+use numpy::{PyArray2, PyArrayMethods, PyReadonlyArray2};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use quatspline::{Error, Quat};
+
+/// Maps the core's error to a Python exception: `RuntimeError` for internal errors,
+/// `ValueError` for everything the caller can fix.
+pub fn to_py(e: Error) -> PyErr {
+    match e {
+        Error::Internal(_) => PyRuntimeError::new_err(e.to_string()),
+        _ => PyValueError::new_err(e.to_string()),
+    }
+}
+
+/// Runs `f` with the GIL released; a panic becomes a `RuntimeError` naming `what`.
+pub fn guarded<T: Send>(
+    py: Python<'_>,
+    what: &str,
+    f: impl FnOnce() -> Result<T, Error> + Send,
+) -> PyResult<T> {
+    let r = py.detach(|| std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)));
+    match r {
+        Ok(Ok(v)) => Ok(v),
+        Ok(Err(e)) => Err(to_py(e)),
+        Err(p) => {
+            let msg = p
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_else(|| "unknown panic".into());
+            Err(PyRuntimeError::new_err(format!(
+                "internal error in {what} (please report): {msg}"
+            )))
+        }
+    }
+}
+
+/// Read access to the rows of an (N, W) array with any strides.
+pub struct Rows<'a> {
+    pub view: ArrayView2<'a, f64>,
+    pub name: &'static str,
+}
+
+impl<'a> Rows<'a> {
+    /// Checks that `a` has shape (N, width) and that every element is finite.
+    pub fn new(
+        a: &'a PyReadonlyArray2<'_, f64>,
+        name: &'static str,
+        width: usize,
+    ) -> PyResult<Self> {
+        let view = a.as_array();
+        if view.ncols() != width {
+            return Err(PyValueError::new_err(format!(
+                "{name}: expected shape (..., {width}), got (..., {})",
+                view.ncols()
+            )));
+        }
+        if let Some(k) = view.iter().position(|v| !v.is_finite()) {
+            return Err(to_py(Error::NonFinite {
+                arg: name,
+                index: k / width.max(1),
+            }));
+        }
+        Ok(Rows { view, name })
+    }
+
+    pub fn len(&self) -> usize {
+        self.view.nrows()
+    }
+
+    #[inline]
+    pub fn row<const W: usize>(&self, i: usize) -> [f64; W] {
+        std::array::from_fn(|k| self.view[[i, k]])
+    }
+
+    /// Row `i` as a quaternion, as given.
+    #[inline]
+    pub fn quat(&self, i: usize) -> Quat {
+        Quat::from_wxyz(self.row::<4>(i))
+    }
+
+    /// Row `i` as a rotation: normalised, zero norm an error naming the row.
+    #[inline]
+    pub fn rotation(&self, i: usize) -> Result<Quat, Error> {
+        self.quat(i).try_normalize().map_err(|_| Error::ZeroNorm {
+            arg: self.name,
+            index: i,
+        })
+    }
+
+    #[inline]
+    pub fn scalar(&self, i: usize) -> f64 {
+        self.view[[i, 0]]
+    }
+}
+
+/// Checks that all row counts are equal (the Python layer broadcasts first).
+pub fn same_len(parts: &[(&str, usize)]) -> PyResult<usize> {
+    let n = parts[0].1;
+    for (name, m) in parts {
+        if *m != n {
+            let all: Vec<String> = parts.iter().map(|(a, b)| format!("{a}: {b}")).collect();
+            return Err(PyValueError::new_err(format!(
+                "{name}: batch sizes differ ({}); they must broadcast",
+                all.join(", ")
+            )));
+        }
+    }
+    Ok(n)
+}
+
+/// Allocates an (n, W) output and fills each row with `f(i)` (GIL released, panics guarded).
+pub fn fill<'py, const W: usize>(
+    py: Python<'py>,
+    what: &str,
+    n: usize,
+    f: impl Fn(usize) -> Result<[f64; W], Error> + Sync,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let out = PyArray2::<f64>::zeros(py, [n, W], false);
+    {
+        let mut rw = out.readwrite();
+        let slice = rw
+            .as_slice_mut()
+            .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        guarded(py, what, || {
+            for (i, chunk) in slice.chunks_exact_mut(W).enumerate() {
+                chunk.copy_from_slice(&f(i)?);
+            }
+            Ok(())
+        })?;
+    }
+    Ok(out)
+}

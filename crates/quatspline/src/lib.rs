@@ -1,0 +1,21 @@
+//! # quatspline
+//!
+//! Keyframe orientations and poses in, smooth rigid-body motion out. The pure Rust core:
+//! quaternion and dual-quaternion algebra ([`Quat`], [`DualQuat`]), conversions
+//! ([`convert`]), two-keyframe interpolation ([`interp`]). Every formula is in
+//! `shared/spec/MATH.md`; each method's doc comment states its formula, source and continuity.
+//!
+//! Fallible functions return [`Result`] with one [`Error`] type; nothing here panics on user
+//! data (the few panicking conveniences say so under `# Panics`).
+
+pub mod convert;
+pub mod dual_quat;
+mod error;
+pub mod interp;
+pub mod quat;
+pub mod special;
+pub mod vec3;
+
+pub use dual_quat::{DualQuat, Screw};
+pub use error::{Error, Result};
+pub use quat::Quat;

@@ -1,0 +1,76 @@
+"""quatspline: keyframe orientations and poses in, smooth rigid-body motion out.
+
+Quaternions are numpy arrays of shape (..., 4), scalar first (w, x, y, z); dual quaternions
+are (..., 8). The numerics live in a Rust core (``quatspline._core``); this package adds
+broadcasting, conversions, the CLI, file I/O and plots.
+"""
+
+from __future__ import annotations
+
+from ._core import __version__
+from .algebra import canonicalize, conjugate, exp, inverse, log, multiply, normalize, power, rotate
+from .convert import (
+    as_euler,
+    as_matrix,
+    as_rotvec,
+    as_xyzw,
+    from_axis_angle,
+    from_euler,
+    from_matrix,
+    from_rotvec,
+    from_scipy,
+    from_xyzw,
+    to_scipy,
+)
+from .dualquat import (
+    dlb,
+    dq_conjugate,
+    dq_from_pose,
+    dq_multiply,
+    dq_normalize,
+    dq_power,
+    dq_screw,
+    dq_to_pose,
+    dq_transform_point,
+    sclerp,
+)
+from .interpolate import lerp, lin_euler, lin_mat, nlerp, slerp
+
+__all__ = [
+    "__version__",
+    "as_euler",
+    "as_matrix",
+    "as_rotvec",
+    "as_xyzw",
+    "canonicalize",
+    "conjugate",
+    "dlb",
+    "dq_conjugate",
+    "dq_from_pose",
+    "dq_multiply",
+    "dq_normalize",
+    "dq_power",
+    "dq_screw",
+    "dq_to_pose",
+    "dq_transform_point",
+    "exp",
+    "from_axis_angle",
+    "from_euler",
+    "from_matrix",
+    "from_rotvec",
+    "from_scipy",
+    "from_xyzw",
+    "inverse",
+    "lerp",
+    "lin_euler",
+    "lin_mat",
+    "log",
+    "multiply",
+    "nlerp",
+    "normalize",
+    "power",
+    "rotate",
+    "sclerp",
+    "slerp",
+    "to_scipy",
+]
