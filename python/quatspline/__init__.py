@@ -7,6 +7,7 @@ broadcasting, conversions, the CLI, file I/O and plots.
 
 from __future__ import annotations
 
+from . import examples
 from ._core import __version__
 from .algebra import canonicalize, conjugate, exp, inverse, log, multiply, normalize, power, rotate
 from .convert import (
@@ -53,6 +54,7 @@ __all__ = [
     "dq_screw",
     "dq_to_pose",
     "dq_transform_point",
+    "examples",
     "exp",
     "from_axis_angle",
     "from_euler",

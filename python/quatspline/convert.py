@@ -103,5 +103,3 @@ def to_scipy(q):
     except ImportError as e:  # pragma: no cover - depends on the environment
         raise ImportError("to_scipy needs scipy: pip install scipy") from e
     return Rotation.from_quat(as_xyzw(q))
-
-

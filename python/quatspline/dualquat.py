@@ -65,7 +65,9 @@ def dq_conjugate(dq, kind: str = "quaternion") -> np.ndarray:
 
 def dq_transform_point(dq, points) -> np.ndarray:
     """r p r* + t for points (..., 3)."""
-    shape, (a, b) = broadcast((_dq(dq, "dq"), 8, "dq"), (with_width(points, "points", 3), 3, "points"))
+    shape, (a, b) = broadcast(
+        (_dq(dq, "dq"), 8, "dq"), (with_width(points, "points", 3), 3, "points")
+    )
     return _core.dq_transform_point(a, b).reshape((*shape, 3))
 
 
@@ -110,7 +112,5 @@ def dlb(dqs, weights) -> np.ndarray:
     w = as_real(weights, "weights")
     if w.ndim == 0 or w.shape[-1] != k:
         raise ValueError(f"weights: expected shape (..., {k}) for {k} poses, got {w.shape}")
-    shape, (a, b) = broadcast(
-        (d.reshape((*d.shape[:-2], 8 * k)), 8 * k, "dqs"), (w, k, "weights")
-    )
+    shape, (a, b) = broadcast((d.reshape((*d.shape[:-2], 8 * k)), 8 * k, "dqs"), (w, k, "weights"))
     return _core.dlb(a, b, k).reshape((*shape, 8))

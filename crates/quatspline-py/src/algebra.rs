@@ -13,10 +13,7 @@ type Out<'py> = PyResult<Bound<'py, PyArray2<f64>>>;
 fn unit_dq(rows: &Rows, i: usize) -> Result<DualQuat, Error> {
     DualQuat::from_array(rows.row::<8>(i))
         .try_normalize()
-        .map_err(|_| Error::ZeroNorm {
-            arg: rows.name,
-            index: i,
-        })
+        .map_err(|_| Error::ZeroNorm { arg: rows.name, index: i })
 }
 
 #[pyfunction]
@@ -42,10 +39,7 @@ fn conjugate<'py>(py: Python<'py>, q: Arr<'py>) -> Out<'py> {
 fn inverse<'py>(py: Python<'py>, q: Arr<'py>) -> Out<'py> {
     let q = Rows::new(&q, "q", 4)?;
     fill(py, "inverse", q.len(), |i| {
-        q.quat(i)
-            .try_inverse()
-            .map(Quat::to_wxyz)
-            .map_err(|_| Error::ZeroNorm { arg: "q", index: i })
+        q.quat(i).try_inverse().map(Quat::to_wxyz).map_err(|_| Error::ZeroNorm { arg: "q", index: i })
     })
 }
 
@@ -71,18 +65,14 @@ fn log<'py>(py: Python<'py>, q: Arr<'py>) -> Out<'py> {
 fn power<'py>(py: Python<'py>, q: Arr<'py>, t: Arr<'py>) -> Out<'py> {
     let (q, t) = (Rows::new(&q, "q", 4)?, Rows::new(&t, "t", 1)?);
     let n = same_len(&[("q", q.len()), ("t", t.len())])?;
-    fill(py, "power", n, |i| {
-        Ok(q.rotation(i)?.powf(t.scalar(i)).to_wxyz())
-    })
+    fill(py, "power", n, |i| Ok(q.rotation(i)?.powf(t.scalar(i)).to_wxyz()))
 }
 
 #[pyfunction]
 fn rotate<'py>(py: Python<'py>, q: Arr<'py>, v: Arr<'py>) -> Out<'py> {
     let (q, v) = (Rows::new(&q, "q", 4)?, Rows::new(&v, "vectors", 3)?);
     let n = same_len(&[("q", q.len()), ("vectors", v.len())])?;
-    fill(py, "rotate", n, |i| {
-        Ok(q.rotation(i)?.rotate(v.row::<3>(i)))
-    })
+    fill(py, "rotate", n, |i| Ok(q.rotation(i)?.rotate(v.row::<3>(i))))
 }
 
 #[pyfunction]
@@ -100,31 +90,23 @@ fn from_matrix<'py>(py: Python<'py>, m: Arr<'py>) -> Out<'py> {
     fill(py, "from_matrix", m.len(), |i| {
         let r = m.row::<9>(i);
         let mat: convert::Mat3 = std::array::from_fn(|a| std::array::from_fn(|b| r[3 * a + b]));
-        convert::try_from_matrix(&mat)
-            .map(Quat::to_wxyz)
-            .map_err(|e| match e {
-                Error::Invalid { message, .. } => {
-                    Error::invalid("matrix", format!("matrix {i}: {message}"))
-                }
-                other => other,
-            })
+        convert::try_from_matrix(&mat).map(Quat::to_wxyz).map_err(|e| match e {
+            Error::Invalid { message, .. } => Error::invalid("matrix", format!("matrix {i}: {message}")),
+            other => other,
+        })
     })
 }
 
 #[pyfunction]
 fn as_rotvec<'py>(py: Python<'py>, q: Arr<'py>) -> Out<'py> {
     let q = Rows::new(&q, "q", 4)?;
-    fill(py, "as_rotvec", q.len(), |i| {
-        Ok(convert::to_rotvec(q.rotation(i)?))
-    })
+    fill(py, "as_rotvec", q.len(), |i| Ok(convert::to_rotvec(q.rotation(i)?)))
 }
 
 #[pyfunction]
 fn from_rotvec<'py>(py: Python<'py>, r: Arr<'py>) -> Out<'py> {
     let r = Rows::new(&r, "rotvec", 3)?;
-    fill(py, "from_rotvec", r.len(), |i| {
-        Ok(convert::from_rotvec(r.row::<3>(i)).to_wxyz())
-    })
+    fill(py, "from_rotvec", r.len(), |i| Ok(convert::from_rotvec(r.row::<3>(i)).to_wxyz()))
 }
 
 #[pyfunction]
@@ -146,72 +128,37 @@ fn parse_seq(seq: &str) -> PyResult<EulerSeq> {
 fn from_euler<'py>(py: Python<'py>, seq: &str, angles: Arr<'py>) -> Out<'py> {
     let s = parse_seq(seq)?;
     let a = Rows::new(&angles, "angles", 3)?;
-    fill(py, "from_euler", a.len(), |i| {
-        Ok(convert::from_euler(s, a.row::<3>(i)).to_wxyz())
-    })
+    fill(py, "from_euler", a.len(), |i| Ok(convert::from_euler(s, a.row::<3>(i)).to_wxyz()))
 }
 
 #[pyfunction]
 fn as_euler<'py>(py: Python<'py>, q: Arr<'py>, seq: &str) -> Out<'py> {
     let s = parse_seq(seq)?;
     let q = Rows::new(&q, "q", 4)?;
-    fill(py, "as_euler", q.len(), |i| {
-        Ok(convert::to_euler(s, q.rotation(i)?).0)
-    })
+    fill(py, "as_euler", q.len(), |i| Ok(convert::to_euler(s, q.rotation(i)?).0))
 }
 
 #[pyfunction]
 fn lerp<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>) -> Out<'py> {
-    let (a, b, t) = (
-        Rows::new(&q0, "q0", 4)?,
-        Rows::new(&q1, "q1", 4)?,
-        Rows::new(&t, "t", 1)?,
-    );
+    let (a, b, t) = (Rows::new(&q0, "q0", 4)?, Rows::new(&q1, "q1", 4)?, Rows::new(&t, "t", 1)?);
     let n = same_len(&[("q0", a.len()), ("q1", b.len()), ("t", t.len())])?;
-    fill(py, "lerp", n, |i| {
-        Ok(interp::lerp(a.quat(i), b.quat(i), t.scalar(i)).to_wxyz())
-    })
+    fill(py, "lerp", n, |i| Ok(interp::lerp(a.quat(i), b.quat(i), t.scalar(i)).to_wxyz()))
 }
 
 #[pyfunction]
-fn nlerp<'py>(
-    py: Python<'py>,
-    q0: Arr<'py>,
-    q1: Arr<'py>,
-    t: Arr<'py>,
-    long_path: bool,
-) -> Out<'py> {
-    let (a, b, t) = (
-        Rows::new(&q0, "q0", 4)?,
-        Rows::new(&q1, "q1", 4)?,
-        Rows::new(&t, "t", 1)?,
-    );
+fn nlerp<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>, long_path: bool) -> Out<'py> {
+    let (a, b, t) = (Rows::new(&q0, "q0", 4)?, Rows::new(&q1, "q1", 4)?, Rows::new(&t, "t", 1)?);
     let n = same_len(&[("q0", a.len()), ("q1", b.len()), ("t", t.len())])?;
     fill(py, "nlerp", n, |i| {
-        interp::try_nlerp(a.rotation(i)?, b.rotation(i)?, t.scalar(i), long_path)
-            .map(Quat::to_wxyz)
-            .map_err(|_| {
-                Error::invalid(
-                    "t",
-                    format!("nlerp of antipodal keys passes through zero at row {i}"),
-                )
-            })
+        interp::try_nlerp(a.rotation(i)?, b.rotation(i)?, t.scalar(i), long_path).map(Quat::to_wxyz).map_err(
+            |_| Error::invalid("t", format!("nlerp of antipodal keys passes through zero at row {i}")),
+        )
     })
 }
 
 #[pyfunction]
-fn slerp<'py>(
-    py: Python<'py>,
-    q0: Arr<'py>,
-    q1: Arr<'py>,
-    t: Arr<'py>,
-    long_path: bool,
-) -> Out<'py> {
-    let (a, b, t) = (
-        Rows::new(&q0, "q0", 4)?,
-        Rows::new(&q1, "q1", 4)?,
-        Rows::new(&t, "t", 1)?,
-    );
+fn slerp<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>, long_path: bool) -> Out<'py> {
+    let (a, b, t) = (Rows::new(&q0, "q0", 4)?, Rows::new(&q1, "q1", 4)?, Rows::new(&t, "t", 1)?);
     let n = same_len(&[("q0", a.len()), ("q1", b.len()), ("t", t.len())])?;
     fill(py, "slerp", n, |i| {
         Ok(interp::slerp(a.rotation(i)?, b.rotation(i)?, t.scalar(i), long_path).to_wxyz())
@@ -221,11 +168,7 @@ fn slerp<'py>(
 #[pyfunction]
 fn lin_euler<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>, seq: &str) -> Out<'py> {
     let s = parse_seq(seq)?;
-    let (a, b, t) = (
-        Rows::new(&q0, "q0", 4)?,
-        Rows::new(&q1, "q1", 4)?,
-        Rows::new(&t, "t", 1)?,
-    );
+    let (a, b, t) = (Rows::new(&q0, "q0", 4)?, Rows::new(&q1, "q1", 4)?, Rows::new(&t, "t", 1)?);
     let n = same_len(&[("q0", a.len()), ("q1", b.len()), ("t", t.len())])?;
     fill(py, "lin_euler", n, |i| {
         Ok(interp::lin_euler(s, a.rotation(i)?, b.rotation(i)?, t.scalar(i)).to_wxyz())
@@ -234,15 +177,9 @@ fn lin_euler<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>, seq:
 
 #[pyfunction]
 fn lin_mat<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>) -> Out<'py> {
-    let (a, b, t) = (
-        Rows::new(&q0, "q0", 4)?,
-        Rows::new(&q1, "q1", 4)?,
-        Rows::new(&t, "t", 1)?,
-    );
+    let (a, b, t) = (Rows::new(&q0, "q0", 4)?, Rows::new(&q1, "q1", 4)?, Rows::new(&t, "t", 1)?);
     let n = same_len(&[("q0", a.len()), ("q1", b.len()), ("t", t.len())])?;
-    fill(py, "lin_mat", n, |i| {
-        Ok(interp::lin_mat(a.rotation(i)?, b.rotation(i)?, t.scalar(i)).to_wxyz())
-    })
+    fill(py, "lin_mat", n, |i| Ok(interp::lin_mat(a.rotation(i)?, b.rotation(i)?, t.scalar(i)).to_wxyz()))
 }
 
 #[pyfunction]
@@ -267,9 +204,7 @@ fn dq_to_pose<'py>(py: Python<'py>, dq: Arr<'py>) -> Out<'py> {
 #[pyfunction]
 fn dq_normalize<'py>(py: Python<'py>, dq: Arr<'py>) -> Out<'py> {
     let d = Rows::new(&dq, "dq", 8)?;
-    fill(py, "dq_normalize", d.len(), |i| {
-        Ok(unit_dq(&d, i)?.to_array())
-    })
+    fill(py, "dq_normalize", d.len(), |i| Ok(unit_dq(&d, i)?.to_array()))
 }
 
 #[pyfunction]
@@ -303,9 +238,7 @@ fn dq_conjugate<'py>(py: Python<'py>, dq: Arr<'py>, kind: u8) -> Out<'py> {
 fn dq_transform_point<'py>(py: Python<'py>, dq: Arr<'py>, p: Arr<'py>) -> Out<'py> {
     let (d, p) = (Rows::new(&dq, "dq", 8)?, Rows::new(&p, "points", 3)?);
     let n = same_len(&[("dq", d.len()), ("points", p.len())])?;
-    fill(py, "dq_transform_point", n, |i| {
-        Ok(unit_dq(&d, i)?.transform_point(p.row::<3>(i)))
-    })
+    fill(py, "dq_transform_point", n, |i| Ok(unit_dq(&d, i)?.transform_point(p.row::<3>(i))))
 }
 
 /// Returns (N, 8): axis (3), angle, displacement, moment (3).
@@ -314,16 +247,7 @@ fn dq_screw<'py>(py: Python<'py>, dq: Arr<'py>) -> Out<'py> {
     let d = Rows::new(&dq, "dq", 8)?;
     fill(py, "dq_screw", d.len(), |i| {
         let s = unit_dq(&d, i)?.screw();
-        Ok([
-            s.axis[0],
-            s.axis[1],
-            s.axis[2],
-            s.angle,
-            s.displacement,
-            s.moment[0],
-            s.moment[1],
-            s.moment[2],
-        ])
+        Ok([s.axis[0], s.axis[1], s.axis[2], s.angle, s.displacement, s.moment[0], s.moment[1], s.moment[2]])
     })
 }
 
@@ -331,22 +255,14 @@ fn dq_screw<'py>(py: Python<'py>, dq: Arr<'py>) -> Out<'py> {
 fn dq_power<'py>(py: Python<'py>, dq: Arr<'py>, t: Arr<'py>) -> Out<'py> {
     let (d, t) = (Rows::new(&dq, "dq", 8)?, Rows::new(&t, "t", 1)?);
     let n = same_len(&[("dq", d.len()), ("t", t.len())])?;
-    fill(py, "dq_power", n, |i| {
-        Ok(unit_dq(&d, i)?.powf(t.scalar(i)).to_array())
-    })
+    fill(py, "dq_power", n, |i| Ok(unit_dq(&d, i)?.powf(t.scalar(i)).to_array()))
 }
 
 #[pyfunction]
 fn sclerp<'py>(py: Python<'py>, dq0: Arr<'py>, dq1: Arr<'py>, t: Arr<'py>) -> Out<'py> {
-    let (a, b, t) = (
-        Rows::new(&dq0, "dq0", 8)?,
-        Rows::new(&dq1, "dq1", 8)?,
-        Rows::new(&t, "t", 1)?,
-    );
+    let (a, b, t) = (Rows::new(&dq0, "dq0", 8)?, Rows::new(&dq1, "dq1", 8)?, Rows::new(&t, "t", 1)?);
     let n = same_len(&[("dq0", a.len()), ("dq1", b.len()), ("t", t.len())])?;
-    fill(py, "sclerp", n, |i| {
-        Ok(interp::sclerp(unit_dq(&a, i)?, unit_dq(&b, i)?, t.scalar(i)).to_array())
-    })
+    fill(py, "sclerp", n, |i| Ok(interp::sclerp(unit_dq(&a, i)?, unit_dq(&b, i)?, t.scalar(i)).to_array()))
 }
 
 /// dqs: (N, 8K) rows of K poses; weights: (N, K).
@@ -361,21 +277,13 @@ fn dlb<'py>(py: Python<'py>, dqs: Arr<'py>, weights: Arr<'py>, k: usize) -> Out<
                 let a: [f64; 8] = std::array::from_fn(|c| d.view[[i, 8 * j + c]]);
                 DualQuat::from_array(a)
                     .try_normalize()
-                    .map_err(|_| Error::ZeroNorm {
-                        arg: "dqs",
-                        index: i * k + j,
-                    })
+                    .map_err(|_| Error::ZeroNorm { arg: "dqs", index: i * k + j })
             })
             .collect::<Result<_, _>>()?;
         let ws: Vec<f64> = (0..k).map(|j| w.view[[i, j]]).collect();
-        interp::try_dlb(&poses, &ws)
-            .map(DualQuat::to_array)
-            .map_err(|_| {
-                Error::invalid(
-                    "weights",
-                    format!("row {i}: the weighted sum has zero rotation part"),
-                )
-            })
+        interp::try_dlb(&poses, &ws).map(DualQuat::to_array).map_err(|_| {
+            Error::invalid("weights", format!("row {i}: the weighted sum has zero rotation part"))
+        })
     })
 }
 

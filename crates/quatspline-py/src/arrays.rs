@@ -6,6 +6,7 @@ use numpy::{PyArray2, PyArrayMethods, PyReadonlyArray2};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use quatspline::{Error, Quat};
+use rayon::prelude::*;
 
 /// Maps the core's error to a Python exception: `RuntimeError` for internal errors,
 /// `ValueError` for everything the caller can fix.
@@ -32,26 +33,21 @@ pub fn guarded<T: Send>(
                 .cloned()
                 .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
                 .unwrap_or_else(|| "unknown panic".into());
-            Err(PyRuntimeError::new_err(format!(
-                "internal error in {what} (please report): {msg}"
-            )))
+            Err(PyRuntimeError::new_err(format!("internal error in {what} (please report): {msg}")))
         }
     }
 }
 
-/// Read access to the rows of an (N, W) array with any strides.
+/// Read access to the rows of an (N, W) array with any strides (a slice when C-contiguous).
 pub struct Rows<'a> {
     pub view: ArrayView2<'a, f64>,
+    flat: Option<&'a [f64]>,
     pub name: &'static str,
 }
 
 impl<'a> Rows<'a> {
     /// Checks that `a` has shape (N, width) and that every element is finite.
-    pub fn new(
-        a: &'a PyReadonlyArray2<'_, f64>,
-        name: &'static str,
-        width: usize,
-    ) -> PyResult<Self> {
+    pub fn new(a: &'a PyReadonlyArray2<'_, f64>, name: &'static str, width: usize) -> PyResult<Self> {
         let view = a.as_array();
         if view.ncols() != width {
             return Err(PyValueError::new_err(format!(
@@ -59,42 +55,47 @@ impl<'a> Rows<'a> {
                 view.ncols()
             )));
         }
-        if let Some(k) = view.iter().position(|v| !v.is_finite()) {
-            return Err(to_py(Error::NonFinite {
-                arg: name,
-                index: k / width.max(1),
-            }));
+        let flat = view.to_slice();
+        let bad = match flat {
+            Some(s) => s.iter().position(|v| !v.is_finite()),
+            None => view.iter().position(|v| !v.is_finite()),
+        };
+        if let Some(k) = bad {
+            return Err(to_py(Error::NonFinite { arg: name, index: k / width.max(1) }));
         }
-        Ok(Rows { view, name })
+        Ok(Rows { view, flat, name })
     }
 
     pub fn len(&self) -> usize {
         self.view.nrows()
     }
 
-    #[inline]
+    #[inline(always)]
     pub fn row<const W: usize>(&self, i: usize) -> [f64; W] {
-        std::array::from_fn(|k| self.view[[i, k]])
+        match self.flat {
+            Some(s) => {
+                let r = &s[i * W..i * W + W];
+                std::array::from_fn(|k| r[k])
+            }
+            None => std::array::from_fn(|k| self.view[[i, k]]),
+        }
     }
 
     /// Row `i` as a quaternion, as given.
-    #[inline]
+    #[inline(always)]
     pub fn quat(&self, i: usize) -> Quat {
         Quat::from_wxyz(self.row::<4>(i))
     }
 
     /// Row `i` as a rotation: normalised, zero norm an error naming the row.
-    #[inline]
+    #[inline(always)]
     pub fn rotation(&self, i: usize) -> Result<Quat, Error> {
-        self.quat(i).try_normalize().map_err(|_| Error::ZeroNorm {
-            arg: self.name,
-            index: i,
-        })
+        self.quat(i).try_normalize().map_err(|_| Error::ZeroNorm { arg: self.name, index: i })
     }
 
-    #[inline]
+    #[inline(always)]
     pub fn scalar(&self, i: usize) -> f64 {
-        self.view[[i, 0]]
+        self.row::<1>(i)[0]
     }
 }
 
@@ -113,24 +114,45 @@ pub fn same_len(parts: &[(&str, usize)]) -> PyResult<usize> {
     Ok(n)
 }
 
-/// Allocates an (n, W) output and fills each row with `f(i)` (GIL released, panics guarded).
+/// Rows per parallel task; inputs smaller than two tasks run on the calling thread.
+const CHUNK: usize = 8192;
+
+/// Allocates an (n, W) output and fills row i with `f(i)`: GIL released, split across the
+/// rayon pool for large inputs (`RAYON_NUM_THREADS` sets its size), panics guarded. On an
+/// error the first failing row (by index) is reported, whatever thread met an error first.
 pub fn fill<'py, const W: usize>(
     py: Python<'py>,
     what: &str,
     n: usize,
     f: impl Fn(usize) -> Result<[f64; W], Error> + Sync,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let out = PyArray2::<f64>::zeros(py, [n, W], false);
+    // SAFETY: every element is written below before the array is returned; on error the
+    // array is dropped unread.
+    let out = unsafe { PyArray2::<f64>::new(py, [n, W], false) };
     {
         let mut rw = out.readwrite();
-        let slice = rw
-            .as_slice_mut()
-            .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        let slice = rw.as_slice_mut().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
         guarded(py, what, || {
-            for (i, chunk) in slice.chunks_exact_mut(W).enumerate() {
-                chunk.copy_from_slice(&f(i)?);
+            let serial = |block: &mut [f64], first: usize| -> Result<(), Error> {
+                for (j, row) in block.chunks_exact_mut(W).enumerate() {
+                    row.copy_from_slice(&f(first + j)?);
+                }
+                Ok(())
+            };
+            if n < 2 * CHUNK {
+                return serial(slice, 0);
             }
-            Ok(())
+            let r = slice
+                .par_chunks_mut(CHUNK * W)
+                .enumerate()
+                .try_for_each(|(c, block)| serial(block, c * CHUNK));
+            if r.is_err() {
+                // Deterministic message: find the first failing row.
+                for i in 0..n {
+                    f(i)?;
+                }
+            }
+            r
         })?;
     }
     Ok(out)

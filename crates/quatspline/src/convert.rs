@@ -18,8 +18,8 @@ pub type Mat3 = [[f64; 3]; 3];
 
 /// The 12 valid Euler sequences, for error messages.
 pub const EULER_SEQUENCES: [&str; 24] = [
-    "xyz", "xzy", "yxz", "yzx", "zxy", "zyx", "xyx", "xzx", "yxy", "yzy", "zxz", "zyz", "XYZ",
-    "XZY", "YXZ", "YZX", "ZXY", "ZYX", "XYX", "XZX", "YXY", "YZY", "ZXZ", "ZYZ",
+    "xyz", "xzy", "yxz", "yzx", "zxy", "zyx", "xyx", "xzx", "yxy", "yzy", "zxz", "zyz", "XYZ", "XZY", "YXZ",
+    "YZX", "ZXY", "ZYX", "XYX", "XZX", "YXY", "YZY", "ZXZ", "ZYZ",
 ];
 
 /// The rotation matrix of a unit quaternion (columns are the body axes in world coordinates).
@@ -36,8 +36,7 @@ pub fn to_matrix(q: Quat) -> Mat3 {
 }
 
 fn det3(m: &Mat3) -> f64 {
-    m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+    m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
         + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
 }
 
@@ -56,11 +55,7 @@ pub fn project_to_rotation(m: &Mat3) -> Mat3 {
         c *= -1.0;
     }
     let r = u * vt;
-    [
-        [r[(0, 0)], r[(0, 1)], r[(0, 2)]],
-        [r[(1, 0)], r[(1, 1)], r[(1, 2)]],
-        [r[(2, 0)], r[(2, 1)], r[(2, 2)]],
-    ]
+    [[r[(0, 0)], r[(0, 1)], r[(0, 2)]], [r[(1, 0)], r[(1, 1)], r[(1, 2)]], [r[(2, 0)], r[(2, 1)], r[(2, 2)]]]
 }
 
 /// The unit quaternion (w ≥ 0 not enforced) of a rotation matrix, robust for every angle:
@@ -69,16 +64,10 @@ pub fn project_to_rotation(m: &Mat3) -> Mat3 {
 /// matrix with det ≤ 0 is an error.
 pub fn try_from_matrix(m: &Mat3) -> Result<Quat> {
     if m.iter().flatten().any(|v| !v.is_finite()) {
-        return Err(Error::NonFinite {
-            arg: "matrix",
-            index: 0,
-        });
+        return Err(Error::NonFinite { arg: "matrix", index: 0 });
     }
-    if !(det3(m) > 0.0) {
-        return Err(Error::invalid(
-            "matrix",
-            "non-positive determinant: not a rotation",
-        ));
+    if det3(m).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        return Err(Error::invalid("matrix", "non-positive determinant: not a rotation"));
     }
     let mut orthogonal = true;
     for i in 0..3 {
@@ -90,40 +79,16 @@ pub fn try_from_matrix(m: &Mat3) -> Result<Quat> {
             }
         }
     }
-    let m = if orthogonal {
-        *m
-    } else {
-        project_to_rotation(m)
-    };
+    let m = if orthogonal { *m } else { project_to_rotation(m) };
     let tr = m[0][0] + m[1][1] + m[2][2];
     let q = if tr >= m[0][0] && tr >= m[1][1] && tr >= m[2][2] {
-        Quat::new(
-            1.0 + tr,
-            m[2][1] - m[1][2],
-            m[0][2] - m[2][0],
-            m[1][0] - m[0][1],
-        )
+        Quat::new(1.0 + tr, m[2][1] - m[1][2], m[0][2] - m[2][0], m[1][0] - m[0][1])
     } else if m[0][0] >= m[1][1] && m[0][0] >= m[2][2] {
-        Quat::new(
-            m[2][1] - m[1][2],
-            1.0 - tr + 2.0 * m[0][0],
-            m[1][0] + m[0][1],
-            m[2][0] + m[0][2],
-        )
+        Quat::new(m[2][1] - m[1][2], 1.0 - tr + 2.0 * m[0][0], m[1][0] + m[0][1], m[2][0] + m[0][2])
     } else if m[1][1] >= m[2][2] {
-        Quat::new(
-            m[0][2] - m[2][0],
-            m[1][0] + m[0][1],
-            1.0 - tr + 2.0 * m[1][1],
-            m[2][1] + m[1][2],
-        )
+        Quat::new(m[0][2] - m[2][0], m[1][0] + m[0][1], 1.0 - tr + 2.0 * m[1][1], m[2][1] + m[1][2])
     } else {
-        Quat::new(
-            m[1][0] - m[0][1],
-            m[2][0] + m[0][2],
-            m[2][1] + m[1][2],
-            1.0 - tr + 2.0 * m[2][2],
-        )
+        Quat::new(m[1][0] - m[0][1], m[2][0] + m[0][2], m[2][1] + m[1][2], 1.0 - tr + 2.0 * m[2][2])
     };
     q.try_normalize()
 }
@@ -151,10 +116,7 @@ pub fn from_rotvec(r: Vec3) -> Quat {
 pub fn try_from_axis_angle(axis: Vec3, angle: f64) -> Result<Quat> {
     let n = vec3::norm(axis);
     if !n.is_finite() || !angle.is_finite() {
-        return Err(Error::NonFinite {
-            arg: "axis",
-            index: 0,
-        });
+        return Err(Error::NonFinite { arg: "axis", index: 0 });
     }
     if n < f64::MIN_POSITIVE {
         return Err(Error::invalid("axis", "zero axis"));
@@ -186,10 +148,7 @@ impl EulerSeq {
         if !EULER_SEQUENCES.contains(&seq) {
             return Err(Error::invalid(
                 "seq",
-                format!(
-                    "unknown Euler sequence {seq:?}; valid: {}",
-                    EULER_SEQUENCES.join(", ")
-                ),
+                format!("unknown Euler sequence {seq:?}; valid: {}", EULER_SEQUENCES.join(", ")),
             ));
         }
         let extrinsic = seq.chars().all(|c| c.is_ascii_lowercase());
@@ -235,12 +194,7 @@ pub fn to_euler(seq: EulerSeq, q: Quat) -> (Vec3, bool) {
     let (a, b, c, d) = if symmetric {
         (q.w, comp(i), comp(j), comp(k) * sign)
     } else {
-        (
-            q.w - comp(j),
-            comp(i) + comp(k) * sign,
-            comp(j) + q.w,
-            comp(k) * sign - comp(i),
-        )
+        (q.w - comp(j), comp(i) + comp(k) * sign, comp(j) + q.w, comp(k) * sign - comp(i))
     };
     let half_sum = b.atan2(a);
     let half_diff = d.atan2(c);
@@ -249,20 +203,12 @@ pub fn to_euler(seq: EulerSeq, q: Quat) -> (Vec3, bool) {
     let case1 = ang[1].abs() <= eps;
     let case2 = (ang[1] - PI).abs() <= eps;
     let case0 = !(case1 || case2);
-    ang[0] = if case1 {
-        2.0 * half_sum
-    } else {
-        2.0 * half_diff * if seq.extrinsic { -1.0 } else { 1.0 }
-    };
+    ang[0] = if case1 { 2.0 * half_sum } else { 2.0 * half_diff * if seq.extrinsic { -1.0 } else { 1.0 } };
     let (first, third) = if seq.extrinsic { (0, 2) } else { (2, 0) };
     if case0 {
         ang[first] = half_sum - half_diff;
     }
-    let mut a3 = if case0 {
-        half_sum + half_diff
-    } else {
-        ang[third]
-    };
+    let mut a3 = if case0 { half_sum + half_diff } else { ang[third] };
     if !symmetric {
         a3 *= sign;
         ang[1] -= PI / 2.0;

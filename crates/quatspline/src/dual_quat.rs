@@ -32,10 +32,7 @@ pub struct Screw {
 }
 
 impl DualQuat {
-    pub const IDENTITY: DualQuat = DualQuat {
-        r: Quat::IDENTITY,
-        d: Quat::new(0.0, 0.0, 0.0, 0.0),
-    };
+    pub const IDENTITY: DualQuat = DualQuat { r: Quat::IDENTITY, d: Quat::new(0.0, 0.0, 0.0, 0.0) };
 
     #[inline]
     pub const fn new(r: Quat, d: Quat) -> Self {
@@ -45,10 +42,7 @@ impl DualQuat {
     /// From the flat layout (w, x, y, z, dw, dx, dy, dz).
     #[inline]
     pub fn from_array(a: [f64; 8]) -> Self {
-        DualQuat {
-            r: Quat::new(a[0], a[1], a[2], a[3]),
-            d: Quat::new(a[4], a[5], a[6], a[7]),
-        }
+        DualQuat { r: Quat::new(a[0], a[1], a[2], a[3]), d: Quat::new(a[4], a[5], a[6], a[7]) }
     }
 
     #[inline]
@@ -60,10 +54,7 @@ impl DualQuat {
     /// The pose "rotate by `r` (unit), then translate by `t`": r + ε ½ (0, t) r.
     #[inline]
     pub fn from_rotation_translation(r: Quat, t: Vec3) -> Self {
-        DualQuat {
-            r,
-            d: (Quat::pure(t) * r).scale(0.5),
-        }
+        DualQuat { r, d: (Quat::pure(t) * r).scale(0.5) }
     }
 
     /// The rotation and translation of a unit dual quaternion: t = 2 d r* (vector part).
@@ -76,28 +67,19 @@ impl DualQuat {
     /// Quaternion conjugate (r*, d*): the inverse of a unit dual quaternion.
     #[inline]
     pub fn conj(self) -> Self {
-        DualQuat {
-            r: self.r.conj(),
-            d: self.d.conj(),
-        }
+        DualQuat { r: self.r.conj(), d: self.d.conj() }
     }
 
     /// Dual-number conjugate (r, −d).
     #[inline]
     pub fn dual_conj(self) -> Self {
-        DualQuat {
-            r: self.r,
-            d: -self.d,
-        }
+        DualQuat { r: self.r, d: -self.d }
     }
 
     /// Both conjugates at once (r*, −d*), used for point transforms p' = q̂ (1 + εp) q̂**.
     #[inline]
     pub fn full_conj(self) -> Self {
-        DualQuat {
-            r: self.r.conj(),
-            d: -self.d.conj(),
-        }
+        DualQuat { r: self.r.conj(), d: -self.d.conj() }
     }
 
     /// Normalises so that |r| = 1 and r·d = 0: q̂/‖q̂‖ with ‖q̂‖ = |r| + ε (r·d)/|r|.
@@ -126,40 +108,19 @@ impl DualQuat {
         let s = vec3::norm(v);
         if s == 0.0 {
             let d = vec3::norm(t);
-            let axis = if d > 0.0 {
-                vec3::scale(t, 1.0 / d)
-            } else {
-                [1.0, 0.0, 0.0]
-            };
-            let angle = if r.w >= 0.0 {
-                0.0
-            } else {
-                2.0 * std::f64::consts::PI
-            };
-            return Screw {
-                axis,
-                angle,
-                displacement: d,
-                moment: [0.0; 3],
-            };
+            let axis = if d > 0.0 { vec3::scale(t, 1.0 / d) } else { [1.0, 0.0, 0.0] };
+            let angle = if r.w >= 0.0 { 0.0 } else { 2.0 * std::f64::consts::PI };
+            return Screw { axis, angle, displacement: d, moment: [0.0; 3] };
         }
         let axis = vec3::scale(v, 1.0 / s);
         let half = s.atan2(r.w);
         let d = vec3::dot(axis, t);
         let cot = half.cos() / half.sin();
         let m = vec3::scale(
-            vec3::add(
-                vec3::cross(t, axis),
-                vec3::scale(vec3::sub(t, vec3::scale(axis, d)), cot),
-            ),
+            vec3::add(vec3::cross(t, axis), vec3::scale(vec3::sub(t, vec3::scale(axis, d)), cot)),
             0.5,
         );
-        Screw {
-            axis,
-            angle: 2.0 * half,
-            displacement: d,
-            moment: m,
-        }
+        Screw { axis, angle: 2.0 * half, displacement: d, moment: m }
     }
 
     /// q̂^s via the screw form: cos(sθ̂/2) + û sin(sθ̂/2), expanded with dual-number sin/cos.
@@ -174,11 +135,7 @@ impl DualQuat {
             return DualQuat::from_rotation_translation(Quat::IDENTITY, vec3::scale(t, s));
         }
         let half = sn.atan2(r.w);
-        let u = if sn > 0.0 {
-            vec3::scale(v, 1.0 / sn)
-        } else {
-            [1.0, 0.0, 0.0]
-        };
+        let u = if sn > 0.0 { vec3::scale(v, 1.0 / sn) } else { [1.0, 0.0, 0.0] };
         let d = vec3::dot(u, t);
         let (sh, ch) = (s * half).sin_cos();
         // sin(sθ/2)·m = ½ sin(sθ/2)(t×u) + ½ (t − d u) cos(θ/2) sin(sθ/2)/sin(θ/2)
@@ -192,21 +149,14 @@ impl DualQuat {
         );
         let hd = 0.5 * s * d;
         let real = Quat::new(ch, sh * u[0], sh * u[1], sh * u[2]);
-        let dual = Quat::new(
-            -hd * sh,
-            sm[0] + hd * ch * u[0],
-            sm[1] + hd * ch * u[1],
-            sm[2] + hd * ch * u[2],
-        );
+        let dual =
+            Quat::new(-hd * sh, sm[0] + hd * ch * u[0], sm[1] + hd * ch * u[1], sm[2] + hd * ch * u[2]);
         DualQuat { r: real, d: dual }
     }
 
     #[inline]
     pub fn scale(self, s: f64) -> Self {
-        DualQuat {
-            r: self.r.scale(s),
-            d: self.d.scale(s),
-        }
+        DualQuat { r: self.r.scale(s), d: self.d.scale(s) }
     }
 
     #[inline]
@@ -220,10 +170,7 @@ impl Mul for DualQuat {
     /// (r₁ + εd₁)(r₂ + εd₂) = r₁r₂ + ε(r₁d₂ + d₁r₂).
     #[inline]
     fn mul(self, b: DualQuat) -> DualQuat {
-        DualQuat {
-            r: self.r * b.r,
-            d: self.r * b.d + self.d * b.r,
-        }
+        DualQuat { r: self.r * b.r, d: self.r * b.d + self.d * b.r }
     }
 }
 
@@ -231,10 +178,7 @@ impl Add for DualQuat {
     type Output = DualQuat;
     #[inline]
     fn add(self, b: DualQuat) -> DualQuat {
-        DualQuat {
-            r: self.r + b.r,
-            d: self.d + b.d,
-        }
+        DualQuat { r: self.r + b.r, d: self.d + b.d }
     }
 }
 
@@ -242,10 +186,7 @@ impl Neg for DualQuat {
     type Output = DualQuat;
     #[inline]
     fn neg(self) -> DualQuat {
-        DualQuat {
-            r: -self.r,
-            d: -self.d,
-        }
+        DualQuat { r: -self.r, d: -self.d }
     }
 }
 
@@ -255,15 +196,7 @@ mod tests {
     use proptest::prelude::*;
 
     fn pose() -> impl Strategy<Value = DualQuat> {
-        (
-            -1.0..1.0f64,
-            -1.0..1.0f64,
-            -1.0..1.0f64,
-            0.1..1.0f64,
-            -3.0..3.0f64,
-            -3.0..3.0f64,
-            -3.0..3.0f64,
-        )
+        (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64, 0.1..1.0f64, -3.0..3.0f64, -3.0..3.0f64, -3.0..3.0f64)
             .prop_map(|(x, y, z, w, a, b, c)| {
                 DualQuat::from_rotation_translation(Quat::new(w, x, y, z).normalize(), [a, b, c])
             })

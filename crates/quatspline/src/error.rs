@@ -14,12 +14,7 @@ pub enum Error {
     /// An argument whose value is outside what the method accepts.
     Invalid { arg: &'static str, message: String },
     /// A time outside the spline's domain with `extrapolate = "raise"`.
-    OutOfDomain {
-        index: usize,
-        t: f64,
-        start: f64,
-        end: f64,
-    },
+    OutOfDomain { index: usize, t: f64, start: f64, end: f64 },
     /// An invariant of the library itself was broken (a bug): reported, never a panic.
     Internal(String),
 }
@@ -27,10 +22,7 @@ pub enum Error {
 impl Error {
     /// Shorthand for [`Error::Invalid`].
     pub fn invalid(arg: &'static str, message: impl Into<String>) -> Self {
-        Error::Invalid {
-            arg,
-            message: message.into(),
-        }
+        Error::Invalid { arg, message: message.into() }
     }
 }
 
@@ -44,12 +36,7 @@ impl fmt::Display for Error {
                 write!(f, "{arg}: quaternion {index} has zero (or denormal) norm")
             }
             Error::Invalid { arg, message } => write!(f, "{arg}: {message}"),
-            Error::OutOfDomain {
-                index,
-                t,
-                start,
-                end,
-            } => write!(
+            Error::OutOfDomain { index, t, start, end } => write!(
                 f,
                 "t: t[{index}] = {t} is outside the spline's domain [{start}, {end}] \
                  (use extrapolate=\"clamp\" to clamp)"

@@ -21,12 +21,7 @@ pub struct Quat {
 
 impl Quat {
     /// The identity rotation 1.
-    pub const IDENTITY: Quat = Quat {
-        w: 1.0,
-        x: 0.0,
-        y: 0.0,
-        z: 0.0,
-    };
+    pub const IDENTITY: Quat = Quat { w: 1.0, x: 0.0, y: 0.0, z: 0.0 };
 
     #[inline]
     pub const fn new(w: f64, x: f64, y: f64, z: f64) -> Self {
@@ -36,34 +31,19 @@ impl Quat {
     /// From components in (w, x, y, z) order.
     #[inline]
     pub const fn from_wxyz(a: [f64; 4]) -> Self {
-        Quat {
-            w: a[0],
-            x: a[1],
-            y: a[2],
-            z: a[3],
-        }
+        Quat { w: a[0], x: a[1], y: a[2], z: a[3] }
     }
 
     /// From components in (x, y, z, w) order (scalar last, as scipy, Eigen storage, ROS).
     #[inline]
     pub const fn from_xyzw(a: [f64; 4]) -> Self {
-        Quat {
-            w: a[3],
-            x: a[0],
-            y: a[1],
-            z: a[2],
-        }
+        Quat { w: a[3], x: a[0], y: a[1], z: a[2] }
     }
 
     /// A pure quaternion (0, v).
     #[inline]
     pub const fn pure(v: Vec3) -> Self {
-        Quat {
-            w: 0.0,
-            x: v[0],
-            y: v[1],
-            z: v[2],
-        }
+        Quat { w: 0.0, x: v[0], y: v[1], z: v[2] }
     }
 
     #[inline]
@@ -100,22 +80,12 @@ impl Quat {
     /// The conjugate q* = (w, −x, −y, −z); the inverse of a unit quaternion.
     #[inline]
     pub fn conj(self) -> Quat {
-        Quat {
-            w: self.w,
-            x: -self.x,
-            y: -self.y,
-            z: -self.z,
-        }
+        Quat { w: self.w, x: -self.x, y: -self.y, z: -self.z }
     }
 
     #[inline]
     pub fn scale(self, s: f64) -> Quat {
-        Quat {
-            w: self.w * s,
-            x: self.x * s,
-            y: self.y * s,
-            z: self.z * s,
-        }
+        Quat { w: self.w * s, x: self.x * s, y: self.y * s, z: self.z * s }
     }
 
     /// True when every component is finite.
@@ -124,7 +94,8 @@ impl Quat {
         self.w.is_finite() && self.x.is_finite() && self.y.is_finite() && self.z.is_finite()
     }
 
-    /// q / |q|. Scales by the largest component first, so tiny and huge (but not denormal)
+    /// q / |q| (returned unchanged when |q|² is within 4ε of 1). Scales by the largest
+    /// component first, so tiny and huge (but not denormal)
     /// inputs normalise without underflow or overflow.
     ///
     /// Errors: [`Error::ZeroNorm`] when every component is zero or denormal, [`Error::NonFinite`]
@@ -133,16 +104,15 @@ impl Quat {
         if !self.is_finite() {
             return Err(Error::NonFinite { arg: "q", index: 0 });
         }
-        let m = self
-            .w
-            .abs()
-            .max(self.x.abs())
-            .max(self.y.abs())
-            .max(self.z.abs());
+        if (self.norm_squared() - 1.0).abs() <= 4.0 * f64::EPSILON {
+            // Already unit to rounding: keep the bits, so keys pass through exactly.
+            return Ok(self);
+        }
+        let m = self.w.abs().max(self.x.abs()).max(self.y.abs()).max(self.z.abs());
         if m < f64::MIN_POSITIVE {
             return Err(Error::ZeroNorm { arg: "q", index: 0 });
         }
-        let s = self.scale(1.0 / m);
+        let s = Quat::new(self.w / m, self.x / m, self.y / m, self.z / m);
         Ok(s.scale(1.0 / s.norm()))
     }
 
@@ -160,7 +130,7 @@ impl Quat {
     /// q⁻¹ = q* / |q|². Errors for a zero quaternion.
     pub fn try_inverse(self) -> Result<Quat> {
         let n2 = self.norm_squared();
-        if !(n2 > 0.0) || !n2.is_finite() {
+        if n2 <= 0.0 || !n2.is_finite() {
             return Err(Error::ZeroNorm { arg: "q", index: 0 });
         }
         Ok(self.conj().scale(1.0 / n2))
@@ -171,15 +141,10 @@ impl Quat {
     #[inline]
     pub fn exp(self) -> Quat {
         let v = self.vec();
-        let a = vec3::norm(v);
+        let a = vec3::norm_robust(v);
         let s = sinc(a);
         let e = if self.w == 0.0 { 1.0 } else { self.w.exp() };
-        Quat {
-            w: e * a.cos(),
-            x: e * s * v[0],
-            y: e * s * v[1],
-            z: e * s * v[2],
-        }
+        Quat { w: e * a.cos(), x: e * s * v[0], y: e * s * v[1], z: e * s * v[2] }
     }
 
     /// The principal logarithm: (ln|q|, θ v/|v|) with θ = atan2(|v|, w) ∈ [0, π].
@@ -190,28 +155,21 @@ impl Quat {
     #[inline]
     pub fn log(self) -> Quat {
         let v = self.vec();
-        let s = vec3::norm(v);
+        let s = vec3::norm_robust(v);
         let n2 = self.norm_squared();
-        let w0 = if (n2 - 1.0).abs() <= 4.0 * f64::EPSILON {
-            0.0
-        } else {
-            0.5 * n2.ln()
-        };
+        let w0 = if (n2 - 1.0).abs() <= 4.0 * f64::EPSILON { 0.0 } else { 0.5 * n2.ln() };
         if s == 0.0 && self.w < 0.0 {
-            return Quat {
-                w: w0,
-                x: std::f64::consts::PI,
-                y: 0.0,
-                z: 0.0,
-            };
+            return Quat { w: w0, x: std::f64::consts::PI, y: 0.0, z: 0.0 };
+        }
+        if self.w < 0.0 && s < 1e-150 {
+            // θ ≈ π and θ/|v| would overflow: take the unit axis by scaling instead.
+            let m = v[0].abs().max(v[1].abs()).max(v[2].abs());
+            let b = [v[0] / m, v[1] / m, v[2] / m];
+            let n = vec3::scale(b, s.atan2(self.w) / vec3::norm(b));
+            return Quat { w: w0, x: n[0], y: n[1], z: n[2] };
         }
         let r = atan2_over(s, self.w);
-        Quat {
-            w: w0,
-            x: r * v[0],
-            y: r * v[1],
-            z: r * v[2],
-        }
+        Quat { w: w0, x: r * v[0], y: r * v[1], z: r * v[2] }
     }
 
     /// q^t = exp(t log q). For a unit q this rotates by t times the angle of q about its axis
@@ -294,12 +252,7 @@ impl Add for Quat {
     type Output = Quat;
     #[inline]
     fn add(self, b: Quat) -> Quat {
-        Quat {
-            w: self.w + b.w,
-            x: self.x + b.x,
-            y: self.y + b.y,
-            z: self.z + b.z,
-        }
+        Quat { w: self.w + b.w, x: self.x + b.x, y: self.y + b.y, z: self.z + b.z }
     }
 }
 
@@ -307,12 +260,7 @@ impl Sub for Quat {
     type Output = Quat;
     #[inline]
     fn sub(self, b: Quat) -> Quat {
-        Quat {
-            w: self.w - b.w,
-            x: self.x - b.x,
-            y: self.y - b.y,
-            z: self.z - b.z,
-        }
+        Quat { w: self.w - b.w, x: self.x - b.x, y: self.y - b.y, z: self.z - b.z }
     }
 }
 
@@ -320,12 +268,7 @@ impl Neg for Quat {
     type Output = Quat;
     #[inline]
     fn neg(self) -> Quat {
-        Quat {
-            w: -self.w,
-            x: -self.x,
-            y: -self.y,
-            z: -self.z,
-        }
+        Quat { w: -self.w, x: -self.x, y: -self.y, z: -self.z }
     }
 }
 
@@ -358,10 +301,7 @@ mod tests {
 
     #[test]
     fn zero_quaternion_does_not_normalize() {
-        assert!(matches!(
-            Quat::default().try_normalize(),
-            Err(Error::ZeroNorm { .. })
-        ));
+        assert!(matches!(Quat::default().try_normalize(), Err(Error::ZeroNorm { .. })));
         let tiny = Quat::new(1e-310, 0.0, 0.0, 0.0);
         assert!(tiny.try_normalize().is_err());
         let small = Quat::new(3e-300, 4e-300, 0.0, 0.0).try_normalize().unwrap();
@@ -377,9 +317,7 @@ mod tests {
 
     fn unit_quat() -> impl Strategy<Value = Quat> {
         (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64)
-            .prop_filter("not tiny", |(w, x, y, z)| {
-                w * w + x * x + y * y + z * z > 1e-6
-            })
+            .prop_filter("not tiny", |(w, x, y, z)| w * w + x * x + y * y + z * z > 1e-6)
             .prop_map(|(w, x, y, z)| Quat::new(w, x, y, z).normalize())
     }
 
@@ -399,7 +337,7 @@ mod tests {
             let v = [x, y, 1.0];
             let s = q * Quat::pure(v) * q.conj();
             let r = q.rotate(v);
-            for k in 0..3 { prop_assert!((r[k] - s.vec()[k]).abs() < 1e-13); }
+            for (a, b) in r.iter().zip(s.vec()) { prop_assert!((a - b).abs() < 1e-13); }
         }
 
         #[test]

@@ -76,9 +76,7 @@ mod tests {
         assert_eq!(atan2_over(0.0, 1.0), 1.0);
         assert!((atan2_over(0.0, 2.0) - 0.5).abs() < 1e-16);
         let s = ATAN2_OVER_SWITCH;
-        assert!(
-            (atan2_over(s * (1.0 - 1e-12), 1.0) - atan2_over(s * (1.0 + 1e-12), 1.0)).abs() < 1e-15
-        );
+        assert!((atan2_over(s * (1.0 - 1e-12), 1.0) - atan2_over(s * (1.0 + 1e-12), 1.0)).abs() < 1e-15);
     }
 
     #[test]

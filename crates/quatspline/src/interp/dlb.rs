@@ -13,11 +13,7 @@ pub fn try_dlb(q: &[DualQuat], w: &[f64]) -> Result<DualQuat> {
     if q.is_empty() || q.len() != w.len() {
         return Err(Error::invalid(
             "weights",
-            format!(
-                "expected {} weights for {} poses (at least one)",
-                q.len(),
-                q.len()
-            ),
+            format!("expected {} weights for {} poses (at least one)", q.len(), q.len()),
         ));
     }
     let pivot = q[0].r;
@@ -26,6 +22,5 @@ pub fn try_dlb(q: &[DualQuat], w: &[f64]) -> Result<DualQuat> {
         let qi = if qi.r.dot(pivot) < 0.0 { -*qi } else { *qi };
         acc = acc + qi.scale(wi);
     }
-    acc.try_normalize()
-        .map_err(|_| Error::invalid("weights", "the weighted sum has zero rotation part"))
+    acc.try_normalize().map_err(|_| Error::invalid("weights", "the weighted sum has zero rotation part"))
 }

@@ -17,11 +17,7 @@ pub fn lerp(q0: Quat, q1: Quat, t: f64) -> Quat {
 /// through zero: q₁ = −q₀ with `long_path` at t = ½.
 #[inline]
 pub fn try_nlerp(q0: Quat, q1: Quat, t: f64, long_path: bool) -> Result<Quat> {
-    let q1 = if !long_path && q0.dot(q1) < 0.0 {
-        -q1
-    } else {
-        q1
-    };
+    let q1 = if !long_path && q0.dot(q1) < 0.0 { -q1 } else { q1 };
     lerp(q0, q1, t)
         .try_normalize()
         .map_err(|_| Error::invalid("t", "nlerp of antipodal keys passes through zero"))

@@ -12,12 +12,19 @@
 //! goes through `log`'s deterministic choice (the x axis).
 
 use crate::quat::Quat;
-use crate::special::sin_ratio;
+use crate::special::{atan2_over, sinc};
 
 /// Slerp from `q0` (t = 0) to `q1` (t = 1); t outside [0, 1] extrapolates along the same arc.
+///
+/// Written as cos(tθ) q₀ + sin(tθ)/sin θ · (q₁ − cos θ q₀): r = q₁ − (q₀·q₁) q₀ is orthogonal
+/// to q₀ with |r| = sin θ, so θ = atan2(|r|, q₀·q₁) is exact at both ends of [0, π], and the
+/// weight sin(tθ)/sin θ = t · sinc(tθ) · θ/|r| stays finite as θ → 0 (Taylor branches).
+/// One atan2 and one sin/cos pair per call.
 #[inline]
 pub fn slerp(q0: Quat, q1: Quat, t: f64, long_path: bool) -> Quat {
-    let q1 = if !long_path && q0.dot(q1) < 0.0 {
+    let mut d = q0.dot(q1);
+    let q1 = if !long_path && d < 0.0 {
+        d = -d;
         -q1
     } else {
         q1
@@ -28,15 +35,20 @@ pub fn slerp(q0: Quat, q1: Quat, t: f64, long_path: bool) -> Quat {
     if t == 1.0 {
         return q1;
     }
-    let theta = 2.0 * (q1 - q0).norm().atan2((q1 + q0).norm());
-    if theta > 3.0 {
-        // Only reachable with long_path: sin θ → 0, use the exp/log form.
+    let r = q1 - q0.scale(d);
+    let s = r.norm();
+    if s < 1e-150 && d < 0.0 {
+        // Only reachable with long_path between opposite keys: the exp/log form picks the axis.
         return q0 * (q0.conj() * q1).powf(t);
     }
-    let a = sin_ratio(1.0 - t, theta);
-    let b = sin_ratio(t, theta);
-    q0.scale(a) + q1.scale(b)
+    let theta = s.atan2(d);
+    let (st, ct) = (t * theta).sin_cos();
+    let w = if theta < SMALL { t * sinc(t * theta) * atan2_over(s, d) } else { st / s };
+    q0.scale(ct) + r.scale(w)
 }
+
+/// Below this angle θ the weight uses its Taylor-safe form t·sinc(tθ)·θ/sin θ.
+const SMALL: f64 = 1e-3;
 
 #[cfg(test)]
 mod tests {
@@ -45,9 +57,7 @@ mod tests {
 
     fn unit() -> impl Strategy<Value = Quat> {
         (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64)
-            .prop_filter("not tiny", |(w, x, y, z)| {
-                w * w + x * x + y * y + z * z > 1e-4
-            })
+            .prop_filter("not tiny", |(w, x, y, z)| w * w + x * x + y * y + z * z > 1e-4)
             .prop_map(|(w, x, y, z)| Quat::new(w, x, y, z).normalize())
     }
 

@@ -1,0 +1,105 @@
+"""Peer benchmark: quatspline against scipy, numpy-quaternion and pytransform3d, same data,
+same run. Prints ns per sample (median of --repeat runs) and the ratio to each peer.
+
+    make bench                # builds in release mode, then runs this
+    python benchmarks/bench.py --n 1000000 --repeat 5
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import statistics
+import time
+from collections.abc import Callable
+
+import numpy as np
+import quatspline as qs
+
+
+def median_ns(fn: Callable[[], object], n: int, repeat: int) -> float:
+    fn()  # warm up (page faults, lazy imports)
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter_ns()
+        fn()
+        times.append(time.perf_counter_ns() - t0)
+    return statistics.median(times) / n
+
+
+def random_quats(n: int, seed: int) -> np.ndarray:
+    q = np.random.default_rng(seed).normal(size=(n, 4))
+    return q / np.linalg.norm(q, axis=1, keepdims=True)
+
+
+def slerp_pairs(n: int, repeat: int) -> list[tuple[str, str, float]]:
+    """1,000,000 independent slerp pairs (issue 1/6)."""
+    a, b = random_quats(n, 1), random_quats(n, 2)
+    b = qs.canonicalize(b, reference=a)
+    t = np.random.default_rng(3).uniform(0, 1, n)
+    rows = [("quatspline", "slerp (pairs)", median_ns(lambda: qs.slerp(a, b, t), n, repeat))]
+    try:
+        import quaternion
+
+        qa, qb = quaternion.as_quat_array(a), quaternion.as_quat_array(b)
+        rows.append(
+            (
+                "numpy-quaternion",
+                "np.slerp_vectorized (ufunc)",
+                median_ns(lambda: np.slerp_vectorized(qa, qb, t), n, repeat),
+            )
+        )
+    except ImportError:
+        print("numpy-quaternion not installed: skipped")
+    try:
+        from scipy.spatial.transform import Rotation
+
+        ra, rb = Rotation.from_quat(qs.as_xyzw(a)), Rotation.from_quat(qs.as_xyzw(b))
+
+        def scipy_slerp():
+            return ra * Rotation.from_rotvec((ra.inv() * rb).as_rotvec() * t[:, None])
+
+        rows.append(("scipy", "r0 * exp(t log(r0⁻¹ r1))", median_ns(scipy_slerp, n, repeat)))
+    except ImportError:
+        print("scipy not installed: skipped")
+    try:
+        import pytransform3d.batch_rotations as pbr
+
+        # pytransform3d has no batch of pairs; its batch form is one pair, many t (its best case)
+        rows.append(
+            (
+                "pytransform3d",
+                "quaternion_slerp_batch (1 pair, n t)",
+                median_ns(lambda: pbr.quaternion_slerp_batch(a[0], b[0], t), n, repeat),
+            )
+        )
+    except ImportError:
+        print("pytransform3d not installed: skipped")
+    return rows
+
+
+def print_table(title: str, rows: list[tuple[str, str, float]]) -> None:
+    ours = rows[0][2]
+    print(f"\n## {title}\n")
+    print(f"| {'library':<18} | {'method':<38} | {'ns/sample':>10} | {'quatspline is':>14} |")
+    print(f"|{'-' * 20}|{'-' * 40}|{'-' * 12}:|{'-' * 15}:|")
+    for lib, method, ns in rows:
+        ratio = "—" if lib == "quatspline" else f"{ns / ours:.1f}× faster"
+        print(f"| {lib:<18} | {method:<38} | {ns:>10.1f} | {ratio:>14} |")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--n", type=int, default=1_000_000, help="samples / pairs")
+    ap.add_argument("--repeat", type=int, default=5, help="runs per measurement (median)")
+    args = ap.parse_args()
+    print(
+        f"machine: {platform.machine()}, {os.cpu_count()} cores, {platform.python_implementation()}"
+        f" {platform.python_version()}, numpy {np.__version__}, quatspline {qs.__version__}"
+    )
+    print_table(f"{args.n:,} independent slerp pairs", slerp_pairs(args.n, args.repeat))
+
+
+if __name__ == "__main__":
+    main()
