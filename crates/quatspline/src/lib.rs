@@ -12,6 +12,7 @@ pub mod convert;
 pub mod dual_quat;
 mod error;
 pub mod interp;
+pub mod jet;
 pub mod quat;
 pub mod special;
 pub mod vec3;

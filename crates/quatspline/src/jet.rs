@@ -1,0 +1,462 @@
+//! Truncated Taylor series ("jets") for exact derivatives of every spline.
+//!
+//! A `Jet<N>` holds the Taylor coefficients c₀ … c_{N−1} of a scalar function of time at one
+//! instant: f(t + h) = c₀ + c₁h + c₂h² + c₃h³ + O(h⁴), so f' = c₁, f'' = 2c₂, f''' = 6c₃.
+//! Arithmetic on jets is the chain and product rule carried out exactly (Taylor-mode
+//! automatic differentiation): a spline written once in terms of `JQuat<N>` gives its value
+//! (N = 1, compiled to plain f64 code), velocity (2), acceleration (3) and jerk (4) in closed
+//! form — never by finite differences.
+//!
+//! The transcendental pieces are compositions with known derivatives at c₀ (Faà di Bruno):
+//! - exp of a pure quaternion u uses C(x) = cos√x and S(x) = sin√x/√x of x = u·u, both
+//!   entire in x; their derivatives come from series for x < 1/2 and from
+//!   S' = (C − S)/(2x), S'' = (C' − 3S')/(2x), S''' = (C'' − 5S'')/(2x), C^(n) = −S^(n−1)/2
+//!   otherwise;
+//! - log of a unit quaternion uses g(w) = θ/sin θ (w = cos θ), analytic at w = 1, with
+//!   (1−w²)g' = wg − 1, (1−w²)g'' = 3wg' + g, (1−w²)g''' = 5wg'' + 4g', and the series
+//!   g = Σ aₖ yᵏ, y = 1 − w, a₀ = 1, aₖ = aₖ₋₁·k/(2k+1) for y < 0.05.
+
+use crate::quat::Quat;
+use crate::special::{atan2_over, sinc};
+
+use std::ops::{Add, Mul, Neg, Sub};
+
+/// Taylor coefficients of a scalar at one instant (N ≤ 4 is what the library uses).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Jet<const N: usize>(pub [f64; N]);
+
+impl<const N: usize> Jet<N> {
+    #[inline(always)]
+    pub fn constant(c: f64) -> Self {
+        let mut a = [0.0; N];
+        a[0] = c;
+        Jet(a)
+    }
+
+    /// The independent variable: value `x`, first derivative `dx` (e.g. 1/h for a local
+    /// parameter u = (t − tᵢ)/h).
+    #[inline(always)]
+    pub fn variable(x: f64, dx: f64) -> Self {
+        let mut a = [0.0; N];
+        a[0] = x;
+        if N > 1 {
+            a[1] = dx;
+        }
+        Jet(a)
+    }
+
+    /// A polynomial in the independent variable, evaluated with its derivatives: `coef[k]`
+    /// multiplies xᵏ. The variable is `x` (value) with derivative `dx`.
+    #[inline(always)]
+    pub fn poly(coef: &[f64], x: Jet<N>) -> Self {
+        let mut acc = Jet::constant(0.0);
+        for &c in coef.iter().rev() {
+            acc = acc * x + c;
+        }
+        acc
+    }
+
+    #[inline(always)]
+    pub fn value(self) -> f64 {
+        self.0[0]
+    }
+
+    /// The k-th derivative (k! cₖ).
+    #[inline(always)]
+    pub fn derivative(self, k: usize) -> f64 {
+        const FACT: [f64; 5] = [1.0, 1.0, 2.0, 6.0, 24.0];
+        self.0[k] * FACT[k]
+    }
+
+    /// f(self) given d[m] = f^(m)(c₀) for m < N (Faà di Bruno by powers of h = self − c₀).
+    #[inline(always)]
+    pub fn compose(self, d: [f64; N]) -> Self {
+        let mut h = self;
+        h.0[0] = 0.0;
+        let mut out = Jet::constant(d[0]);
+        let mut hp = Jet::constant(1.0);
+        let mut fact = 1.0;
+        for (m, dm) in d.iter().enumerate().skip(1) {
+            hp = hp * h;
+            fact *= m as f64;
+            out = out + hp * (dm / fact);
+        }
+        out
+    }
+
+    #[inline(always)]
+    pub fn sqrt(self) -> Self {
+        let r = self.0[0].sqrt();
+        if N == 1 {
+            return Jet::constant(r);
+        }
+        let x = self.0[0];
+        self.compose(take([r, 0.5 / r, -0.25 / (r * x), 0.375 / (r * x * x)]))
+    }
+
+    #[inline(always)]
+    pub fn recip(self) -> Self {
+        let i = 1.0 / self.0[0];
+        if N == 1 {
+            return Jet::constant(i);
+        }
+        self.compose(take([i, -i * i, 2.0 * i * i * i, -6.0 * i * i * i * i]))
+    }
+
+    #[inline(always)]
+    pub fn sin_cos(self) -> (Self, Self) {
+        let (s, c) = self.0[0].sin_cos();
+        if N == 1 {
+            return (Jet::constant(s), Jet::constant(c));
+        }
+        (self.compose(take([s, c, -s, -c])), self.compose(take([c, -s, -c, s])))
+    }
+}
+
+/// The first N of four derivative values.
+#[inline(always)]
+fn take<const N: usize>(d: [f64; 4]) -> [f64; N] {
+    std::array::from_fn(|k| d[k])
+}
+
+impl<const N: usize> Add for Jet<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, b: Self) -> Self {
+        Jet(std::array::from_fn(|k| self.0[k] + b.0[k]))
+    }
+}
+
+impl<const N: usize> Add<f64> for Jet<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn add(mut self, b: f64) -> Self {
+        self.0[0] += b;
+        self
+    }
+}
+
+impl<const N: usize> Sub for Jet<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, b: Self) -> Self {
+        Jet(std::array::from_fn(|k| self.0[k] - b.0[k]))
+    }
+}
+
+impl<const N: usize> Neg for Jet<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Jet(std::array::from_fn(|k| -self.0[k]))
+    }
+}
+
+impl<const N: usize> Mul for Jet<N> {
+    type Output = Self;
+    /// The truncated Cauchy product (Leibniz rule).
+    #[inline(always)]
+    fn mul(self, b: Self) -> Self {
+        Jet(std::array::from_fn(|k| (0..=k).map(|i| self.0[i] * b.0[k - i]).sum()))
+    }
+}
+
+impl<const N: usize> Mul<f64> for Jet<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, s: f64) -> Self {
+        Jet(std::array::from_fn(|k| self.0[k] * s))
+    }
+}
+
+/// Below this x = |u|², C and S take their derivatives from series.
+const CS_SERIES: f64 = 0.5;
+
+/// Derivatives 0..3 of C(x) = cos√x and S(x) = sin√x/√x at x ≥ 0 (values exact by libm).
+fn cos_sinc_sqrt<const N: usize>(x: f64) -> ([f64; N], [f64; N]) {
+    let r = x.sqrt();
+    let (c0, s0) = (r.cos(), sinc(r));
+    if N == 1 {
+        return (take([c0, 0.0, 0.0, 0.0]), take([s0, 0.0, 0.0, 0.0]));
+    }
+    let (mut c, mut s) = ([c0, 0.0, 0.0, 0.0], [s0, 0.0, 0.0, 0.0]);
+    if x < CS_SERIES {
+        // S^(n)(x) = Σ_{k≥n} (−1)^k k!/(k−n)! x^(k−n)/(2k+1)!, C likewise with (2k)!.
+        for n in 1..4 {
+            let (mut sc, mut ss) = (0.0, 0.0);
+            let mut xp = 1.0; // x^(k−n)
+            for k in n..n + 14 {
+                let falling: f64 = ((k - n + 1)..=k).map(|v| v as f64).product();
+                let sign = if k % 2 == 0 { 1.0 } else { -1.0 };
+                sc += sign * falling * xp / factorial(2 * k);
+                ss += sign * falling * xp / factorial(2 * k + 1);
+                xp *= x;
+            }
+            c[n] = sc;
+            s[n] = ss;
+        }
+    } else {
+        s[1] = (c0 - s0) / (2.0 * x);
+        c[1] = -0.5 * s0;
+        s[2] = (c[1] - 3.0 * s[1]) / (2.0 * x);
+        c[2] = -0.5 * s[1];
+        s[3] = (c[2] - 5.0 * s[2]) / (2.0 * x);
+        c[3] = -0.5 * s[2];
+    }
+    (take(c), take(s))
+}
+
+fn factorial(n: usize) -> f64 {
+    (1..=n).map(|v| v as f64).product()
+}
+
+/// Below this y = 1 − w, g(w) = θ/sin θ takes its derivatives from its series.
+const G_SERIES: f64 = 0.05;
+
+/// Derivatives 0..3 in w of g(w) = θ/sin θ (w = cos θ) for a unit quaternion with scalar
+/// part `w` and vector norm `s` = sin θ.
+fn theta_over_sin<const N: usize>(w: f64, s: f64) -> [f64; N] {
+    let g0 = if s == 0.0 && w > 0.0 { 1.0 / w } else { atan2_over(s, w) };
+    if N == 1 {
+        return take([g0, 0.0, 0.0, 0.0]);
+    }
+    let y = if w > 0.0 { s * s / (1.0 + w) } else { 1.0 - w };
+    let mut g = [g0, 0.0, 0.0, 0.0];
+    if y < G_SERIES {
+        // a_k = a_{k−1} k/(2k+1); g^(n)(w) = (−1)^n Σ_{k≥n} k!/(k−n)! a_k y^(k−n)
+        let mut a = [0.0; 24];
+        a[0] = 1.0;
+        for k in 1..24 {
+            a[k] = a[k - 1] * k as f64 / (2 * k + 1) as f64;
+        }
+        for (n, gn) in g.iter_mut().enumerate().skip(1) {
+            let mut acc = 0.0;
+            let mut yp = 1.0;
+            for (k, ak) in a.iter().enumerate().skip(n) {
+                let falling: f64 = ((k - n + 1)..=k).map(|v| v as f64).product();
+                acc += falling * ak * yp;
+                yp *= y;
+            }
+            *gn = if n % 2 == 0 { acc } else { -acc };
+        }
+    } else {
+        let s2 = s * s;
+        g[1] = (w * g0 - 1.0) / s2;
+        g[2] = (3.0 * w * g[1] + g0) / s2;
+        g[3] = (5.0 * w * g[2] + 4.0 * g[1]) / s2;
+    }
+    take(g)
+}
+
+/// A quaternion whose components are jets: q(t) with its derivatives.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JQuat<const N: usize> {
+    pub w: Jet<N>,
+    pub x: Jet<N>,
+    pub y: Jet<N>,
+    pub z: Jet<N>,
+}
+
+impl<const N: usize> JQuat<N> {
+    /// A constant quaternion (zero derivatives).
+    #[inline(always)]
+    pub fn constant(q: Quat) -> Self {
+        JQuat { w: Jet::constant(q.w), x: Jet::constant(q.x), y: Jet::constant(q.y), z: Jet::constant(q.z) }
+    }
+
+    /// The value q(t).
+    #[inline(always)]
+    pub fn value(self) -> Quat {
+        Quat::new(self.w.0[0], self.x.0[0], self.y.0[0], self.z.0[0])
+    }
+
+    /// The k-th time derivative as a quaternion.
+    #[inline(always)]
+    pub fn derivative(self, k: usize) -> Quat {
+        Quat::new(self.w.derivative(k), self.x.derivative(k), self.y.derivative(k), self.z.derivative(k))
+    }
+
+    /// [q, q', q'', …] up to order N − 1.
+    #[inline(always)]
+    pub fn derivatives(self) -> [Quat; N] {
+        std::array::from_fn(|k| self.derivative(k))
+    }
+
+    #[inline(always)]
+    pub fn conj(self) -> Self {
+        JQuat { w: self.w, x: -self.x, y: -self.y, z: -self.z }
+    }
+
+    #[inline(always)]
+    pub fn scale(self, s: Jet<N>) -> Self {
+        JQuat { w: self.w * s, x: self.x * s, y: self.y * s, z: self.z * s }
+    }
+
+    #[inline(always)]
+    pub fn dot(self, o: Self) -> Jet<N> {
+        self.w * o.w + self.x * o.x + self.y * o.y + self.z * o.z
+    }
+
+    /// exp of the pure quaternion (0, u·s) for a constant vector u and a scalar jet s — the
+    /// factor exp(B(t) ω) of every cumulative form. Cheaper than [`JQuat::exp_pure`].
+    #[inline(always)]
+    pub fn exp_scaled(u: [f64; 3], s: Jet<N>) -> Self {
+        let a = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt();
+        let phi = s * a;
+        let (sn, cs) = phi.sin_cos();
+        // sin(φ)/a is accurate to an ulp for any a > 0; at a = 0 its limit is s.
+        let k = if a > 1e-150 { sn * (1.0 / a) } else { s };
+        JQuat { w: cs, x: k * u[0], y: k * u[1], z: k * u[2] }
+    }
+
+    /// exp of a pure quaternion (0, u) whose components are jets.
+    #[inline(always)]
+    pub fn exp_pure(u: [Jet<N>; 3]) -> Self {
+        let x = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+        let (dc, ds) = cos_sinc_sqrt::<N>(x.0[0].max(0.0));
+        let c = x.compose(dc);
+        let s = x.compose(ds);
+        JQuat { w: c, x: u[0] * s, y: u[1] * s, z: u[2] * s }
+    }
+
+    /// The vector part of log of a unit quaternion: θ n with θ = atan2(|v|, w).
+    #[inline(always)]
+    pub fn log_unit(self) -> [Jet<N>; 3] {
+        let q0 = self.value();
+        let s = crate::vec3::norm_robust(q0.vec());
+        let d = theta_over_sin::<N>(q0.w, s);
+        let g = self.w.compose(d);
+        if s == 0.0 && q0.w < 0.0 {
+            // log(−1): no axis; the value matches Quat::log's deterministic choice.
+            let mut l = [Jet::constant(0.0); 3];
+            l[0] = Jet::constant(std::f64::consts::PI);
+            return l;
+        }
+        [self.x * g, self.y * g, self.z * g]
+    }
+
+    /// slerp(a, b; u) = a exp(u log(a* b)) for jet endpoints and a jet parameter
+    /// (no shortest-path flip: callers choose the representatives).
+    #[inline(always)]
+    pub fn slerp(a: Self, b: Self, u: Jet<N>) -> Self {
+        let l = (a.conj() * b).log_unit();
+        a * JQuat::exp_pure([l[0] * u, l[1] * u, l[2] * u])
+    }
+}
+
+impl<const N: usize> Mul for JQuat<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, b: Self) -> Self {
+        let a = self;
+        JQuat {
+            w: a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z,
+            x: a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+            y: a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
+            z: a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w,
+        }
+    }
+}
+
+impl<const N: usize> Add for JQuat<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, b: Self) -> Self {
+        JQuat { w: self.w + b.w, x: self.x + b.x, y: self.y + b.y, z: self.z + b.z }
+    }
+}
+
+/// Angular velocity, acceleration and jerk (k = 1, 2, 3) from q and its derivatives.
+///
+/// World frame: ω = 2 vec(q' q*), α = dω/dt = 2 vec(q'' q*) (q' q'* is real),
+/// jerk = dα/dt = 2 vec(q''' q* + q'' q'*). Body frame: ω_b = 2 vec(q* q'),
+/// α_b = 2 vec(q* q''), jerk_b = 2 vec(q'* q'' + q* q'''). For a unit q these are exact.
+pub fn angular(d: &[Quat], order: usize, body: bool) -> [f64; 3] {
+    let (q, q1) = (d[0], d[1]);
+    let v = match (order, body) {
+        (1, false) => q1 * q.conj(),
+        (1, true) => q.conj() * q1,
+        (2, false) => d[2] * q.conj(),
+        (2, true) => q.conj() * d[2],
+        (3, false) => d[3] * q.conj() + d[2] * q1.conj(),
+        (_, true) => q1.conj() * d[2] + q.conj() * d[3],
+        _ => unreachable_order(),
+    };
+    [2.0 * v.x, 2.0 * v.y, 2.0 * v.z]
+}
+
+#[cold]
+fn unreachable_order() -> Quat {
+    Quat::new(f64::NAN, f64::NAN, f64::NAN, f64::NAN)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fd<F: Fn(f64) -> f64>(f: F, x: f64, k: usize) -> f64 {
+        let h = 1e-3;
+        match k {
+            1 => (f(x - 2.0 * h) - 8.0 * f(x - h) + 8.0 * f(x + h) - f(x + 2.0 * h)) / (12.0 * h),
+            2 => {
+                (-f(x - 2.0 * h) + 16.0 * f(x - h) - 30.0 * f(x) + 16.0 * f(x + h) - f(x + 2.0 * h))
+                    / (12.0 * h * h)
+            }
+            _ => (-f(x - 2.0 * h) + 2.0 * f(x - h) - 2.0 * f(x + h) + f(x + 2.0 * h)) / (2.0 * h * h * h),
+        }
+    }
+
+    #[test]
+    fn cos_sinc_sqrt_derivatives_match_finite_differences() {
+        for &x in &[0.01, 0.3, 0.49, 0.51, 1.0, 4.0, 9.0] {
+            let (c, s) = cos_sinc_sqrt::<4>(x);
+            for k in 1..4 {
+                let fc = fd(|v: f64| v.sqrt().cos(), x, k);
+                let fs = fd(|v: f64| v.sqrt().sin() / v.sqrt(), x, k);
+                assert!((c[k] - fc).abs() < 1e-6 * (1.0 + fc.abs()), "C^{k}({x})");
+                assert!((s[k] - fs).abs() < 1e-6 * (1.0 + fs.abs()), "S^{k}({x}): {} vs {fs}", s[k]);
+            }
+        }
+    }
+
+    #[test]
+    fn theta_over_sin_derivatives_match_finite_differences() {
+        let g = |w: f64| w.acos() / (1.0 - w * w).sqrt();
+        for &w in &[0.9f64, 0.96, 0.94, 0.5, 0.0, -0.5] {
+            let s = (1.0 - w * w).sqrt();
+            let d = theta_over_sin::<4>(w, s);
+            assert!((d[0] - g(w)).abs() < 1e-14);
+            for k in 1..4 {
+                let f = fd(g, w, k);
+                assert!((d[k] - f).abs() < 1e-4 * (1.0 + f.abs()), "g^{k}({w}): {} vs {f}", d[k]);
+            }
+        }
+    }
+
+    #[test]
+    fn series_and_closed_forms_agree_at_the_switches() {
+        let below = cos_sinc_sqrt::<4>(CS_SERIES * (1.0 - 1e-12));
+        let above = cos_sinc_sqrt::<4>(CS_SERIES * (1.0 + 1e-12));
+        for k in 0..4 {
+            assert!((below.0[k] - above.0[k]).abs() < 1e-11, "C^{k}: {} {}", below.0[k], above.0[k]);
+            assert!((below.1[k] - above.1[k]).abs() < 1e-11, "S^{k}: {} {}", below.1[k], above.1[k]);
+        }
+        let y = G_SERIES;
+        let wa = 1.0 - y * (1.0 - 1e-12);
+        let wb = 1.0 - y * (1.0 + 1e-12);
+        let ga = theta_over_sin::<4>(wa, (1.0 - wa * wa).sqrt());
+        let gb = theta_over_sin::<4>(wb, (1.0 - wb * wb).sqrt());
+        for k in 0..4 {
+            assert!((ga[k] - gb[k]).abs() < 1e-11 * (1.0 + ga[k].abs()), "g^{k}: {} {}", ga[k], gb[k]);
+        }
+    }
+
+    #[test]
+    fn product_rule() {
+        let t = Jet::<4>::variable(0.7, 1.0);
+        let f = t * t * t; // t³
+        assert!((f.derivative(1) - 3.0 * 0.49).abs() < 1e-15);
+        assert!((f.derivative(2) - 6.0 * 0.7).abs() < 1e-15);
+        assert!((f.derivative(3) - 6.0).abs() < 1e-15);
+    }
+}
