@@ -36,9 +36,31 @@ from .dualquat import (
     sclerp,
 )
 from .interpolate import lerp, lin_euler, lin_mat, nlerp, slerp
+from .spline import (
+    CatmullRom,
+    CumulativeBezier,
+    CumulativeBSpline,
+    NaturalSpline,
+    PiecewiseSlerp,
+    Spline,
+    SphericalBezier,
+    Squad,
+    path_length,
+    reparameterize,
+)
 
 __all__ = [
     "__version__",
+    "CatmullRom",
+    "CumulativeBSpline",
+    "CumulativeBezier",
+    "NaturalSpline",
+    "PiecewiseSlerp",
+    "Spline",
+    "SphericalBezier",
+    "Squad",
+    "path_length",
+    "reparameterize",
     "as_euler",
     "as_matrix",
     "as_rotvec",

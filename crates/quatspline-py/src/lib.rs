@@ -8,6 +8,7 @@
 
 mod algebra;
 mod arrays;
+mod spline;
 
 use pyo3::prelude::*;
 
@@ -15,5 +16,6 @@ use pyo3::prelude::*;
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     algebra::register(m)?;
+    spline::register(m)?;
     Ok(())
 }

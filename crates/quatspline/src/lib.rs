@@ -15,6 +15,7 @@ pub mod interp;
 pub mod jet;
 pub mod quat;
 pub mod special;
+pub mod spline;
 pub mod vec3;
 
 pub use dual_quat::{DualQuat, Screw};

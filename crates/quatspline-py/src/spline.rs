@@ -1,0 +1,230 @@
+//! Bindings of the spline family: constructors and one `Spline` class for all methods.
+
+use crate::arrays::{guarded, to_py, Rows};
+use numpy::{PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use quatspline::spline::{self as sp, Extrapolate, Frame};
+use quatspline::{Error, Quat};
+use rayon::prelude::*;
+use std::sync::Arc;
+
+/// Samples per parallel task; fewer than two tasks' worth run on the calling thread.
+const CHUNK: usize = 4096;
+
+/// Any spline of the core, immutable after construction (safe to share between threads).
+#[pyclass(name = "Spline", module = "quatspline._core", frozen)]
+pub struct PySpline {
+    inner: Arc<dyn sp::Spline>,
+}
+
+fn quats_of(q: &PyReadonlyArray2<'_, f64>, name: &'static str) -> PyResult<Vec<Quat>> {
+    let rows = Rows::new(q, name, 4)?;
+    Ok((0..rows.len()).map(|i| rows.quat(i)).collect())
+}
+
+fn times_of(t: &Option<PyReadonlyArray1<'_, f64>>) -> Option<Vec<f64>> {
+    t.as_ref().map(|a| a.as_array().iter().copied().collect())
+}
+
+fn wrap(r: Result<impl sp::Spline + 'static, Error>) -> PyResult<PySpline> {
+    r.map(|s| PySpline { inner: Arc::new(s) }).map_err(to_py)
+}
+
+fn extrapolate(clamp: bool) -> Extrapolate {
+    if clamp {
+        Extrapolate::Clamp
+    } else {
+        Extrapolate::Raise
+    }
+}
+
+impl PySpline {
+    /// Fills an (M, width) array from t in parallel chunks with `f(t_chunk, first, out_chunk)`.
+    fn batch<'py>(
+        &self,
+        py: Python<'py>,
+        t: PyReadonlyArray1<'py, f64>,
+        width: usize,
+        what: &str,
+        f: impl Fn(&dyn sp::Spline, &[f64], usize, &mut [f64]) -> Result<(), Error> + Sync,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let tv = t.as_array();
+        let owned;
+        let ts: &[f64] = match tv.as_slice() {
+            Some(s) => s,
+            None => {
+                owned = tv.iter().copied().collect::<Vec<f64>>();
+                &owned
+            }
+        };
+        let m = ts.len();
+        // SAFETY: every element is written before the array is returned; on error it is dropped.
+        let out = unsafe { PyArray2::<f64>::new(py, [m, width], false) };
+        {
+            let mut rw = out.readwrite();
+            let slice = rw.as_slice_mut().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+            let s: &dyn sp::Spline = &*self.inner;
+            guarded(py, what, || {
+                if m < 2 * CHUNK {
+                    return f(s, ts, 0, slice);
+                }
+                let r = slice
+                    .par_chunks_mut(CHUNK * width)
+                    .zip(ts.par_chunks(CHUNK))
+                    .enumerate()
+                    .try_for_each(|(c, (o, tc))| f(s, tc, c * CHUNK, o));
+                if r.is_err() {
+                    // Report the first failing sample, whichever thread failed first.
+                    let mut scratch = vec![0.0; width];
+                    for (i, ti) in ts.iter().enumerate() {
+                        f(s, std::slice::from_ref(ti), i, &mut scratch)?;
+                    }
+                }
+                r
+            })?;
+        }
+        Ok(out)
+    }
+}
+
+#[pymethods]
+impl PySpline {
+    /// Registry name of the method.
+    #[getter]
+    fn name(&self) -> &'static str {
+        self.inner.name()
+    }
+
+    /// (start, end) time.
+    #[getter]
+    fn domain(&self) -> (f64, f64) {
+        self.inner.domain()
+    }
+
+    /// Joint times (segment boundaries, including both ends).
+    #[getter]
+    fn joints(&self) -> Vec<f64> {
+        self.inner.joints().to_vec()
+    }
+
+    #[getter]
+    fn interpolates(&self) -> bool {
+        self.inner.interpolates()
+    }
+
+    /// Guaranteed parametric continuity order at interior joints (255: a single C^∞ curve).
+    #[getter]
+    fn continuity(&self) -> u8 {
+        self.inner.continuity()
+    }
+
+    /// (M, 4·(order+1)): q, q', …, q^(order) at each t.
+    fn evaluate<'py>(&self, py: Python<'py>, t: PyReadonlyArray1<'py, f64>, order: usize, clamp: bool) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        if order > 3 {
+            return Err(PyValueError::new_err(format!("order: expected 0, 1, 2 or 3, got {order}")));
+        }
+        let ex = extrapolate(clamp);
+        self.batch(py, t, 4 * (order + 1), "Spline.evaluate", move |s, tc, first, o| {
+            sp::evaluate_into(s, tc, first, order, ex, o)
+        })
+    }
+
+    /// (M, 3): angular velocity (order 1), acceleration (2) or jerk (3), world or body frame.
+    fn angular<'py>(&self, py: Python<'py>, t: PyReadonlyArray1<'py, f64>, order: usize, body: bool, clamp: bool) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        if !(1..=3).contains(&order) {
+            return Err(PyValueError::new_err(format!("order: expected 1, 2 or 3, got {order}")));
+        }
+        let ex = extrapolate(clamp);
+        let frame = if body { Frame::Body } else { Frame::World };
+        self.batch(py, t, 3, "Spline.angular", move |s, tc, first, o| {
+            sp::angular_into(s, tc, first, order, frame, ex, o)
+        })
+    }
+
+    /// (4, 4): q, q', q'', q''' of segment `seg` at time t (one-sided limits at joints).
+    fn segment_derivatives<'py>(&self, py: Python<'py>, seg: usize, t: f64) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        if seg >= self.inner.segments() {
+            return Err(PyValueError::new_err(format!("seg: expected < {}, got {seg}", self.inner.segments())));
+        }
+        let s = Arc::clone(&self.inner);
+        let d = guarded(py, "Spline.segment_derivatives", move || Ok(s.segment_jet4(seg, t).derivatives()))?;
+        let rows: Vec<Vec<f64>> = d.iter().map(|q| q.to_wxyz().to_vec()).collect();
+        PyArray2::from_vec2(py, &rows).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+    }
+}
+
+#[pyfunction]
+#[pyo3(signature = (quats, times, canonicalize))]
+fn piecewise_slerp(quats: PyReadonlyArray2<'_, f64>, times: Option<PyReadonlyArray1<'_, f64>>, canonicalize: bool) -> PyResult<PySpline> {
+    let q = quats_of(&quats, "quats")?;
+    wrap(sp::PiecewiseSlerp::new(&q, times_of(&times).as_deref(), canonicalize))
+}
+
+#[pyfunction]
+fn spherical_bezier(control_points: PyReadonlyArray2<'_, f64>, canonicalize: bool) -> PyResult<PySpline> {
+    let q = quats_of(&control_points, "control_points")?;
+    wrap(sp::SphericalBezier::new(&q, canonicalize))
+}
+
+#[pyfunction]
+fn cumulative_bezier(control_points: PyReadonlyArray2<'_, f64>, canonicalize: bool) -> PyResult<PySpline> {
+    let q = quats_of(&control_points, "control_points")?;
+    wrap(sp::CumulativeBezier::new(&q, canonicalize))
+}
+
+#[pyfunction]
+#[pyo3(signature = (quats, times, canonicalize))]
+fn squad(quats: PyReadonlyArray2<'_, f64>, times: Option<PyReadonlyArray1<'_, f64>>, canonicalize: bool) -> PyResult<PySpline> {
+    let q = quats_of(&quats, "quats")?;
+    wrap(sp::Squad::new(&q, times_of(&times).as_deref(), canonicalize))
+}
+
+#[pyfunction]
+#[pyo3(signature = (quats, times, ends, canonicalize))]
+fn catmull_rom(quats: PyReadonlyArray2<'_, f64>, times: Option<PyReadonlyArray1<'_, f64>>, ends: &str, canonicalize: bool) -> PyResult<PySpline> {
+    let q = quats_of(&quats, "quats")?;
+    let ends = match ends {
+        "reflect" => sp::CatmullRomEnds::Reflect,
+        "duplicate" => sp::CatmullRomEnds::Duplicate,
+        other => return Err(PyValueError::new_err(format!("ends: expected \"reflect\" or \"duplicate\", got {other:?}"))),
+    };
+    wrap(sp::CatmullRom::new(&q, times_of(&times).as_deref(), ends, canonicalize))
+}
+
+#[pyfunction]
+fn cumulative_bspline(control_quats: PyReadonlyArray2<'_, f64>, dt: f64, t0: f64, order: usize, canonicalize: bool) -> PyResult<PySpline> {
+    let q = quats_of(&control_quats, "control_quats")?;
+    wrap(sp::CumulativeBSpline::new(&q, dt, t0, order, canonicalize))
+}
+
+#[pyfunction]
+#[pyo3(signature = (quats, times, ends, start_rate, end_rate, canonicalize))]
+fn natural_spline(
+    quats: PyReadonlyArray2<'_, f64>,
+    times: Option<PyReadonlyArray1<'_, f64>>,
+    ends: &str,
+    start_rate: Option<[f64; 3]>,
+    end_rate: Option<[f64; 3]>,
+    canonicalize: bool,
+) -> PyResult<PySpline> {
+    let q = quats_of(&quats, "quats")?;
+    let ends = match ends {
+        "natural" => sp::NaturalEnds::Natural,
+        "clamped" => sp::NaturalEnds::Clamped { start: start_rate, end: end_rate },
+        other => return Err(PyValueError::new_err(format!("ends: expected \"natural\" or \"clamped\", got {other:?}"))),
+    };
+    wrap(sp::NaturalSpline::new(&q, times_of(&times).as_deref(), ends, canonicalize))
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PySpline>()?;
+    m.add_function(wrap_pyfunction!(piecewise_slerp, m)?)?;
+    m.add_function(wrap_pyfunction!(spherical_bezier, m)?)?;
+    m.add_function(wrap_pyfunction!(cumulative_bezier, m)?)?;
+    m.add_function(wrap_pyfunction!(squad, m)?)?;
+    m.add_function(wrap_pyfunction!(catmull_rom, m)?)?;
+    m.add_function(wrap_pyfunction!(cumulative_bspline, m)?)?;
+    m.add_function(wrap_pyfunction!(natural_spline, m)?)?;
+    Ok(())
+}

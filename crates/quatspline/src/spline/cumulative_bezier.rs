@@ -1,0 +1,75 @@
+//! Cumulative spherical Bézier curve (Kim, Kim & Shin 1995; seeds 002, 003; MATH.md §4).
+//!
+//! q(u) = q₀ Π_{j=1..n} (q_{j−1}* q_j)^{B̃_{j,n}(u)}, B̃_{j,n} = Σ_{i≥j} B_{i,n} (Bernstein).
+//! Cubic: B̃₁ = 1−(1−u)³, B̃₂ = 3u²−2u³, B̃₃ = u³. Passes through q₀ and qₙ with the same end
+//! tangents as the de Casteljau curve, but it is a different curve in between. One curve on
+//! u ∈ [0, 1]: C^∞. Every factor has a constant logarithm, so it is cheap to evaluate.
+
+use super::{prepare_keys, segment_jets, Spline};
+use crate::error::Result;
+use crate::jet::{JQuat, Jet};
+use crate::quat::Quat;
+
+/// One cumulative Bézier curve of any degree on u ∈ [0, 1].
+#[derive(Debug, Clone)]
+pub struct CumulativeBezier {
+    ctrl: Vec<Quat>,
+    logs: Vec<[f64; 3]>,
+    binom: Vec<f64>,
+    joints: [f64; 2],
+}
+
+impl CumulativeBezier {
+    /// Control points q₀ … qₙ (n ≥ 1).
+    pub fn new(ctrl: &[Quat], canonicalize: bool) -> Result<Self> {
+        let ctrl = prepare_keys(ctrl, "control_points", 2, canonicalize)?;
+        let logs = ctrl.windows(2).map(|w| (w[0].conj() * w[1]).log().vec()).collect();
+        let n = ctrl.len() - 1;
+        let mut binom = vec![1.0; n + 1];
+        for i in 1..=n {
+            binom[i] = binom[i - 1] * (n + 1 - i) as f64 / i as f64;
+        }
+        Ok(CumulativeBezier { ctrl, logs, binom, joints: [0.0, 1.0] })
+    }
+
+    #[inline(always)]
+    fn segment<const N: usize>(&self, _seg: usize, t: f64) -> JQuat<N> {
+        let n = self.ctrl.len() - 1;
+        let u = Jet::<N>::variable(t, 1.0);
+        let v = Jet::<N>::constant(1.0) - u;
+        // Bernstein B_{i,n} as jets, then suffix sums B̃_j.
+        let mut up = vec![Jet::<N>::constant(1.0); n + 1];
+        let mut vp = vec![Jet::<N>::constant(1.0); n + 1];
+        for i in 1..=n {
+            up[i] = up[i - 1] * u;
+            vp[i] = vp[i - 1] * v;
+        }
+        let mut q = JQuat::constant(self.ctrl[0]);
+        let mut tail = Jet::<N>::constant(0.0);
+        let mut cum = vec![Jet::<N>::constant(0.0); n + 1];
+        for i in (1..=n).rev() {
+            tail = tail + up[i] * vp[n - i] * self.binom[i];
+            cum[i] = tail;
+        }
+        for j in 1..=n {
+            q = q * JQuat::exp_scaled(self.logs[j - 1], cum[j]);
+        }
+        q
+    }
+}
+
+impl Spline for CumulativeBezier {
+    segment_jets!();
+    fn name(&self) -> &'static str {
+        "cumulative_bezier"
+    }
+    fn joints(&self) -> &[f64] {
+        &self.joints
+    }
+    fn interpolates(&self) -> bool {
+        false
+    }
+    fn continuity(&self) -> u8 {
+        u8::MAX
+    }
+}

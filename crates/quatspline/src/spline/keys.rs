@@ -1,0 +1,56 @@
+//! Validation of keyframes and key times, shared by every spline constructor.
+
+use crate::error::{Error, Result};
+use crate::quat::Quat;
+
+/// Checks keys (finite, non-zero), normalises them and, unless `canonicalize` is false, flips
+/// signs so consecutive keys lie in the same hemisphere (shortest path between each pair).
+/// `min` is the fewest keys the method accepts.
+pub fn prepare_keys(keys: &[Quat], arg: &'static str, min: usize, canonicalize: bool) -> Result<Vec<Quat>> {
+    if keys.len() < min {
+        return Err(Error::invalid(arg, format!("needs at least {min} keys, got {}", keys.len())));
+    }
+    let mut out = Vec::with_capacity(keys.len());
+    for (i, q) in keys.iter().enumerate() {
+        if !q.is_finite() {
+            return Err(Error::NonFinite { arg, index: i });
+        }
+        out.push(q.try_normalize().map_err(|_| Error::ZeroNorm { arg, index: i })?);
+    }
+    if canonicalize {
+        canonicalize_chain(&mut out);
+    }
+    Ok(out)
+}
+
+/// q_k ← −q_k whenever q_{k−1}·q_k < 0 (MATH.md §1): q and −q are the same rotation, so this
+/// changes no orientation, only which way round the sphere each segment goes.
+pub fn canonicalize_chain(q: &mut [Quat]) {
+    for k in 1..q.len() {
+        if q[k - 1].dot(q[k]) < 0.0 {
+            q[k] = -q[k];
+        }
+    }
+}
+
+/// Key times: `None` gives 0, 1, …, n−1; otherwise n finite, strictly increasing values.
+pub fn prepare_times(times: Option<&[f64]>, n: usize) -> Result<Vec<f64>> {
+    let Some(t) = times else {
+        return Ok((0..n).map(|i| i as f64).collect());
+    };
+    if t.len() != n {
+        return Err(Error::invalid("times", format!("expected {n} times (one per key), got {}", t.len())));
+    }
+    for (i, &v) in t.iter().enumerate() {
+        if !v.is_finite() {
+            return Err(Error::NonFinite { arg: "times", index: i });
+        }
+        if i > 0 && v <= t[i - 1] {
+            return Err(Error::invalid(
+                "times",
+                format!("not strictly increasing at index {i} ({v} after {})", t[i - 1]),
+            ));
+        }
+    }
+    Ok(t.to_vec())
+}

@@ -1,0 +1,110 @@
+//! Keyframe splines behind one interface, each method in its own file.
+//!
+//! Every spline is a sequence of segments between joint times. A segment is written once,
+//! generically over [`Jet<N>`](crate::jet::Jet): N = 1 gives the orientation, N = 2…4 add
+//! q', q'', q''' exactly (Taylor-mode differentiation of the same formula, see
+//! [`crate::jet`]). Derivatives are with respect to time, in rad per time unit.
+//!
+//! | method | file | interpolates | continuity |
+//! |---|---|---|---|
+//! | piecewise slerp | `piecewise_slerp.rs` | yes | C⁰ |
+//! | spherical Bézier (de Casteljau) | `spherical_bezier.rs` | ends | C^∞ (one curve) |
+//! | cumulative Bézier (Kim–Kim–Shin) | `cumulative_bezier.rs` | ends | C^∞ (one curve) |
+//! | Squad | `squad.rs` | yes | C¹ |
+//! | Catmull–Rom (Gortler) | `catmull_rom.rs` | yes | C¹ |
+//! | cumulative B-spline, order k | `cumulative_bspline.rs` | no | C^(k−2) |
+//! | global natural C² spline | `natural_spline.rs` | yes | C² |
+
+mod catmull_rom;
+mod cumulative_bezier;
+mod cumulative_bspline;
+mod eval;
+mod keys;
+mod natural_spline;
+mod piecewise_slerp;
+mod spherical_bezier;
+mod squad;
+
+pub use catmull_rom::{CatmullRom, CatmullRomEnds};
+pub use cumulative_bezier::CumulativeBezier;
+pub use cumulative_bspline::CumulativeBSpline;
+pub use eval::{angular_into, evaluate_into, Extrapolate, Frame};
+pub use keys::{canonicalize_chain, prepare_keys, prepare_times};
+pub use natural_spline::{NaturalEnds, NaturalSpline};
+pub use piecewise_slerp::PiecewiseSlerp;
+pub use spherical_bezier::{de_casteljau, SphericalBezier};
+pub use squad::Squad;
+
+use crate::jet::JQuat;
+
+/// The contract every spline fulfils: segments between joint times, each evaluable with its
+/// time derivatives. Implementations are immutable after construction (`Send + Sync`), so one
+/// spline can be evaluated from many threads at once.
+pub trait Spline: Send + Sync {
+    /// The method's registry name (e.g. `"squad"`).
+    fn name(&self) -> &'static str;
+
+    /// Joint times: segment i spans `joints()[i] ..= joints()[i + 1]`. Strictly increasing,
+    /// at least two entries.
+    fn joints(&self) -> &[f64];
+
+    /// Whether the curve passes through its keys (at the joints).
+    fn interpolates(&self) -> bool;
+
+    /// The parametric continuity order in time the method guarantees at interior joints.
+    fn continuity(&self) -> u8;
+
+    /// q on segment `seg` at time `t` (t may lie anywhere; the segment's formula is used).
+    fn segment_jet1(&self, seg: usize, t: f64) -> JQuat<1>;
+    /// q, q' on segment `seg` at time `t`.
+    fn segment_jet2(&self, seg: usize, t: f64) -> JQuat<2>;
+    /// q, q', q'' on segment `seg` at time `t`.
+    fn segment_jet3(&self, seg: usize, t: f64) -> JQuat<3>;
+    /// q, q', q'', q''' on segment `seg` at time `t`.
+    fn segment_jet4(&self, seg: usize, t: f64) -> JQuat<4>;
+
+    /// (first joint, last joint).
+    fn domain(&self) -> (f64, f64) {
+        let j = self.joints();
+        (j[0], j[j.len() - 1])
+    }
+
+    /// The number of segments.
+    fn segments(&self) -> usize {
+        self.joints().len() - 1
+    }
+
+    /// The segment containing t (the right one at an interior joint; the last one at the end).
+    fn locate(&self, t: f64) -> usize {
+        let j = self.joints();
+        let k = j.partition_point(|&x| x <= t);
+        k.saturating_sub(1).min(j.len() - 2)
+    }
+}
+
+/// Implements the four `segment_jetN` methods of [`Spline`] by calling the type's inherent
+/// generic `fn segment<const N: usize>(&self, seg: usize, t: f64) -> JQuat<N>`.
+macro_rules! segment_jets {
+    () => {
+        fn segment_jet1(&self, seg: usize, t: f64) -> $crate::jet::JQuat<1> {
+            self.segment::<1>(seg, t)
+        }
+        fn segment_jet2(&self, seg: usize, t: f64) -> $crate::jet::JQuat<2> {
+            self.segment::<2>(seg, t)
+        }
+        fn segment_jet3(&self, seg: usize, t: f64) -> $crate::jet::JQuat<3> {
+            self.segment::<3>(seg, t)
+        }
+        fn segment_jet4(&self, seg: usize, t: f64) -> $crate::jet::JQuat<4> {
+            self.segment::<4>(seg, t)
+        }
+    };
+}
+pub(crate) use segment_jets;
+
+/// The local parameter u = (t − tᵢ)/hᵢ of a segment as a jet (du/dt = 1/hᵢ).
+#[inline(always)]
+pub(crate) fn local<const N: usize>(t: f64, t0: f64, t1: f64) -> crate::jet::Jet<N> {
+    let h = t1 - t0;
+    crate::jet::Jet::variable((t - t0) / h, 1.0 / h)
+}

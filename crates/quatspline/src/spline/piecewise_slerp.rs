@@ -1,0 +1,51 @@
+//! Piecewise slerp: the C⁰ baseline (seeds 001, 003; MATH.md §2).
+//!
+//! Segment i on [τᵢ, τᵢ₊₁], u = (τ − τᵢ)/hᵢ: q(τ) = qᵢ exp(u ωᵢ), ωᵢ = log(qᵢ* qᵢ₊₁).
+//! Constant angular speed 2|ωᵢ|/hᵢ within a segment; the velocity jumps at keys, so the curve
+//! is C⁰ (interpolating). Two keys: plain slerp.
+
+use super::{local, prepare_keys, prepare_times, segment_jets, Spline};
+use crate::error::Result;
+use crate::jet::JQuat;
+use crate::quat::Quat;
+
+/// Slerp between consecutive keys.
+#[derive(Debug, Clone)]
+pub struct PiecewiseSlerp {
+    keys: Vec<Quat>,
+    times: Vec<f64>,
+    logs: Vec<[f64; 3]>,
+}
+
+impl PiecewiseSlerp {
+    /// Keys (normalised; consecutive keys sign-aligned unless `canonicalize` is false) at
+    /// `times` (default 0, 1, …). Needs two keys.
+    pub fn new(keys: &[Quat], times: Option<&[f64]>, canonicalize: bool) -> Result<Self> {
+        let keys = prepare_keys(keys, "quats", 2, canonicalize)?;
+        let times = prepare_times(times, keys.len())?;
+        let logs = keys.windows(2).map(|w| (w[0].conj() * w[1]).log().vec()).collect();
+        Ok(PiecewiseSlerp { keys, times, logs })
+    }
+
+    #[inline(always)]
+    fn segment<const N: usize>(&self, i: usize, t: f64) -> JQuat<N> {
+        let u = local::<N>(t, self.times[i], self.times[i + 1]);
+        JQuat::constant(self.keys[i]) * JQuat::exp_scaled(self.logs[i], u)
+    }
+}
+
+impl Spline for PiecewiseSlerp {
+    segment_jets!();
+    fn name(&self) -> &'static str {
+        "slerp"
+    }
+    fn joints(&self) -> &[f64] {
+        &self.times
+    }
+    fn interpolates(&self) -> bool {
+        true
+    }
+    fn continuity(&self) -> u8 {
+        0
+    }
+}

@@ -1,0 +1,354 @@
+"""Keyframe splines behind one interface: ``quatspline.Spline``.
+
+Every spline maps time to unit quaternions (w, x, y, z) and gives exact time derivatives —
+q', q'', q''' and the angular velocity, acceleration and jerk in the world or body frame — by
+Taylor-mode differentiation of the same formula in the Rust core (never finite differences).
+
+| class | interpolates | continuity | source |
+|---|---|---|---|
+| ``PiecewiseSlerp`` | yes | C⁰ | seeds 001/003 |
+| ``SphericalBezier`` | end points | C^∞ (one curve) | Shoemake 1985 (de Casteljau) |
+| ``CumulativeBezier`` | end points | C^∞ (one curve) | Kim, Kim & Shin 1995 |
+| ``Squad`` | yes | C¹ | Shoemake 1987, seed 003 |
+| ``CatmullRom`` | yes | C¹ | Gortler ch. 9, seed 002 |
+| ``CumulativeBSpline`` | no | C^(k−2) (C² cubic) | Kim et al. 1995, Sommer et al. 2020 |
+| ``NaturalSpline`` | yes | C² (global) | seed 002 §9.4; scipy ``RotationSpline`` |
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import _core
+from ._arrays import as_real, with_width
+
+__all__ = [
+    "CatmullRom",
+    "CumulativeBSpline",
+    "CumulativeBezier",
+    "NaturalSpline",
+    "PiecewiseSlerp",
+    "Spline",
+    "SphericalBezier",
+    "Squad",
+    "path_length",
+    "reparameterize",
+]
+
+_FRAMES = ("world", "body")
+_EXTRAPOLATE = ("raise", "clamp")
+
+
+def _keys(q, name: str) -> np.ndarray:
+    a = with_width(q, name, 4)
+    if a.ndim != 2:
+        raise ValueError(f"{name}: expected shape (N, 4), got {a.shape}")
+    return a
+
+
+def _times(times, n: int):
+    if times is None:
+        return None
+    t = as_real(times, "times")
+    if t.ndim != 1:
+        raise ValueError(f"times: expected shape ({n},), got {t.shape}")
+    return np.ascontiguousarray(t)
+
+
+class Spline:
+    """One interface for every curve: call it for orientations, ask it for derivatives.
+
+    ``s(t)`` → (M, 4) for an array of times (any shape: the result has shape t.shape + (4,)),
+    (4,) for a scalar. Times outside ``s.domain`` raise ``ValueError`` unless the spline was
+    made with ``extrapolate="clamp"``, which holds the end orientation (zero derivatives).
+    Times need not be sorted.
+    """
+
+    def __init__(self, core: _core.Spline, extrapolate: str = "raise", **params):
+        if extrapolate not in _EXTRAPOLATE:
+            raise ValueError(f"extrapolate: expected one of {_EXTRAPOLATE}, got {extrapolate!r}")
+        self._core = core
+        self.extrapolate = extrapolate
+        self.params = params
+
+    # ---- description ------------------------------------------------------------------
+    @property
+    def method(self) -> str:
+        """The method's registry name."""
+        return self._core.name
+
+    @property
+    def domain(self) -> tuple[float, float]:
+        """(t_start, t_end)."""
+        return self._core.domain
+
+    @property
+    def joints(self) -> np.ndarray:
+        """Times of the segment joints, both ends included."""
+        return np.array(self._core.joints)
+
+    @property
+    def interpolates(self) -> bool:
+        """Whether the curve passes through its keys at the joints."""
+        return self._core.interpolates
+
+    @property
+    def continuity(self) -> int | float:
+        """The parametric continuity order in time guaranteed at interior joints."""
+        c = self._core.continuity
+        return float("inf") if c == 255 else c
+
+    def __repr__(self) -> str:
+        a, b = self.domain
+        return f"{type(self).__name__}(segments={len(self.joints) - 1}, domain=[{a:g}, {b:g}])"
+
+    # ---- evaluation -------------------------------------------------------------------
+    def _eval(self, t, order: int):
+        ta = as_real(t, "t")
+        flat = np.ascontiguousarray(ta.reshape(-1))
+        out = self._core.evaluate(flat, order, self.extrapolate == "clamp")
+        return ta.shape, out
+
+    def __call__(self, t) -> np.ndarray:
+        shape, out = self._eval(t, 0)
+        return out.reshape((*shape, 4))
+
+    def derivative(self, t, order: int = 1) -> np.ndarray:
+        """The order-th time derivative of q (order 0…3) as quaternions, shape t.shape + (4,)."""
+        if order not in (0, 1, 2, 3):
+            raise ValueError(f"order: expected 0, 1, 2 or 3, got {order!r}")
+        shape, out = self._eval(t, order)
+        return out[:, 4 * order :].reshape((*shape, 4))
+
+    def derivatives(self, t, order: int = 3) -> np.ndarray:
+        """q, q', …, q^(order) stacked: shape t.shape + (order + 1, 4)."""
+        if order not in (0, 1, 2, 3):
+            raise ValueError(f"order: expected 0, 1, 2 or 3, got {order!r}")
+        shape, out = self._eval(t, order)
+        return out.reshape((*shape, order + 1, 4))
+
+    def _angular(self, t, order: int, frame: str) -> np.ndarray:
+        if frame not in _FRAMES:
+            raise ValueError(f"frame: expected one of {_FRAMES}, got {frame!r}")
+        ta = as_real(t, "t")
+        flat = np.ascontiguousarray(ta.reshape(-1))
+        out = self._core.angular(flat, order, frame == "body", self.extrapolate == "clamp")
+        return out.reshape((*ta.shape, 3))
+
+    def angular_velocity(self, t, frame: str = "world") -> np.ndarray:
+        """ω (rad per time unit): world 2 q' q*, body 2 q* q' (vector parts)."""
+        return self._angular(t, 1, frame)
+
+    def angular_acceleration(self, t, frame: str = "world") -> np.ndarray:
+        """dω/dt: world 2 vec(q'' q*), body 2 vec(q* q'')."""
+        return self._angular(t, 2, frame)
+
+    def jerk(self, t, frame: str = "world") -> np.ndarray:
+        """d²ω/dt²: world 2 vec(q''' q* + q'' q'*), body 2 vec(q'* q'' + q* q''')."""
+        return self._angular(t, 3, frame)
+
+    def segment_derivatives(self, segment: int, t: float) -> np.ndarray:
+        """(4, 4): q, q', q'', q''' of one segment's formula at t (one-sided limits at joints)."""
+        return self._core.segment_derivatives(int(segment), float(t))
+
+    def sample(self, n: int | None = None, rate: float | None = None):
+        """Evenly spaced samples over the domain: ``n`` samples or ``rate`` per time unit.
+
+        Returns (times (M,), quats (M, 4)).
+        """
+        a, b = self.domain
+        if (n is None) == (rate is None):
+            raise ValueError("sample: give exactly one of n or rate")
+        if n is not None:
+            if int(n) < 1:
+                raise ValueError(f"n: expected at least 1 sample, got {n}")
+            t = np.linspace(a, b, int(n))
+        else:
+            if not (np.isfinite(rate) and rate > 0):
+                raise ValueError(f"rate: expected a finite positive rate, got {rate}")
+            t = a + np.arange(int(np.floor((b - a) * rate + 1e-9)) + 1) / rate
+        return t, self(t)
+
+
+class PiecewiseSlerp(Spline):
+    """Slerp between consecutive keys: C⁰, constant speed within each segment."""
+
+    def __init__(self, quats, times=None, canonicalize: bool = True, extrapolate: str = "raise"):
+        q = _keys(quats, "quats")
+        t = _times(times, len(q))
+        super().__init__(
+            _core.piecewise_slerp(q, t, bool(canonicalize)),
+            extrapolate,
+            quats=q,
+            times=t,
+            canonicalize=canonicalize,
+        )
+
+
+class SphericalBezier(Spline):
+    """One spherical Bézier curve (de Casteljau with slerp) of any degree on [0, 1]."""
+
+    def __init__(self, control_points, canonicalize: bool = True, extrapolate: str = "raise"):
+        q = _keys(control_points, "control_points")
+        super().__init__(_core.spherical_bezier(q, bool(canonicalize)), extrapolate)
+
+
+class CumulativeBezier(Spline):
+    """One cumulative spherical Bézier curve (Kim–Kim–Shin) on [0, 1]; same end tangents as
+    ``SphericalBezier`` with the same control points, a different curve in between."""
+
+    def __init__(self, control_points, canonicalize: bool = True, extrapolate: str = "raise"):
+        q = _keys(control_points, "control_points")
+        super().__init__(_core.cumulative_bezier(q, bool(canonicalize)), extrapolate)
+
+
+class Squad(Spline):
+    """Shoemake's Squad; non-uniform times get incoming/outgoing control points: C¹ in time."""
+
+    def __init__(self, quats, times=None, canonicalize: bool = True, extrapolate: str = "raise"):
+        q = _keys(quats, "quats")
+        t = _times(times, len(q))
+        super().__init__(
+            _core.squad(q, t, bool(canonicalize)),
+            extrapolate,
+            quats=q,
+            times=t,
+            canonicalize=canonicalize,
+        )
+
+
+class CatmullRom(Spline):
+    """Catmull–Rom with spherical Bézier segments (Gortler): C¹ in time, also non-uniform.
+
+    ``ends="reflect"`` (default) mirrors the missing end neighbours (two keys give slerp);
+    ``ends="duplicate"`` repeats the end keys as in MATH.md §4.
+    """
+
+    def __init__(
+        self,
+        quats,
+        times=None,
+        ends: str = "reflect",
+        canonicalize: bool = True,
+        extrapolate: str = "raise",
+    ):
+        q = _keys(quats, "quats")
+        t = _times(times, len(q))
+        super().__init__(
+            _core.catmull_rom(q, t, str(ends), bool(canonicalize)),
+            extrapolate,
+            quats=q,
+            times=t,
+            ends=ends,
+            canonicalize=canonicalize,
+        )
+
+
+class CumulativeBSpline(Spline):
+    """Uniform cumulative B-spline of order k (cubic by default): C^(k−2), approximating.
+
+    Segment i spans [t0 + i·dt, t0 + (i+1)·dt] with control rotations i … i+k−1, so the
+    domain is [t0, t0 + (n − k + 1)·dt].
+    """
+
+    def __init__(
+        self,
+        control_quats,
+        dt: float = 1.0,
+        t0: float = 0.0,
+        order: int = 4,
+        canonicalize: bool = True,
+        extrapolate: str = "raise",
+    ):
+        q = _keys(control_quats, "control_quats")
+        super().__init__(
+            _core.cumulative_bspline(q, float(dt), float(t0), int(order), bool(canonicalize)),
+            extrapolate,
+        )
+
+
+class NaturalSpline(Spline):
+    """The global interpolating C² spline (scipy ``RotationSpline``'s construction).
+
+    ``ends="natural"``: zero angular acceleration at both ends. ``ends="clamped"``: body
+    angular velocities ``start_rate``/``end_rate`` at the ends, by default the end segments'
+    chord rates — which is exactly what scipy's ``RotationSpline`` does.
+    """
+
+    def __init__(
+        self,
+        quats,
+        times=None,
+        ends: str = "natural",
+        start_rate=None,
+        end_rate=None,
+        canonicalize: bool = True,
+        extrapolate: str = "raise",
+    ):
+        q = _keys(quats, "quats")
+        t = _times(times, len(q))
+        rates = []
+        for name, r in (("start_rate", start_rate), ("end_rate", end_rate)):
+            if r is None:
+                rates.append(None)
+                continue
+            v = as_real(r, name)
+            if v.shape != (3,):
+                raise ValueError(f"{name}: expected shape (3,), got {v.shape}")
+            rates.append(tuple(float(x) for x in v))
+        super().__init__(
+            _core.natural_spline(q, t, str(ends), rates[0], rates[1], bool(canonicalize)),
+            extrapolate,
+            quats=q,
+            times=t,
+            ends=ends,
+            start_rate=start_rate,
+            end_rate=end_rate,
+            canonicalize=canonicalize,
+        )
+
+
+def path_length(spline: Spline, per_segment: int = 8) -> float:
+    """Total rotation angle ∫|ω| dt over the domain (radians), by Gauss–Legendre quadrature
+    (8 nodes on each of ``per_segment`` pieces of every segment)."""
+    x, w = np.polynomial.legendre.leggauss(8)
+    j = spline.joints
+    edges = np.concatenate(
+        [np.linspace(a, b, per_segment + 1)[:-1] for a, b in zip(j[:-1], j[1:])] + [j[-1:]]
+    )
+    a, b = edges[:-1, None], edges[1:, None]
+    t = (0.5 * (b - a) * x + 0.5 * (a + b)).ravel()
+    speed = np.linalg.norm(spline.angular_velocity(t), axis=1).reshape(a.shape[0], -1)
+    return float(np.sum(0.5 * (b - a) * speed * w))
+
+
+def reparameterize(spline: Spline, kind: str = "angle") -> Spline:
+    """The same method through the same keys, with key times re-spaced so each segment's
+    duration is proportional to its rotation angle (seed 003), keeping the start and end
+    times: angular speed becomes (near) constant across segments.
+
+    Works for the interpolating methods made from keys and times (``PiecewiseSlerp``,
+    ``Squad``, ``CatmullRom``, ``NaturalSpline``).
+    """
+    if kind != "angle":
+        raise ValueError(f"kind: expected 'angle', got {kind!r}")
+    if "quats" not in spline.params:
+        raise ValueError(
+            f"reparameterize: {type(spline).__name__} is not built from keys at times; "
+            "angle reparameterisation needs an interpolating spline"
+        )
+    q = spline.params["quats"]
+    q = q / np.linalg.norm(q, axis=1, keepdims=True)
+    ang = 2 * np.arctan2(
+        np.linalg.norm(q[1:] - q[:-1] * np.sign(np.sum(q[1:] * q[:-1], axis=1))[:, None], axis=1),
+        np.linalg.norm(q[1:] + q[:-1] * np.sign(np.sum(q[1:] * q[:-1], axis=1))[:, None], axis=1),
+    )
+    a, b = spline.domain
+    total = ang.sum()
+    if total == 0:
+        return spline
+    share = np.maximum(ang, 1e-9 * total)
+    times = a + (b - a) * np.concatenate([[0.0], np.cumsum(share) / share.sum()])
+    times[-1] = b
+    params = dict(spline.params, times=times)
+    return type(spline)(**params, extrapolate=spline.extrapolate)
