@@ -120,7 +120,13 @@ impl PySpline {
     }
 
     /// (M, 4·(order+1)): q, q', …, q^(order) at each t.
-    fn evaluate<'py>(&self, py: Python<'py>, t: PyReadonlyArray1<'py, f64>, order: usize, clamp: bool) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn evaluate<'py>(
+        &self,
+        py: Python<'py>,
+        t: PyReadonlyArray1<'py, f64>,
+        order: usize,
+        clamp: bool,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         if order > 3 {
             return Err(PyValueError::new_err(format!("order: expected 0, 1, 2 or 3, got {order}")));
         }
@@ -131,7 +137,14 @@ impl PySpline {
     }
 
     /// (M, 3): angular velocity (order 1), acceleration (2) or jerk (3), world or body frame.
-    fn angular<'py>(&self, py: Python<'py>, t: PyReadonlyArray1<'py, f64>, order: usize, body: bool, clamp: bool) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn angular<'py>(
+        &self,
+        py: Python<'py>,
+        t: PyReadonlyArray1<'py, f64>,
+        order: usize,
+        body: bool,
+        clamp: bool,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         if !(1..=3).contains(&order) {
             return Err(PyValueError::new_err(format!("order: expected 1, 2 or 3, got {order}")));
         }
@@ -143,9 +156,17 @@ impl PySpline {
     }
 
     /// (4, 4): q, q', q'', q''' of segment `seg` at time t (one-sided limits at joints).
-    fn segment_derivatives<'py>(&self, py: Python<'py>, seg: usize, t: f64) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn segment_derivatives<'py>(
+        &self,
+        py: Python<'py>,
+        seg: usize,
+        t: f64,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         if seg >= self.inner.segments() {
-            return Err(PyValueError::new_err(format!("seg: expected < {}, got {seg}", self.inner.segments())));
+            return Err(PyValueError::new_err(format!(
+                "seg: expected < {}, got {seg}",
+                self.inner.segments()
+            )));
         }
         let s = Arc::clone(&self.inner);
         let d = guarded(py, "Spline.segment_derivatives", move || Ok(s.segment_jet4(seg, t).derivatives()))?;
@@ -156,7 +177,11 @@ impl PySpline {
 
 #[pyfunction]
 #[pyo3(signature = (quats, times, canonicalize))]
-fn piecewise_slerp(quats: PyReadonlyArray2<'_, f64>, times: Option<PyReadonlyArray1<'_, f64>>, canonicalize: bool) -> PyResult<PySpline> {
+fn piecewise_slerp(
+    quats: PyReadonlyArray2<'_, f64>,
+    times: Option<PyReadonlyArray1<'_, f64>>,
+    canonicalize: bool,
+) -> PyResult<PySpline> {
     let q = quats_of(&quats, "quats")?;
     wrap(sp::PiecewiseSlerp::new(&q, times_of(&times).as_deref(), canonicalize))
 }
@@ -175,25 +200,44 @@ fn cumulative_bezier(control_points: PyReadonlyArray2<'_, f64>, canonicalize: bo
 
 #[pyfunction]
 #[pyo3(signature = (quats, times, canonicalize))]
-fn squad(quats: PyReadonlyArray2<'_, f64>, times: Option<PyReadonlyArray1<'_, f64>>, canonicalize: bool) -> PyResult<PySpline> {
+fn squad(
+    quats: PyReadonlyArray2<'_, f64>,
+    times: Option<PyReadonlyArray1<'_, f64>>,
+    canonicalize: bool,
+) -> PyResult<PySpline> {
     let q = quats_of(&quats, "quats")?;
     wrap(sp::Squad::new(&q, times_of(&times).as_deref(), canonicalize))
 }
 
 #[pyfunction]
 #[pyo3(signature = (quats, times, ends, canonicalize))]
-fn catmull_rom(quats: PyReadonlyArray2<'_, f64>, times: Option<PyReadonlyArray1<'_, f64>>, ends: &str, canonicalize: bool) -> PyResult<PySpline> {
+fn catmull_rom(
+    quats: PyReadonlyArray2<'_, f64>,
+    times: Option<PyReadonlyArray1<'_, f64>>,
+    ends: &str,
+    canonicalize: bool,
+) -> PyResult<PySpline> {
     let q = quats_of(&quats, "quats")?;
     let ends = match ends {
         "reflect" => sp::CatmullRomEnds::Reflect,
         "duplicate" => sp::CatmullRomEnds::Duplicate,
-        other => return Err(PyValueError::new_err(format!("ends: expected \"reflect\" or \"duplicate\", got {other:?}"))),
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "ends: expected \"reflect\" or \"duplicate\", got {other:?}"
+            )))
+        }
     };
     wrap(sp::CatmullRom::new(&q, times_of(&times).as_deref(), ends, canonicalize))
 }
 
 #[pyfunction]
-fn cumulative_bspline(control_quats: PyReadonlyArray2<'_, f64>, dt: f64, t0: f64, order: usize, canonicalize: bool) -> PyResult<PySpline> {
+fn cumulative_bspline(
+    control_quats: PyReadonlyArray2<'_, f64>,
+    dt: f64,
+    t0: f64,
+    order: usize,
+    canonicalize: bool,
+) -> PyResult<PySpline> {
     let q = quats_of(&control_quats, "control_quats")?;
     wrap(sp::CumulativeBSpline::new(&q, dt, t0, order, canonicalize))
 }
@@ -212,7 +256,11 @@ fn natural_spline(
     let ends = match ends {
         "natural" => sp::NaturalEnds::Natural,
         "clamped" => sp::NaturalEnds::Clamped { start: start_rate, end: end_rate },
-        other => return Err(PyValueError::new_err(format!("ends: expected \"natural\" or \"clamped\", got {other:?}"))),
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "ends: expected \"natural\" or \"clamped\", got {other:?}"
+            )))
+        }
     };
     wrap(sp::NaturalSpline::new(&q, times_of(&times).as_deref(), ends, canonicalize))
 }

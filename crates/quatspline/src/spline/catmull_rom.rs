@@ -38,7 +38,12 @@ fn log_canonical(q: Quat) -> [f64; 3] {
 }
 
 impl CatmullRom {
-    pub fn new(keys: &[Quat], times: Option<&[f64]>, ends: CatmullRomEnds, canonicalize: bool) -> Result<Self> {
+    pub fn new(
+        keys: &[Quat],
+        times: Option<&[f64]>,
+        ends: CatmullRomEnds,
+        canonicalize: bool,
+    ) -> Result<Self> {
         let c = prepare_keys(keys, "quats", 2, canonicalize)?;
         let times = prepare_times(times, c.len())?;
         let n = c.len();

@@ -114,7 +114,8 @@ mod tests {
     #[test]
     fn cubic_basis_matches_math_md() {
         let m = cumulative_blending_matrix(4);
-        let expect = [[1.0, 0.0, 0.0, 0.0], [5.0, 3.0, -3.0, 1.0], [1.0, 3.0, 3.0, -2.0], [0.0, 0.0, 0.0, 1.0]];
+        let expect =
+            [[1.0, 0.0, 0.0, 0.0], [5.0, 3.0, -3.0, 1.0], [1.0, 3.0, 3.0, -2.0], [0.0, 0.0, 0.0, 1.0]];
         for j in 0..4 {
             for c in 0..4 {
                 let e = if j == 0 { expect[j][c] } else { expect[j][c] / 6.0 };

@@ -56,7 +56,14 @@ fn resolve(s: &dyn Spline, i: usize, t: f64, ex: Extrapolate) -> Result<(f64, bo
 }
 
 /// Writes q, q', …, q^(order) (4·(order+1) numbers) for each t into `out`.
-pub fn evaluate_into(s: &dyn Spline, t: &[f64], first: usize, order: usize, ex: Extrapolate, out: &mut [f64]) -> Result<()> {
+pub fn evaluate_into(
+    s: &dyn Spline,
+    t: &[f64],
+    first: usize,
+    order: usize,
+    ex: Extrapolate,
+    out: &mut [f64],
+) -> Result<()> {
     if order > 3 {
         return Err(Error::invalid("order", format!("expected 0, 1, 2 or 3, got {order}")));
     }
@@ -73,7 +80,15 @@ pub fn evaluate_into(s: &dyn Spline, t: &[f64], first: usize, order: usize, ex: 
 
 /// Writes the angular velocity (order 1), acceleration (2) or jerk (3) for each t into `out`
 /// (3 numbers per sample) in the chosen frame.
-pub fn angular_into(s: &dyn Spline, t: &[f64], first: usize, order: usize, frame: Frame, ex: Extrapolate, out: &mut [f64]) -> Result<()> {
+pub fn angular_into(
+    s: &dyn Spline,
+    t: &[f64],
+    first: usize,
+    order: usize,
+    frame: Frame,
+    ex: Extrapolate,
+    out: &mut [f64],
+) -> Result<()> {
     if !(1..=3).contains(&order) {
         return Err(Error::invalid("order", format!("expected 1, 2 or 3, got {order}")));
     }

@@ -75,15 +75,8 @@ fn x_minus_sin_over_cube(x: f64) -> f64 {
 /// (1 − (x/2) cot(x/2))/x² = −Σ_{n≥1} (−1)^n B₂ₙ x^(2n−2)/(2n)!  (Bernoulli numbers)
 fn one_minus_half_cot_over_sq(x: f64) -> f64 {
     if x < 0.3 {
-        const B: [f64; 7] = [
-            1.0 / 6.0,
-            -1.0 / 30.0,
-            1.0 / 42.0,
-            -1.0 / 30.0,
-            5.0 / 66.0,
-            -691.0 / 2730.0,
-            7.0 / 6.0,
-        ];
+        const B: [f64; 7] =
+            [1.0 / 6.0, -1.0 / 30.0, 1.0 / 42.0, -1.0 / 30.0, 5.0 / 66.0, -691.0 / 2730.0, 7.0 / 6.0];
         let x2 = x * x;
         let mut acc = 0.0;
         let mut p = 1.0;
@@ -270,8 +263,10 @@ impl NaturalSpline {
             .map(|i| {
                 let hi = h[i];
                 let rd1 = a3(a[i] * v3(w[i + 1]));
-                let c3: Vec3 = std::array::from_fn(|c| (-2.0 * rho[i][c] + hi * w[i][c] + hi * rd1[c]) / hi.powi(3));
-                let c2: Vec3 = std::array::from_fn(|c| (3.0 * rho[i][c] - 2.0 * hi * w[i][c] - hi * rd1[c]) / (hi * hi));
+                let c3: Vec3 =
+                    std::array::from_fn(|c| (-2.0 * rho[i][c] + hi * w[i][c] + hi * rd1[c]) / hi.powi(3));
+                let c2: Vec3 =
+                    std::array::from_fn(|c| (3.0 * rho[i][c] - 2.0 * hi * w[i][c] - hi * rd1[c]) / (hi * hi));
                 [w[i], c2, c3]
             })
             .collect();
@@ -287,7 +282,8 @@ impl NaturalSpline {
     fn segment<const N: usize>(&self, i: usize, t: f64) -> JQuat<N> {
         let s = Jet::<N>::variable(t - self.times[i], 1.0);
         let [c1, c2, c3] = self.coef[i];
-        let r: [Jet<N>; 3] = std::array::from_fn(|c| Jet::poly(&[0.0, 0.5 * c1[c], 0.5 * c2[c], 0.5 * c3[c]], s));
+        let r: [Jet<N>; 3] =
+            std::array::from_fn(|c| Jet::poly(&[0.0, 0.5 * c1[c], 0.5 * c2[c], 0.5 * c3[c]], s));
         JQuat::constant(self.keys[i]) * JQuat::exp_pure(r)
     }
 }

@@ -37,7 +37,10 @@ impl Squad {
         for i in 1..n - 1 {
             let m0 = vec3::scale(logs[i - 1], 1.0 / h[i - 1]);
             let m1 = vec3::scale(logs[i], 1.0 / h[i]);
-            let v = vec3::scale(vec3::add(vec3::scale(m0, h[i]), vec3::scale(m1, h[i - 1])), 1.0 / (h[i - 1] + h[i]));
+            let v = vec3::scale(
+                vec3::add(vec3::scale(m0, h[i]), vec3::scale(m1, h[i - 1])),
+                1.0 / (h[i - 1] + h[i]),
+            );
             let lo = vec3::scale(vec3::sub(vec3::scale(v, h[i]), logs[i]), 0.5);
             let li = vec3::scale(vec3::sub(logs[i - 1], vec3::scale(v, h[i - 1])), 0.5);
             s_out[i] = keys[i] * Quat::pure(lo).exp();
