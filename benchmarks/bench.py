@@ -79,6 +79,82 @@ def slerp_pairs(n: int, repeat: int) -> list[tuple[str, str, float]]:
     return rows
 
 
+def random_walk(n: int, seed: int, step: float = 0.3) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    v = rng.normal(size=(n, 3))
+    v *= (rng.uniform(0.05, step, n) / np.linalg.norm(v, axis=1))[:, None]
+    rel = qs.exp(np.concatenate([np.zeros((n, 1)), v], axis=1))
+    q = np.empty((n, 4))
+    q[0] = qs.normalize(rng.normal(size=4))
+    for i in range(1, n):
+        q[i] = qs.multiply(q[i - 1], rel[i])
+    return q
+
+
+def spline_methods(n: int, keys: int, repeat: int) -> list[tuple[str, str, float]]:
+    """1,000 keys, n sorted samples (issues 2/6 and 3/6)."""
+    q = random_walk(keys, 4)
+    times = np.arange(keys, dtype=float)
+    t = np.linspace(0.0, keys - 1.0, n)
+    tb = np.linspace(0.0, keys - 3.0, n)  # the cubic B-spline's domain is 3 knots shorter
+    rows = []
+    cases = [
+        ("PiecewiseSlerp", qs.PiecewiseSlerp(q, times), t),
+        ("Squad", qs.Squad(q, times), t),
+        ("CatmullRom", qs.CatmullRom(q, times), t),
+        ("NaturalSpline", qs.NaturalSpline(q, times), t),
+        ("CumulativeBSpline", qs.CumulativeBSpline(q), tb),
+    ]
+    for name, s, tt in cases:
+        rows.append(("quatspline", name, median_ns(lambda s=s, tt=tt: s(tt), n, repeat)))
+    nat = cases[3][1]
+    rows.append(
+        ("quatspline", "NaturalSpline ω (world)", median_ns(lambda: nat.angular_velocity(t), n, repeat))
+    )
+    rows.append(
+        (
+            "quatspline",
+            "NaturalSpline ω (body)",
+            median_ns(lambda: nat.angular_velocity(t, frame="body"), n, repeat),
+        )
+    )
+    try:
+        from scipy.spatial.transform import Rotation, RotationSpline, Slerp
+
+        r = Rotation.from_quat(qs.as_xyzw(q))
+        rs = RotationSpline(times, r)
+        sl = Slerp(times, r)
+        rows.append(("scipy", "RotationSpline (evaluate)", median_ns(lambda: rs(t), n, repeat)))
+        rows.append(("scipy", "RotationSpline(t, 1) (ω)", median_ns(lambda: rs(t, 1), n, repeat)))
+        rows.append(("scipy", "Slerp", median_ns(lambda: sl(t), n, repeat)))
+    except ImportError:
+        print("scipy not installed: skipped")
+    try:
+        import quaternion
+
+        qa = quaternion.as_quat_array(q)
+        rows.append(
+            ("numpy-quaternion", "squad", median_ns(lambda: quaternion.squad(qa, times, t), n, repeat))
+        )
+    except ImportError:
+        print("numpy-quaternion not installed: skipped")
+    return rows
+
+
+def print_matrix(title: str, rows: list[tuple[str, str, float]]) -> None:
+    ours = [r for r in rows if r[0] == "quatspline"]
+    peers = [r for r in rows if r[0] != "quatspline"]
+    print(f"\n## {title}\n")
+    head = " | ".join(f"vs {lib} {m}" for lib, m, _ in peers)
+    print(f"| method | ns/sample | {head} |")
+    print("|---|---:|" + "---:|" * len(peers))
+    for _, m, ns in ours:
+        ratios = " | ".join(f"{p / ns:.1f}×" for _, _, p in peers)
+        print(f"| {m} | {ns:.1f} | {ratios} |")
+    for lib, m, ns in peers:
+        print(f"| {lib} {m} | {ns:.1f} |" + " |" * len(peers))
+
+
 def print_table(title: str, rows: list[tuple[str, str, float]]) -> None:
     ours = rows[0][2]
     print(f"\n## {title}\n")
@@ -99,6 +175,10 @@ def main() -> None:
         f" {platform.python_version()}, numpy {np.__version__}, quatspline {qs.__version__}"
     )
     print_table(f"{args.n:,} independent slerp pairs", slerp_pairs(args.n, args.repeat))
+    print_matrix(
+        f"1,000 keys, {args.n:,} sorted samples (ratios: how many times faster quatspline is)",
+        spline_methods(args.n, 1000, args.repeat),
+    )
 
 
 if __name__ == "__main__":

@@ -28,7 +28,7 @@ def fd(f, t, h):
 
 
 def joint_jumps(s, order=3):
-    """For each interior joint, relative jumps of q, q', …, q^(order): |L − R| / max(1, |L|, |R|)."""
+    """Per interior joint: relative jumps |L − R| / max(1, |L|, |R|) of q, q', …, q^(order)."""
     j = s.joints
     out = []
     for k in range(1, len(j) - 1):

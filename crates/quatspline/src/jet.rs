@@ -181,16 +181,14 @@ fn cos_sinc_sqrt<const N: usize>(x: f64) -> ([f64; N], [f64; N]) {
     }
     let (mut c, mut s) = ([c0, 0.0, 0.0, 0.0], [s0, 0.0, 0.0, 0.0]);
     if x < CS_SERIES {
-        // S^(n)(x) = Σ_{k≥n} (−1)^k k!/(k−n)! x^(k−n)/(2k+1)!, C likewise with (2k)!.
-        for n in 1..4 {
+        // S^(n)(x) = Σ_{k≥n} (−1)^k k!/(k−n)! x^(k−n)/(2k+1)!, C likewise with (2k)!:
+        // coefficient tables CS_TABLE[n − 1][m] for k = n + m.
+        for n in 1..N {
+            let (tc, ts) = (&CS_TABLE.0[n - 1], &CS_TABLE.1[n - 1]);
             let (mut sc, mut ss) = (0.0, 0.0);
-            let mut xp = 1.0; // x^(k−n)
-            for k in n..n + 14 {
-                let falling: f64 = ((k - n + 1)..=k).map(|v| v as f64).product();
-                let sign = if k % 2 == 0 { 1.0 } else { -1.0 };
-                sc += sign * falling * xp / factorial(2 * k);
-                ss += sign * falling * xp / factorial(2 * k + 1);
-                xp *= x;
+            for m in (0..CS_TERMS).rev() {
+                sc = sc * x + tc[m];
+                ss = ss * x + ts[m];
             }
             c[n] = sc;
             s[n] = ss;
@@ -206,12 +204,77 @@ fn cos_sinc_sqrt<const N: usize>(x: f64) -> ([f64; N], [f64; N]) {
     (take(c), take(s))
 }
 
-fn factorial(n: usize) -> f64 {
-    (1..=n).map(|v| v as f64).product()
+const CS_TERMS: usize = 12;
+
+/// Series coefficients of C^(n) and S^(n), n = 1..3 (computed once, at compile time).
+const CS_TABLE: ([[f64; CS_TERMS]; 3], [[f64; CS_TERMS]; 3]) = {
+    let mut c = [[0.0; CS_TERMS]; 3];
+    let mut s = [[0.0; CS_TERMS]; 3];
+    let mut n = 1;
+    while n <= 3 {
+        let mut m = 0;
+        while m < CS_TERMS {
+            let k = n + m;
+            // k!/(k−n)! = (m+1)(m+2)…(m+n)
+            let mut falling = 1.0;
+            let mut v = m + 1;
+            while v <= k {
+                falling *= v as f64;
+                v += 1;
+            }
+            let sign = if k % 2 == 0 { 1.0 } else { -1.0 };
+            c[n - 1][m] = sign * falling / const_factorial(2 * k);
+            s[n - 1][m] = sign * falling / const_factorial(2 * k + 1);
+            m += 1;
+        }
+        n += 1;
+    }
+    (c, s)
+};
+
+const fn const_factorial(n: usize) -> f64 {
+    let mut f = 1.0;
+    let mut v = 2;
+    while v <= n {
+        f *= v as f64;
+        v += 1;
+    }
+    f
 }
 
 /// Below this y = 1 − w, g(w) = θ/sin θ takes its derivatives from its series.
 const G_SERIES: f64 = 0.05;
+
+const G_TERMS: usize = 20;
+
+/// a_k = a_{k−1} k/(2k+1), a₀ = 1, times k!/(k−n)!, for n = 1..3 and k = n + m.
+const G_TABLE: [[f64; G_TERMS]; 3] = {
+    let mut a = [0.0; G_TERMS + 3];
+    a[0] = 1.0;
+    let mut k = 1;
+    while k < G_TERMS + 3 {
+        a[k] = a[k - 1] * k as f64 / (2 * k + 1) as f64;
+        k += 1;
+    }
+    let mut t = [[0.0; G_TERMS]; 3];
+    let mut n = 1;
+    while n <= 3 {
+        let mut m = 0;
+        while m < G_TERMS {
+            let k = n + m;
+            let mut falling = 1.0;
+            let mut v = m + 1;
+            while v <= k {
+                falling *= v as f64;
+                v += 1;
+            }
+            t[n - 1][m] = falling * a[k];
+            m += 1;
+        }
+        n += 1;
+    }
+    t
+};
 
 /// Derivatives 0..3 in w of g(w) = θ/sin θ (w = cos θ) for a unit quaternion with scalar
 /// part `w` and vector norm `s` = sin θ.
@@ -223,19 +286,12 @@ fn theta_over_sin<const N: usize>(w: f64, s: f64) -> [f64; N] {
     let y = if w > 0.0 { s * s / (1.0 + w) } else { 1.0 - w };
     let mut g = [g0, 0.0, 0.0, 0.0];
     if y < G_SERIES {
-        // a_k = a_{k−1} k/(2k+1); g^(n)(w) = (−1)^n Σ_{k≥n} k!/(k−n)! a_k y^(k−n)
-        let mut a = [0.0; 24];
-        a[0] = 1.0;
-        for k in 1..24 {
-            a[k] = a[k - 1] * k as f64 / (2 * k + 1) as f64;
-        }
-        for (n, gn) in g.iter_mut().enumerate().skip(1) {
+        // g^(n)(w) = (−1)^n Σ_{k≥n} k!/(k−n)! a_k y^(k−n): tables G_TABLE[n − 1][m], k = n + m.
+        for (n, gn) in g.iter_mut().enumerate().take(N).skip(1) {
+            let t = &G_TABLE[n - 1];
             let mut acc = 0.0;
-            let mut yp = 1.0;
-            for (k, ak) in a.iter().enumerate().skip(n) {
-                let falling: f64 = ((k - n + 1)..=k).map(|v| v as f64).product();
-                acc += falling * ak * yp;
-                yp *= y;
+            for m in (0..G_TERMS).rev() {
+                acc = acc * y + t[m];
             }
             *gn = if n % 2 == 0 { acc } else { -acc };
         }

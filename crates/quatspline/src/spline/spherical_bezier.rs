@@ -19,8 +19,18 @@ pub fn de_casteljau<const N: usize>(ctrl: &[Quat], logs: &[[f64; 3]], u: Jet<N>)
     if n == 1 {
         return JQuat::constant(ctrl[0]);
     }
-    let mut b: Vec<JQuat<N>> =
-        (0..n - 1).map(|j| JQuat::constant(ctrl[j]) * JQuat::exp_scaled(logs[j], u)).collect();
+    const STACK: usize = 8;
+    let mut stack = [JQuat::constant(Quat::IDENTITY); STACK];
+    let mut heap = Vec::new();
+    let b: &mut [JQuat<N>] = if n - 1 <= STACK {
+        &mut stack[..n - 1]
+    } else {
+        heap.resize(n - 1, JQuat::constant(Quat::IDENTITY));
+        &mut heap
+    };
+    for (j, bj) in b.iter_mut().enumerate() {
+        *bj = JQuat::constant(ctrl[j]) * JQuat::exp_scaled(logs[j], u);
+    }
     for level in (1..n - 1).rev() {
         for j in 0..level {
             b[j] = JQuat::slerp(b[j], b[j + 1], u);
