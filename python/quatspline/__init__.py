@@ -36,7 +36,11 @@ from .dualquat import (
     sclerp,
 )
 from .interpolate import lerp, lin_euler, lin_mat, nlerp, slerp
+from .continuity import JointContinuity, continuity
+from .rigid import rotate_points
 from .spline import (
+    BetaSpline,
+    C3Spline,
     CatmullRom,
     CumulativeBezier,
     CumulativeBSpline,
@@ -51,6 +55,11 @@ from .spline import (
 
 __all__ = [
     "__version__",
+    "BetaSpline",
+    "C3Spline",
+    "JointContinuity",
+    "continuity",
+    "rotate_points",
     "CatmullRom",
     "CumulativeBSpline",
     "CumulativeBezier",

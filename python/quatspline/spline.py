@@ -13,6 +13,8 @@ Taylor-mode differentiation of the same formula in the Rust core (never finite d
 | ``CatmullRom`` | yes | C¹ | Gortler ch. 9, seed 002 |
 | ``CumulativeBSpline`` | no | C^(k−2) (C² cubic) | Kim et al. 1995, Sommer et al. 2020 |
 | ``NaturalSpline`` | yes | C² (global) | seed 002 §9.4; scipy ``RotationSpline`` |
+| ``BetaSpline`` | no | G¹ (not G² in general) | seed 000 (Beta quaternion spline) |
+| ``C3Spline`` | yes | C³ | seed 004 (patent) |
 """
 
 from __future__ import annotations
@@ -23,6 +25,8 @@ from . import _core
 from ._arrays import as_real, with_width
 
 __all__ = [
+    "BetaSpline",
+    "C3Spline",
     "CatmullRom",
     "CumulativeBSpline",
     "CumulativeBezier",
@@ -352,3 +356,76 @@ def reparameterize(spline: Spline, kind: str = "angle") -> Spline:
     times[-1] = b
     params = dict(spline.params, times=times)
     return type(spline)(**params, extrapolate=spline.extrapolate)
+
+
+def _per(v, name: str) -> np.ndarray:
+    a = np.atleast_1d(as_real(v, name)).astype(np.float64)
+    if a.ndim != 1:
+        raise ValueError(f"{name}: expected a scalar or a 1-D array, got shape {a.shape}")
+    return np.ascontiguousarray(a)
+
+
+class BetaSpline(Spline):
+    """The Beta quaternion spline (seed 000, MATH.md §7): G¹ exactly, not G² in general.
+
+    ``vertices`` are the auxiliary control vertices p₀ … p_{l+2} (at least 4); ``beta1`` (> 0)
+    and ``beta2`` are scalars or one value per vertex. The curve has l segments, mapped to
+    ``times`` (l+1 joint times, default 0 … l). β₁ = 1, β₂ = 0 is the uniform cubic B-spline.
+    With ``canonicalize=False`` the paper's Example 1 is reproduced.
+    """
+
+    def __init__(
+        self,
+        vertices,
+        beta1=1.0,
+        beta2=0.0,
+        times=None,
+        canonicalize: bool = True,
+        extrapolate: str = "raise",
+    ):
+        p = _keys(vertices, "vertices")
+        t = _times(times, max(len(p) - 2, 0))
+        super().__init__(
+            _core.beta_spline(p, _per(beta1, "beta1"), _per(beta2, "beta2"), t, bool(canonicalize)),
+            extrapolate,
+        )
+
+    def control_points(self) -> np.ndarray:
+        """The Bézier points q_{i,0..3} of segments i = 1 … l, shape (l, 4, 4)."""
+        return np.array(self._core.control_points())
+
+
+class C3Spline(Spline):
+    """The patent's interpolating C³ spline with shape parameters α, β (seed 004, MATH.md §8).
+
+    ``variant="knot"`` (default): α, β per key (scalar or N values), C³ in time for any key
+    spacing and parameters. ``variant="patent"``: α, β per segment (scalar or N−1 values),
+    exactly the patent's blending functions (C³ in the local parameter for uniform times and
+    shared parameters; only G³ in time otherwise). (α, β) = (5/16, 0) is the quintic C³
+    scheme; α = β = 0 is slerp with degree-7 smoothstep timing.
+    """
+
+    def __init__(
+        self,
+        quats,
+        times=None,
+        alpha=5 / 16,
+        beta=0.0,
+        variant: str = "knot",
+        canonicalize: bool = True,
+        extrapolate: str = "raise",
+    ):
+        q = _keys(quats, "quats")
+        t = _times(times, len(q))
+        super().__init__(
+            _core.c3_spline(
+                q, t, _per(alpha, "alpha"), _per(beta, "beta"), str(variant), bool(canonicalize)
+            ),
+            extrapolate,
+            quats=q,
+            times=t,
+            alpha=alpha,
+            beta=beta,
+            variant=variant,
+            canonicalize=canonicalize,
+        )

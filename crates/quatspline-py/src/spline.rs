@@ -155,6 +155,37 @@ impl PySpline {
         })
     }
 
+    /// Continuity certificate: one tuple per interior joint
+    /// (index, time, jump_abs[4], jump_rel[4], order, g1_xi, g1_residual, g2_delta, g2_residual).
+    #[allow(clippy::type_complexity)]
+    fn continuity_report(
+        &self,
+        py: Python<'_>,
+        order: usize,
+        tol: f64,
+    ) -> PyResult<Vec<(usize, f64, [f64; 4], [f64; 4], i32, f64, f64, f64, f64)>> {
+        let s = Arc::clone(&self.inner);
+        let r = guarded(py, "continuity", move || Ok(quatspline::analysis::continuity(&*s, order, tol)))?;
+        Ok(r.into_iter()
+            .map(|j| (j.index, j.time, j.jump_abs, j.jump_rel, j.order, j.g1_xi, j.g1_residual, j.g2_delta, j.g2_residual))
+            .collect())
+    }
+
+    /// Beta spline only: per interior joint (joint, g1[4], g2[4], theorem2[4], gamma, |s''|).
+    #[allow(clippy::type_complexity)]
+    fn beta_residuals(&self) -> Option<Vec<(usize, [f64; 4], [f64; 4], [f64; 4], f64, f64)>> {
+        self.inner.beta_residuals().map(|v| {
+            v.into_iter()
+                .map(|b| (b.joint, b.g1.to_wxyz(), b.g2.to_wxyz(), b.theorem2.to_wxyz(), b.gamma, b.second_derivative))
+                .collect()
+        })
+    }
+
+    /// Bézier control points per segment (l, 4, 4) where the method has them, else None.
+    fn control_points(&self) -> Option<Vec<[[f64; 4]; 4]>> {
+        self.inner.control_points().map(|v| v.into_iter().map(|c| c.map(Quat::to_wxyz)).collect())
+    }
+
     /// (4, 4): q, q', q'', q''' of segment `seg` at time t (one-sided limits at joints).
     fn segment_derivatives<'py>(
         &self,
@@ -265,6 +296,42 @@ fn natural_spline(
     wrap(sp::NaturalSpline::new(&q, times_of(&times).as_deref(), ends, canonicalize))
 }
 
+fn vec_of(a: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
+    a.as_array().iter().copied().collect()
+}
+
+#[pyfunction]
+#[pyo3(signature = (vertices, beta1, beta2, times, canonicalize))]
+fn beta_spline(
+    vertices: PyReadonlyArray2<'_, f64>,
+    beta1: PyReadonlyArray1<'_, f64>,
+    beta2: PyReadonlyArray1<'_, f64>,
+    times: Option<PyReadonlyArray1<'_, f64>>,
+    canonicalize: bool,
+) -> PyResult<PySpline> {
+    let q = quats_of(&vertices, "vertices")?;
+    wrap(sp::BetaSpline::new(&q, &vec_of(&beta1), &vec_of(&beta2), times_of(&times).as_deref(), canonicalize))
+}
+
+#[pyfunction]
+#[pyo3(signature = (quats, times, alpha, beta, variant, canonicalize))]
+fn c3_spline(
+    quats: PyReadonlyArray2<'_, f64>,
+    times: Option<PyReadonlyArray1<'_, f64>>,
+    alpha: PyReadonlyArray1<'_, f64>,
+    beta: PyReadonlyArray1<'_, f64>,
+    variant: &str,
+    canonicalize: bool,
+) -> PyResult<PySpline> {
+    let q = quats_of(&quats, "quats")?;
+    let variant = match variant {
+        "knot" => sp::C3Variant::Knot,
+        "patent" => sp::C3Variant::Patent,
+        other => return Err(PyValueError::new_err(format!("variant: expected \"knot\" or \"patent\", got {other:?}"))),
+    };
+    wrap(sp::C3Spline::new(&q, times_of(&times).as_deref(), &vec_of(&alpha), &vec_of(&beta), variant, canonicalize))
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PySpline>()?;
     m.add_function(wrap_pyfunction!(piecewise_slerp, m)?)?;
@@ -274,5 +341,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(catmull_rom, m)?)?;
     m.add_function(wrap_pyfunction!(cumulative_bspline, m)?)?;
     m.add_function(wrap_pyfunction!(natural_spline, m)?)?;
+    m.add_function(wrap_pyfunction!(beta_spline, m)?)?;
+    m.add_function(wrap_pyfunction!(c3_spline, m)?)?;
     Ok(())
 }

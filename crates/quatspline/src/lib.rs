@@ -8,6 +8,7 @@
 //! Fallible functions return [`Result`] with one [`Error`] type; nothing here panics on user
 //! data (the few panicking conveniences say so under `# Panics`).
 
+pub mod analysis;
 pub mod convert;
 pub mod dual_quat;
 mod error;

@@ -14,7 +14,11 @@
 //! | Catmull–Rom (Gortler) | `catmull_rom.rs` | yes | C¹ |
 //! | cumulative B-spline, order k | `cumulative_bspline.rs` | no | C^(k−2) |
 //! | global natural C² spline | `natural_spline.rs` | yes | C² |
+//! | Beta spline (β₁, β₂) | `beta.rs` | no | G¹ (not G² in general) |
+//! | C³ parametric spline (α, β) | `c3.rs` | yes | C³ |
 
+mod beta;
+mod c3;
 mod catmull_rom;
 mod cumulative_bezier;
 mod cumulative_bspline;
@@ -25,6 +29,8 @@ mod piecewise_slerp;
 mod spherical_bezier;
 mod squad;
 
+pub use beta::{BetaJoint, BetaSpline};
+pub use c3::{patent_blending, C3Spline, C3Variant};
 pub use catmull_rom::{CatmullRom, CatmullRomEnds};
 pub use cumulative_bezier::CumulativeBezier;
 pub use cumulative_bspline::CumulativeBSpline;
@@ -72,6 +78,16 @@ pub trait Spline: Send + Sync {
     /// The number of segments.
     fn segments(&self) -> usize {
         self.joints().len() - 1
+    }
+
+    /// For the Beta spline: the residuals of its geometric constraints at interior joints.
+    fn beta_residuals(&self) -> Option<Vec<BetaJoint>> {
+        None
+    }
+
+    /// Bézier control points per segment, where the method has them (Beta spline).
+    fn control_points(&self) -> Option<Vec<[crate::quat::Quat; 4]>> {
+        None
     }
 
     /// The segment containing t (the right one at an interior joint; the last one at the end).

@@ -1,0 +1,90 @@
+//! The continuity certificate: what is true at every joint of any spline (MATH.md §9).
+//!
+//! At joint k (time τ_k) with left limits L_m = q^(m)(τ_k⁻) from segment k−1 and right limits
+//! R_m from segment k (m = 0 … 3, time derivatives), it reports:
+//! - the jumps |R_m − L_m|, absolute and relative to max(|L_m|, |R_m|, 1e-8·M_m) where M_m is
+//!   the largest |q^(m)| met at any joint (so a derivative that vanishes at a key does not
+//!   turn rounding into a "jump", and the measure does not depend on the time unit);
+//! - the parametric order C^k reached: the largest k with every relative jump m ≤ k at most
+//!   `tol` (−1 when even the positions differ);
+//! - the geometric (Beta) constraints with fitted parameters: G¹ R₁ = ξ L₁ with
+//!   ξ = ⟨L₁, R₁⟩/|L₁|², and G² R₂ = ξ² L₂ + δ L₁ with δ = ⟨R₂ − ξ² L₂, L₁⟩/|L₁|²,
+//!   and their residuals relative to |R₁| and |R₂|.
+
+use crate::quat::Quat;
+use crate::spline::Spline;
+
+/// The certificate of one joint.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointReport {
+    /// Joint index (1 … segments−1).
+    pub index: usize,
+    pub time: f64,
+    /// |R_m − L_m| for m = 0 … 3.
+    pub jump_abs: [f64; 4],
+    /// Jumps relative to the derivative's size (see the module doc).
+    pub jump_rel: [f64; 4],
+    /// The parametric order reached (−1 … `order`).
+    pub order: i32,
+    /// Fitted G¹ factor ξ and the relative residual |R₁ − ξ L₁| / |R₁|.
+    pub g1_xi: f64,
+    pub g1_residual: f64,
+    /// Fitted G² factor δ and the relative residual |R₂ − ξ² L₂ − δ L₁| / |R₂|.
+    pub g2_delta: f64,
+    pub g2_residual: f64,
+}
+
+fn dist(a: Quat, b: Quat) -> f64 {
+    (a - b).norm()
+}
+
+/// Certificates for every interior joint, checking orders 0 … `order` (≤ 3) against `tol`.
+pub fn continuity(s: &dyn Spline, order: usize, tol: f64) -> Vec<JointReport> {
+    let order = order.min(3);
+    let j = s.joints();
+    let sides: Vec<([Quat; 4], [Quat; 4])> = (1..j.len() - 1)
+        .map(|k| (s.segment_jet4(k - 1, j[k]).derivatives(), s.segment_jet4(k, j[k]).derivatives()))
+        .collect();
+    let mut big = [0.0f64; 4];
+    for (l, r) in &sides {
+        for m in 0..4 {
+            big[m] = big[m].max(l[m].norm()).max(r[m].norm());
+        }
+    }
+    sides
+        .iter()
+        .enumerate()
+        .map(|(i, (l, r))| {
+            let jump_abs: [f64; 4] = std::array::from_fn(|m| dist(l[m], r[m]));
+            let jump_rel: [f64; 4] = std::array::from_fn(|m| {
+                let scale = l[m].norm().max(r[m].norm()).max(1e-8 * big[m]).max(f64::MIN_POSITIVE);
+                jump_abs[m] / scale
+            });
+            let mut reached = -1;
+            for m in 0..=order {
+                if jump_rel[m] <= tol {
+                    reached = m as i32;
+                } else {
+                    break;
+                }
+            }
+            let ll = l[1].norm_squared();
+            let xi = if ll > 0.0 { l[1].dot(r[1]) / ll } else { 1.0 };
+            let g1 = dist(r[1], l[1].scale(xi)) / r[1].norm().max(f64::MIN_POSITIVE);
+            let rest = r[2] - l[2].scale(xi * xi);
+            let delta = if ll > 0.0 { rest.dot(l[1]) / ll } else { 0.0 };
+            let g2 = dist(rest, l[1].scale(delta)) / r[2].norm().max(f64::MIN_POSITIVE);
+            JointReport {
+                index: i + 1,
+                time: j[i + 1],
+                jump_abs,
+                jump_rel,
+                order: reached,
+                g1_xi: xi,
+                g1_residual: g1,
+                g2_delta: delta,
+                g2_residual: g2,
+            }
+        })
+        .collect()
+}

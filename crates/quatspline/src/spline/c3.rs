@@ -1,0 +1,234 @@
+//! The C³ parametric quaternion spline with shape parameters α, β (seed 004, patent;
+//! MATH.md §8 — the patent's formulas were images, this is the verified reconstruction).
+//!
+//! Keys Q₁ … Q_N at τ₁ < … < τ_N, padded Q₀ = Q₁, Q_{N+1} = Q_N, ω_k = log(Q_{k−1}* Q_k).
+//! Segment i = 1 … N−1, t = (τ − τᵢ)/hᵢ:
+//!   qᵢ(t) = Q_{i−1} exp(C̃₁(t) ωᵢ) exp(C̃₂(t) ω_{i+1}) exp(C̃₃(t) ω_{i+2}),
+//!   C̃₁ = 1 − C₀, C̃₂ = C₂ + C₃, C̃₃ = C₃, with degree-7 blending functions (b_l = C(7,l) tˡ(1−t)^{7−l}):
+//!   C₃(t) = −t⁴(1−t)[α + β(1−t)²] = −((α+β)/35) b₄ − (2α/21) b₅ − (α/7) b₆,  C₀(t) = C₃(1−t),
+//!   C₁(t) = b₀ + b₁ + (1 − 8α/21) b₂ + (1 − 8α/7) b₃ + ((41α+β)/35) b₄ + (10α/21) b₅ + (α/7) b₆,
+//!   C₂(t) = C₁(1−t).
+//! Interpolating, local (a key moves 4 segments). `Patent` variant: parameters per segment,
+//! C³ in t for uniform times and shared parameters; only G³ in τ for non-uniform times (speed
+//! ratio at a key h_{k−1}/h_k). `Knot` variant: parameters per key; each C_j is the degree-7
+//! Hermite interpolant of the τ-derivative weights at its two keys (MATH.md §8), C³ in τ for
+//! any spacing and parameters, equal to the patent form for uniform times and constant
+//! parameters. α changes q', q'', q''' at keys, β only q'''. Special cases: (5/16, 0) is the
+//! quintic C³ scheme; α = β = 0 is slerp with smoothstep-7 timing (zero velocity at keys).
+
+use super::{prepare_keys, prepare_times, segment_jets, Spline};
+use crate::error::{Error, Result};
+use crate::jet::{JQuat, Jet};
+use crate::quat::Quat;
+
+/// Where the shape parameters live.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum C3Variant {
+    /// Parameters per key, C³ in time for any spacing (MATH.md §8, "knot" variant).
+    Knot,
+    /// Parameters per segment, exactly the patent's blending functions.
+    Patent,
+}
+
+/// The C³ spline.
+#[derive(Debug, Clone)]
+pub struct C3Spline {
+    base: Vec<Quat>,
+    logs: Vec<[f64; 3]>,
+    times: Vec<f64>,
+    /// Per segment, power-basis coefficients of C̃₁, C̃₂, C̃₃ in the local parameter.
+    basis: Vec<[[f64; 8]; 3]>,
+}
+
+const BINOM7: [f64; 8] = [1.0, 7.0, 21.0, 35.0, 35.0, 21.0, 7.0, 1.0];
+
+/// Power-basis coefficients of Σ c_l b_l(t) (degree-7 Bernstein).
+fn bernstein_to_power(c: &[f64; 8]) -> [f64; 8] {
+    let mut p = [0.0; 8];
+    // b_l(t) = C(7,l) t^l (1−t)^{7−l} = C(7,l) Σ_m C(7−l, m) (−1)^m t^{l+m}
+    for l in 0..8 {
+        let mut binom = 1.0;
+        for m in 0..=(7 - l) {
+            if m > 0 {
+                binom = binom * (7 - l - m + 1) as f64 / m as f64;
+            }
+            let sign = if m % 2 == 0 { 1.0 } else { -1.0 };
+            p[l + m] += c[l] * BINOM7[l] * binom * sign;
+        }
+    }
+    p
+}
+
+fn reversed(c: [f64; 8]) -> [f64; 8] {
+    std::array::from_fn(|k| c[7 - k])
+}
+
+/// The patent's Bernstein coefficients of C₀ … C₃ for one (α, β).
+pub fn patent_blending(alpha: f64, beta: f64) -> [[f64; 8]; 4] {
+    let c3 = [0.0, 0.0, 0.0, 0.0, -(alpha + beta) / 35.0, -2.0 * alpha / 21.0, -alpha / 7.0, 0.0];
+    let c1 = [
+        1.0,
+        1.0,
+        1.0 - 8.0 * alpha / 21.0,
+        1.0 - 8.0 * alpha / 7.0,
+        (41.0 * alpha + beta) / 35.0,
+        10.0 * alpha / 21.0,
+        alpha / 7.0,
+        0.0,
+    ];
+    [reversed(c3), c1, reversed(c1), c3]
+}
+
+/// Degree-7 Hermite interpolant in Bernstein form from value and first three derivatives
+/// (in the local parameter) at t = 0 and t = 1.
+fn hermite7(f0: [f64; 4], f1: [f64; 4]) -> [f64; 8] {
+    let mut c = [0.0; 8];
+    c[0] = f0[0];
+    c[1] = c[0] + f0[1] / 7.0;
+    c[2] = 2.0 * c[1] - c[0] + f0[2] / 42.0;
+    c[3] = 3.0 * c[2] - 3.0 * c[1] + c[0] + f0[3] / 210.0;
+    c[7] = f1[0];
+    c[6] = c[7] - f1[1] / 7.0;
+    c[5] = 2.0 * c[6] - c[7] + f1[2] / 42.0;
+    c[4] = 3.0 * c[5] - 3.0 * c[6] + c[7] - f1[3] / 210.0;
+    c
+}
+
+fn per(v: &[f64], n: usize, arg: &'static str, what: &str) -> Result<Vec<f64>> {
+    let out = match v.len() {
+        1 => vec![v[0]; n],
+        m if m == n => v.to_vec(),
+        m => return Err(Error::invalid(arg, format!("expected 1 or {n} values ({what}), got {m}"))),
+    };
+    if let Some(i) = out.iter().position(|x| !x.is_finite()) {
+        return Err(Error::NonFinite { arg, index: i });
+    }
+    Ok(out)
+}
+
+impl C3Spline {
+    /// Keys at times (default 0, 1, …), `alpha`/`beta` one value or one per segment (patent)
+    /// or per key (knot). Needs two keys.
+    pub fn new(
+        keys: &[Quat],
+        times: Option<&[f64]>,
+        alpha: &[f64],
+        beta: &[f64],
+        variant: C3Variant,
+        canonicalize: bool,
+    ) -> Result<Self> {
+        let k = prepare_keys(keys, "quats", 2, canonicalize)?;
+        let n = k.len();
+        let times = prepare_times(times, n)?;
+        let h: Vec<f64> = times.windows(2).map(|w| w[1] - w[0]).collect();
+        let mut padded = Vec::with_capacity(n + 2);
+        padded.push(k[0]);
+        padded.extend_from_slice(&k);
+        padded.push(k[n - 1]);
+        let logs: Vec<[f64; 3]> = std::iter::once([0.0; 3])
+            .chain(padded.windows(2).map(|w| (w[0].conj() * w[1]).log().vec()))
+            .collect();
+        let blend: Vec<[[f64; 8]; 4]> = match variant {
+            C3Variant::Patent => {
+                let (a, b) = (per(alpha, n - 1, "alpha", "one per segment")?, per(beta, n - 1, "beta", "one per segment")?);
+                (0..n - 1).map(|s| patent_blending(a[s], b[s])).collect()
+            }
+            C3Variant::Knot => {
+                let (a, b) = (per(alpha, n, "alpha", "one per key")?, per(beta, n, "beta", "one per key")?);
+                // τ-derivative weights (a_m, b_m, c_m), m = 1..3, of (p_{k−1}, p_k, p_{k+1}) at key k
+                let weights: Vec<[[f64; 3]; 3]> = (0..n)
+                    .map(|key| {
+                        let hl = if key == 0 { h[0] } else { h[key - 1] };
+                        let hr = if key == n - 1 { h[n - 2] } else { h[key] };
+                        let hb = 0.5 * (hl + hr);
+                        let (a1, a2, a3) = (a[key], 8.0 * a[key], 36.0 * a[key] + 6.0 * b[key]);
+                        let am = [-a1 / hl, a2 / (hl * hb), -a3 / (hl * hb * hb)];
+                        let cm = [a1 / hr, a2 / (hr * hb), a3 / (hr * hb * hb)];
+                        std::array::from_fn(|m| [am[m], -(am[m] + cm[m]), cm[m]])
+                    })
+                    .collect();
+                (0..n - 1)
+                    .map(|s| {
+                        let hs = h[s];
+                        let sc = [hs, hs * hs, hs * hs * hs];
+                        let at0 = |j: usize| -> [f64; 4] {
+                            // C0 ↔ a, C1 ↔ b, C2 ↔ c at key s; C3 not involved
+                            let v = if j == 1 { 1.0 } else { 0.0 };
+                            if j == 3 {
+                                return [0.0; 4];
+                            }
+                            [v, weights[s][0][j] * sc[0], weights[s][1][j] * sc[1], weights[s][2][j] * sc[2]]
+                        };
+                        let at1 = |j: usize| -> [f64; 4] {
+                            // C1 ↔ a, C2 ↔ b, C3 ↔ c at key s+1; C0 not involved
+                            if j == 0 {
+                                return [0.0; 4];
+                            }
+                            let v = if j == 2 { 1.0 } else { 0.0 };
+                            let w = &weights[s + 1];
+                            [v, w[0][j - 1] * sc[0], w[1][j - 1] * sc[1], w[2][j - 1] * sc[2]]
+                        };
+                        std::array::from_fn(|j| hermite7(at0(j), at1(j)))
+                    })
+                    .collect()
+            }
+        };
+        let basis = blend
+            .iter()
+            .map(|c| {
+                let c1t: [f64; 8] = std::array::from_fn(|k| 1.0 - c[0][k]);
+                let c2t: [f64; 8] = std::array::from_fn(|k| c[2][k] + c[3][k]);
+                [bernstein_to_power(&c1t), bernstein_to_power(&c2t), bernstein_to_power(&c[3])]
+            })
+            .collect();
+        Ok(C3Spline { base: padded, logs, times, basis })
+    }
+
+    #[inline(always)]
+    fn segment<const N: usize>(&self, s: usize, t: f64) -> JQuat<N> {
+        let (t0, t1) = (self.times[s], self.times[s + 1]);
+        let u = Jet::<N>::variable((t - t0) / (t1 - t0), 1.0 / (t1 - t0));
+        let mut q = JQuat::constant(self.base[s]);
+        for j in 0..3 {
+            let w = Jet::poly(&self.basis[s][j], u);
+            q = q * JQuat::exp_scaled(self.logs[s + 1 + j], w);
+        }
+        q
+    }
+}
+
+impl Spline for C3Spline {
+    segment_jets!();
+    fn name(&self) -> &'static str {
+        "c3"
+    }
+    fn joints(&self) -> &[f64] {
+        &self.times
+    }
+    fn interpolates(&self) -> bool {
+        true
+    }
+    fn continuity(&self) -> u8 {
+        3
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn blending_functions_sum_to_one_and_match_the_closed_form_c3() {
+        let (a, b) = (0.3, -0.2);
+        let c = patent_blending(a, b);
+        for &t in &[0.0, 0.13, 0.5, 0.77, 1.0] {
+            let ev = |cf: &[f64; 8]| -> f64 {
+                (0..8).map(|l| cf[l] * BINOM7[l] * f64::powi(t, l as i32) * f64::powi(1.0 - t, 7 - l as i32)).sum()
+            };
+            let sum: f64 = c.iter().map(ev).sum();
+            assert!((sum - 1.0).abs() < 1e-15);
+            let closed = -t.powi(4) * (1.0 - t) * (a + b * (1.0 - t).powi(2));
+            assert!((ev(&c[3]) - closed).abs() < 1e-15);
+        }
+    }
+}
