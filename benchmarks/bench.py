@@ -104,12 +104,23 @@ def spline_methods(n: int, keys: int, repeat: int) -> list[tuple[str, str, float
         ("CatmullRom", qs.CatmullRom(q, times), t),
         ("NaturalSpline", qs.NaturalSpline(q, times), t),
         ("CumulativeBSpline", qs.CumulativeBSpline(q), tb),
+        ("BetaSpline (β₁=1.5, β₂=0.5)", qs.BetaSpline(q, beta1=1.5, beta2=0.5), tb),
+        ("C3Spline (knot)", qs.C3Spline(q, times), t),
+        ("C3Spline (patent)", qs.C3Spline(q, times, variant="patent"), t),
     ]
     for name, s, tt in cases:
         rows.append(("quatspline", name, median_ns(lambda s=s, tt=tt: s(tt), n, repeat)))
     nat = cases[3][1]
+    c3 = cases[6][1]
     rows.append(
-        ("quatspline", "NaturalSpline ω (world)", median_ns(lambda: nat.angular_velocity(t), n, repeat))
+        ("quatspline", "C3Spline ω (world)", median_ns(lambda: c3.angular_velocity(t), n, repeat))
+    )
+    rows.append(
+        (
+            "quatspline",
+            "NaturalSpline ω (world)",
+            median_ns(lambda: nat.angular_velocity(t), n, repeat),
+        )
     )
     rows.append(
         (
@@ -134,7 +145,11 @@ def spline_methods(n: int, keys: int, repeat: int) -> list[tuple[str, str, float
 
         qa = quaternion.as_quat_array(q)
         rows.append(
-            ("numpy-quaternion", "squad", median_ns(lambda: quaternion.squad(qa, times, t), n, repeat))
+            (
+                "numpy-quaternion",
+                "squad",
+                median_ns(lambda: quaternion.squad(qa, times, t), n, repeat),
+            )
         )
     except ImportError:
         print("numpy-quaternion not installed: skipped")

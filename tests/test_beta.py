@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 import quatspline as qs
 from quatspline.examples import BETA_EXAMPLE1_VERTICES, BETA_EXAMPLE2_VERTICES
 
@@ -68,7 +67,7 @@ def test_g1_exact_and_g2_equals_corrected_theorem2_on_random_data(seed):
 def test_g2_holds_when_all_rotations_share_one_axis():
     p = qs.from_axis_angle([0.2, -0.4, 0.9], np.cumsum([0.3, 0.5, 0.2, 0.7, 0.4, 0.6]))
     b1, b2 = random_betas(6, 1)
-    for _, g1, g2, th2, *_ in qs.BetaSpline(p, beta1=b1, beta2=b2)._core.beta_residuals():
+    for _, _g1, g2, th2, *_ in qs.BetaSpline(p, beta1=b1, beta2=b2)._core.beta_residuals():
         assert np.linalg.norm(g2) < 1e-12 and np.linalg.norm(th2) < 1e-12
 
 
@@ -142,7 +141,9 @@ def test_bad_input():
         qs.BetaSpline(p, beta2=-4.0)
     with pytest.raises(ValueError, match=r"beta2: beta2\[3\] = -5"):
         qs.BetaSpline(p, beta2=[0, 0, 0, -5.0, 0])
-    with pytest.raises(ValueError, match=r"beta1: expected 1 or 5 values \(one per vertex\), got 3"):
+    with pytest.raises(
+        ValueError, match=r"beta1: expected 1 or 5 values \(one per vertex\), got 3"
+    ):
         qs.BetaSpline(p, beta1=[1.0, 1.0, 1.0])
     with pytest.raises(ValueError, match=r"vertices: needs at least 4 keys, got 3"):
         qs.BetaSpline(p[:3])

@@ -24,7 +24,11 @@ METHODS = {
         3,
         True,
     ),
-    "c3_patent": (lambda q, t: qs.C3Spline(q, t, alpha=0.3, beta=0.1, variant="patent"), None, True),
+    "c3_patent": (
+        lambda q, t: qs.C3Spline(q, t, alpha=0.3, beta=0.1, variant="patent"),
+        None,
+        True,
+    ),
 }
 TIMES = ["uniform", "nonuniform"]
 

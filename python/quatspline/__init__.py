@@ -10,6 +10,7 @@ from __future__ import annotations
 from . import examples
 from ._core import __version__
 from .algebra import canonicalize, conjugate, exp, inverse, log, multiply, normalize, power, rotate
+from .continuity import JointContinuity, continuity
 from .convert import (
     as_euler,
     as_matrix,
@@ -36,7 +37,6 @@ from .dualquat import (
     sclerp,
 )
 from .interpolate import lerp, lin_euler, lin_mat, nlerp, slerp
-from .continuity import JointContinuity, continuity
 from .rigid import rotate_points
 from .spline import (
     BetaSpline,

@@ -26,7 +26,7 @@ class JointContinuity:
     jump_abs: np.ndarray
     """|R_m − L_m| for m = 0 … 3 (time derivatives)."""
     jump_rel: np.ndarray
-    """Jumps relative to max(|L_m|, |R_m|, 1e-8 × the largest |q^(m)| at any joint)."""
+    """Jumps relative to max(|L_m|, |R_m|, 1e-4 × the largest |q^(m)| at joints and midpoints)."""
     order: int
     """Parametric order C^k reached (−1 if even the positions differ)."""
     g1_xi: float
@@ -65,8 +65,6 @@ def continuity(spline: Spline, order: int = 3, tol: float = 1e-9) -> list[JointC
                 second_derivative=float(s2),
             )
         out.append(
-            JointContinuity(
-                idx, time, np.array(ja), np.array(jr), k, xi, g1, delta, g2, **extra
-            )
+            JointContinuity(idx, time, np.array(ja), np.array(jr), k, xi, g1, delta, g2, **extra)
         )
     return out

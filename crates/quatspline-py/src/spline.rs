@@ -167,7 +167,19 @@ impl PySpline {
         let s = Arc::clone(&self.inner);
         let r = guarded(py, "continuity", move || Ok(quatspline::analysis::continuity(&*s, order, tol)))?;
         Ok(r.into_iter()
-            .map(|j| (j.index, j.time, j.jump_abs, j.jump_rel, j.order, j.g1_xi, j.g1_residual, j.g2_delta, j.g2_residual))
+            .map(|j| {
+                (
+                    j.index,
+                    j.time,
+                    j.jump_abs,
+                    j.jump_rel,
+                    j.order,
+                    j.g1_xi,
+                    j.g1_residual,
+                    j.g2_delta,
+                    j.g2_residual,
+                )
+            })
             .collect())
     }
 
@@ -176,7 +188,16 @@ impl PySpline {
     fn beta_residuals(&self) -> Option<Vec<(usize, [f64; 4], [f64; 4], [f64; 4], f64, f64)>> {
         self.inner.beta_residuals().map(|v| {
             v.into_iter()
-                .map(|b| (b.joint, b.g1.to_wxyz(), b.g2.to_wxyz(), b.theorem2.to_wxyz(), b.gamma, b.second_derivative))
+                .map(|b| {
+                    (
+                        b.joint,
+                        b.g1.to_wxyz(),
+                        b.g2.to_wxyz(),
+                        b.theorem2.to_wxyz(),
+                        b.gamma,
+                        b.second_derivative,
+                    )
+                })
                 .collect()
         })
     }
@@ -327,9 +348,20 @@ fn c3_spline(
     let variant = match variant {
         "knot" => sp::C3Variant::Knot,
         "patent" => sp::C3Variant::Patent,
-        other => return Err(PyValueError::new_err(format!("variant: expected \"knot\" or \"patent\", got {other:?}"))),
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "variant: expected \"knot\" or \"patent\", got {other:?}"
+            )))
+        }
     };
-    wrap(sp::C3Spline::new(&q, times_of(&times).as_deref(), &vec_of(&alpha), &vec_of(&beta), variant, canonicalize))
+    wrap(sp::C3Spline::new(
+        &q,
+        times_of(&times).as_deref(),
+        &vec_of(&alpha),
+        &vec_of(&beta),
+        variant,
+        canonicalize,
+    ))
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

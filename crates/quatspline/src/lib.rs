@@ -8,6 +8,9 @@
 //! Fallible functions return [`Result`] with one [`Error`] type; nothing here panics on user
 //! data (the few panicking conveniences say so under `# Panics`).
 
+// Index loops mirror the formulas (q_{i,j}, M̃[j][m]) and read better than iterator chains here.
+#![allow(clippy::needless_range_loop)]
+
 pub mod analysis;
 pub mod convert;
 pub mod dual_quat;

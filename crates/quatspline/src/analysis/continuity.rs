@@ -2,8 +2,8 @@
 //!
 //! At joint k (time τ_k) with left limits L_m = q^(m)(τ_k⁻) from segment k−1 and right limits
 //! R_m from segment k (m = 0 … 3, time derivatives), it reports:
-//! - the jumps |R_m − L_m|, absolute and relative to max(|L_m|, |R_m|, 1e-8·M_m) where M_m is
-//!   the largest |q^(m)| met at any joint (so a derivative that vanishes at a key does not
+//! - the jumps |R_m − L_m|, absolute and relative to max(|L_m|, |R_m|, 1e-4·M_m) where M_m is
+//!   the largest |q^(m)| met at any joint or segment midpoint (so a derivative that vanishes at a key does not
 //!   turn rounding into a "jump", and the measure does not depend on the time unit);
 //! - the parametric order C^k reached: the largest k with every relative jump m ≤ k at most
 //!   `tol` (−1 when even the positions differ);
@@ -45,10 +45,12 @@ pub fn continuity(s: &dyn Spline, order: usize, tol: f64) -> Vec<JointReport> {
     let sides: Vec<([Quat; 4], [Quat; 4])> = (1..j.len() - 1)
         .map(|k| (s.segment_jet4(k - 1, j[k]).derivatives(), s.segment_jet4(k, j[k]).derivatives()))
         .collect();
+    // The derivative sizes met along the curve: at every joint and every segment midpoint.
     let mut big = [0.0f64; 4];
-    for (l, r) in &sides {
+    let mids = (0..j.len() - 1).map(|k| s.segment_jet4(k, 0.5 * (j[k] + j[k + 1])).derivatives());
+    for d in sides.iter().flat_map(|(l, r)| [*l, *r]).chain(mids) {
         for m in 0..4 {
-            big[m] = big[m].max(l[m].norm()).max(r[m].norm());
+            big[m] = big[m].max(d[m].norm());
         }
     }
     sides
@@ -57,7 +59,7 @@ pub fn continuity(s: &dyn Spline, order: usize, tol: f64) -> Vec<JointReport> {
         .map(|(i, (l, r))| {
             let jump_abs: [f64; 4] = std::array::from_fn(|m| dist(l[m], r[m]));
             let jump_rel: [f64; 4] = std::array::from_fn(|m| {
-                let scale = l[m].norm().max(r[m].norm()).max(1e-8 * big[m]).max(f64::MIN_POSITIVE);
+                let scale = l[m].norm().max(r[m].norm()).max(1e-4 * big[m]).max(f64::MIN_POSITIVE);
                 jump_abs[m] / scale
             });
             let mut reached = -1;

@@ -69,7 +69,13 @@ impl BetaSpline {
     /// `vertices` p₀ … p_{l+2} (at least 4), `beta1`/`beta2` one value or one per vertex,
     /// `times` l+1 joint times (default 0 … l). With `canonicalize` (default in the Python
     /// API) consecutive vertices are sign-aligned; the paper's Example 1 needs it off.
-    pub fn new(vertices: &[Quat], beta1: &[f64], beta2: &[f64], times: Option<&[f64]>, canonicalize: bool) -> Result<Self> {
+    pub fn new(
+        vertices: &[Quat],
+        beta1: &[f64],
+        beta2: &[f64],
+        times: Option<&[f64]>,
+        canonicalize: bool,
+    ) -> Result<Self> {
         let p = prepare_keys(vertices, "vertices", 4, canonicalize)?;
         let n = p.len();
         let l = n - 3;
@@ -84,12 +90,16 @@ impl BetaSpline {
             if den <= 0.0 {
                 return Err(Error::invalid(
                     "beta2",
-                    format!("beta2[{i}] = {} makes β₂ + 2β₁(1+β₁) = {den} ≤ 0 (γ_{i} infinite or negative)", b2[i]),
+                    format!(
+                        "beta2[{i}] = {} makes β₂ + 2β₁(1+β₁) = {den} ≤ 0 (γ_{i} infinite or negative)",
+                        b2[i]
+                    ),
                 ));
             }
             gamma.push(2.0 * (1.0 + b1[i]) / den);
         }
-        let delta: Vec<f64> = (0..n - 1).map(|i| gamma[i] + 1.0 + b1[i + 1] * b1[i + 1] * gamma[i + 1]).collect();
+        let delta: Vec<f64> =
+            (0..n - 1).map(|i| gamma[i] + 1.0 + b1[i + 1] * b1[i + 1] * gamma[i + 1]).collect();
         let times = prepare_times(times, l + 1)?;
         // inner points i = 0 … l+1
         let (mut q1, mut q2) = (Vec::with_capacity(l + 2), Vec::with_capacity(l + 2));
@@ -104,7 +114,8 @@ impl BetaSpline {
             let q3 = q2[i] * (q2[i].conj() * q1[i + 1]).powf(1.0 / (1.0 + b1[i + 1]));
             ctrl.push([q0, q1[i], q2[i], q3]);
         }
-        let logs = ctrl.iter().map(|c| std::array::from_fn(|j| (c[j].conj() * c[j + 1]).log().vec())).collect();
+        let logs =
+            ctrl.iter().map(|c| std::array::from_fn(|j| (c[j].conj() * c[j + 1]).log().vec())).collect();
         Ok(BetaSpline { p, beta1: b1, beta2: b2, gamma, delta, ctrl, logs, times })
     }
 
@@ -151,7 +162,14 @@ impl BetaSpline {
                 let lhs = q_prev3 * (q_prev2.conj() * q_i1).log();
                 let rhs = q_i0 * (self.p[i].conj() * self.p[i + 1]).log().scale(g / d)
                     + ((self.p[i] * self.p[i - 1].conj()).log() * q_prev3).scale(b1 * b1 * g / dm);
-                BetaJoint { joint: i, g1, g2, theorem2: rhs - lhs, gamma: g, second_derivative: right[2].norm() }
+                BetaJoint {
+                    joint: i,
+                    g1,
+                    g2,
+                    theorem2: rhs - lhs,
+                    gamma: g,
+                    second_derivative: right[2].norm(),
+                }
             })
             .collect()
     }

@@ -130,7 +130,10 @@ impl C3Spline {
             .collect();
         let blend: Vec<[[f64; 8]; 4]> = match variant {
             C3Variant::Patent => {
-                let (a, b) = (per(alpha, n - 1, "alpha", "one per segment")?, per(beta, n - 1, "beta", "one per segment")?);
+                let (a, b) = (
+                    per(alpha, n - 1, "alpha", "one per segment")?,
+                    per(beta, n - 1, "beta", "one per segment")?,
+                );
                 (0..n - 1).map(|s| patent_blending(a[s], b[s])).collect()
             }
             C3Variant::Knot => {
@@ -223,7 +226,9 @@ mod tests {
         let c = patent_blending(a, b);
         for &t in &[0.0, 0.13, 0.5, 0.77, 1.0] {
             let ev = |cf: &[f64; 8]| -> f64 {
-                (0..8).map(|l| cf[l] * BINOM7[l] * f64::powi(t, l as i32) * f64::powi(1.0 - t, 7 - l as i32)).sum()
+                (0..8)
+                    .map(|l| cf[l] * BINOM7[l] * f64::powi(t, l as i32) * f64::powi(1.0 - t, 7 - l as i32))
+                    .sum()
             };
             let sum: f64 = c.iter().map(ev).sum();
             assert!((sum - 1.0).abs() < 1e-15);

@@ -47,7 +47,7 @@ fn fact(n: usize) -> f64 {
 }
 
 fn alt(m: usize) -> f64 {
-    if m % 2 == 0 {
+    if m.is_multiple_of(2) {
         1.0
     } else {
         -1.0
@@ -310,7 +310,8 @@ mod tests {
 
     #[test]
     fn series_switches_are_continuous() {
-        let f: [(fn(f64) -> f64, f64); 5] = [
+        type Helper = fn(f64) -> f64;
+        let f: [(Helper, f64); 5] = [
             (one_minus_cos_over_sq, 0.5),
             (x_minus_sin_over_cube, 0.5),
             (one_minus_half_cot_over_sq, 0.3),

@@ -1,0 +1,76 @@
+//! Every spline through the core API: continuity certificates and the Beta paper's Example 1.
+
+use quatspline::analysis::continuity;
+use quatspline::spline::*;
+use quatspline::Quat;
+
+fn walk(n: usize) -> Vec<Quat> {
+    // deterministic, non-commuting relative rotations of 0.3–0.7 rad
+    let mut q = vec![Quat::new(0.5, 0.5, -0.5, 0.5)];
+    for k in 1..n {
+        let a = 0.3 + 0.05 * (k % 8) as f64;
+        let axis = [(k as f64).sin(), (1.7 * k as f64).cos(), 0.5];
+        let norm = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+        let s = (0.5 * a).sin() / norm;
+        let r = Quat::new((0.5 * a).cos(), s * axis[0], s * axis[1], s * axis[2]);
+        q.push(q[k - 1] * r);
+    }
+    q
+}
+
+fn times(n: usize) -> Vec<f64> {
+    (0..n).map(|k| k as f64 + 0.3 * ((k * k) % 3) as f64).collect()
+}
+
+#[test]
+fn every_method_reaches_its_claimed_order() {
+    let q = walk(8);
+    let t = times(8);
+    let splines: Vec<(Box<dyn Spline>, i32)> = vec![
+        (Box::new(PiecewiseSlerp::new(&q, Some(&t), true).unwrap()), 0),
+        (Box::new(Squad::new(&q, Some(&t), true).unwrap()), 1),
+        (Box::new(CatmullRom::new(&q, Some(&t), CatmullRomEnds::Reflect, true).unwrap()), 1),
+        (Box::new(NaturalSpline::new(&q, Some(&t), NaturalEnds::Natural, true).unwrap()), 2),
+        (Box::new(CumulativeBSpline::new(&q, 0.5, 0.0, 4, true).unwrap()), 2),
+        (Box::new(C3Spline::new(&q, Some(&t), &[0.3], &[0.1], C3Variant::Knot, true).unwrap()), 3),
+    ];
+    for (s, claimed) in splines {
+        assert_eq!(s.continuity() as i32, claimed, "{}", s.name());
+        for j in continuity(&*s, 3, 1e-9) {
+            assert_eq!(j.order, claimed, "{} joint {}: {:?}", s.name(), j.index, j.jump_rel);
+        }
+    }
+}
+
+#[test]
+fn beta_example1_control_points() {
+    let raw = [
+        [-0.2011, -0.7478, 0.0791, 0.6278],
+        [-0.1603, 0.6073, 0.3653, 0.6871],
+        [-0.4696, 0.0554, -0.8480, -0.2394],
+        [-0.5268, -0.5665, -0.4194, -0.4751],
+        [0.6921, -0.2551, 0.1314, 0.6623],
+    ];
+    let p: Vec<Quat> = raw.iter().map(|&a| Quat::from_wxyz(a)).collect();
+    let s = BetaSpline::new(&p, &[1.0], &[0.5], None, false).unwrap();
+    let cp = s.bezier_points();
+    let expect_q10 = [-0.3796, 0.4589, 0.1106, 0.7956];
+    let expect_q23 = [-0.3509, -0.7065, -0.5548, -0.2642];
+    for k in 0..4 {
+        assert!((cp[0][0].to_wxyz()[k] - expect_q10[k]).abs() < 5e-5);
+        assert!((cp[1][3].to_wxyz()[k] - expect_q23[k]).abs() < 5e-5);
+    }
+    let r = s.joint_residuals();
+    assert!(r[0].g1.norm() < 1e-14);
+    assert!((r[0].g2.norm() - 0.066).abs() < 5e-4);
+}
+
+#[test]
+fn bad_parameters_are_errors_not_panics() {
+    let q = walk(5);
+    assert!(BetaSpline::new(&q, &[0.0], &[0.0], None, true).is_err());
+    assert!(BetaSpline::new(&q, &[1.0], &[-4.0], None, true).is_err());
+    assert!(C3Spline::new(&q, None, &[0.1, 0.2], &[0.0], C3Variant::Knot, true).is_err());
+    assert!(Squad::new(&q[..1], None, true).is_err());
+    assert!(PiecewiseSlerp::new(&q, Some(&[0.0, 1.0, 1.0, 2.0, 3.0]), true).is_err());
+}
