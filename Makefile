@@ -12,7 +12,7 @@ $(STAMP): pyproject.toml
 	test -x $(VPY) || $(PY) -m venv $(VENV)
 	$(VPY) -m pip install --quiet --upgrade pip
 	$(VPY) -m pip install --quiet "maturin>=1.5,<2" numpy scipy pytest hypothesis mpmath \
-		numpy-quaternion pytransform3d splines ruff matplotlib
+		numpy-quaternion pytransform3d splines ruff matplotlib tqdm
 	touch $(STAMP)
 
 build: $(STAMP)

@@ -7,7 +7,7 @@ broadcasting, conversions, the CLI, file I/O and plots.
 
 from __future__ import annotations
 
-from . import examples
+from . import examples, io
 from ._core import __version__
 from .algebra import canonicalize, conjugate, exp, inverse, log, multiply, normalize, power, rotate
 from .continuity import JointContinuity, continuity
@@ -37,8 +37,14 @@ from .dualquat import (
     sclerp,
 )
 from .interpolate import lerp, lin_euler, lin_mat, nlerp, slerp
+from .pose import PoseSpline
+from .registry import METHODS, spline
 from .rigid import rotate_points
+from .screw import ScrewSpline
 from .spline import (
+    PiecewiseLinEuler,
+    PiecewiseLinMat,
+    PiecewiseNlerp,
     BetaSpline,
     C3Spline,
     CatmullRom,
@@ -55,6 +61,13 @@ from .spline import (
 
 __all__ = [
     "__version__",
+    "METHODS",
+    "PiecewiseLinEuler",
+    "PiecewiseLinMat",
+    "PiecewiseNlerp",
+    "PoseSpline",
+    "ScrewSpline",
+    "spline",
     "BetaSpline",
     "C3Spline",
     "JointContinuity",
@@ -86,6 +99,7 @@ __all__ = [
     "dq_to_pose",
     "dq_transform_point",
     "examples",
+    "io",
     "exp",
     "from_axis_angle",
     "from_euler",

@@ -7,6 +7,7 @@ Taylor-mode differentiation of the same formula in the Rust core (never finite d
 | class | interpolates | continuity | source |
 |---|---|---|---|
 | ``PiecewiseSlerp`` | yes | C⁰ | seeds 001/003 |
+| ``PiecewiseNlerp``, ``PiecewiseLinEuler``, ``PiecewiseLinMat`` | yes | C⁰ | baselines, seeds 001/002 |
 | ``SphericalBezier`` | end points | C^∞ (one curve) | Shoemake 1985 (de Casteljau) |
 | ``CumulativeBezier`` | end points | C^∞ (one curve) | Kim, Kim & Shin 1995 |
 | ``Squad`` | yes | C¹ | Shoemake 1987, seed 003 |
@@ -31,6 +32,9 @@ __all__ = [
     "CumulativeBSpline",
     "CumulativeBezier",
     "NaturalSpline",
+    "PiecewiseLinEuler",
+    "PiecewiseLinMat",
+    "PiecewiseNlerp",
     "PiecewiseSlerp",
     "Spline",
     "SphericalBezier",
@@ -174,6 +178,33 @@ class Spline:
         return t, self(t)
 
 
+class PiecewiseNlerp(Spline):
+    """Baseline: normalised lerp between consecutive keys (C⁰, non-constant speed)."""
+
+    def __init__(self, quats, times=None, extrapolate: str = "raise"):
+        q = _keys(quats, "quats")
+        t = _times(times, len(q))
+        super().__init__(_core.nlerp_spline(q, t), extrapolate, quats=q, times=t)
+
+
+class PiecewiseLinEuler(Spline):
+    """Baseline: Euler angles (sequence ``seq``) lerped between keys (C⁰)."""
+
+    def __init__(self, quats, times=None, seq: str = "xyz", extrapolate: str = "raise"):
+        q = _keys(quats, "quats")
+        t = _times(times, len(q))
+        super().__init__(_core.lin_euler_spline(q, t, str(seq)), extrapolate, quats=q, times=t, seq=seq)
+
+
+class PiecewiseLinMat(Spline):
+    """Baseline: rotation matrices lerped and projected back to SO(3) (C⁰)."""
+
+    def __init__(self, quats, times=None, extrapolate: str = "raise"):
+        q = _keys(quats, "quats")
+        t = _times(times, len(q))
+        super().__init__(_core.lin_mat_spline(q, t), extrapolate, quats=q, times=t)
+
+
 class PiecewiseSlerp(Spline):
     """Slerp between consecutive keys: C⁰, constant speed within each segment."""
 
@@ -190,20 +221,35 @@ class PiecewiseSlerp(Spline):
 
 
 class SphericalBezier(Spline):
-    """One spherical Bézier curve (de Casteljau with slerp) of any degree on [0, 1]."""
+    """One spherical Bézier curve (de Casteljau with slerp) of any degree, on ``domain``
+    (default [0, 1])."""
 
-    def __init__(self, control_points, canonicalize: bool = True, extrapolate: str = "raise"):
+    def __init__(
+        self,
+        control_points,
+        domain=(0.0, 1.0),
+        canonicalize: bool = True,
+        extrapolate: str = "raise",
+    ):
         q = _keys(control_points, "control_points")
-        super().__init__(_core.spherical_bezier(q, bool(canonicalize)), extrapolate)
+        d = (float(domain[0]), float(domain[1]))
+        super().__init__(_core.spherical_bezier(q, d, bool(canonicalize)), extrapolate)
 
 
 class CumulativeBezier(Spline):
     """One cumulative spherical Bézier curve (Kim–Kim–Shin) on [0, 1]; same end tangents as
     ``SphericalBezier`` with the same control points, a different curve in between."""
 
-    def __init__(self, control_points, canonicalize: bool = True, extrapolate: str = "raise"):
+    def __init__(
+        self,
+        control_points,
+        domain=(0.0, 1.0),
+        canonicalize: bool = True,
+        extrapolate: str = "raise",
+    ):
         q = _keys(control_points, "control_points")
-        super().__init__(_core.cumulative_bezier(q, bool(canonicalize)), extrapolate)
+        d = (float(domain[0]), float(domain[1]))
+        super().__init__(_core.cumulative_bezier(q, d, bool(canonicalize)), extrapolate)
 
 
 class Squad(Spline):

@@ -239,15 +239,80 @@ fn piecewise_slerp(
 }
 
 #[pyfunction]
-fn spherical_bezier(control_points: PyReadonlyArray2<'_, f64>, canonicalize: bool) -> PyResult<PySpline> {
+fn spherical_bezier(control_points: PyReadonlyArray2<'_, f64>, domain: (f64, f64), canonicalize: bool) -> PyResult<PySpline> {
     let q = quats_of(&control_points, "control_points")?;
-    wrap(sp::SphericalBezier::new(&q, canonicalize))
+    wrap(sp::SphericalBezier::new(&q, domain, canonicalize))
 }
 
 #[pyfunction]
-fn cumulative_bezier(control_points: PyReadonlyArray2<'_, f64>, canonicalize: bool) -> PyResult<PySpline> {
+fn cumulative_bezier(control_points: PyReadonlyArray2<'_, f64>, domain: (f64, f64), canonicalize: bool) -> PyResult<PySpline> {
     let q = quats_of(&control_points, "control_points")?;
-    wrap(sp::CumulativeBezier::new(&q, canonicalize))
+    wrap(sp::CumulativeBezier::new(&q, domain, canonicalize))
+}
+
+#[pyfunction]
+#[pyo3(signature = (quats, times))]
+fn nlerp_spline(quats: PyReadonlyArray2<'_, f64>, times: Option<PyReadonlyArray1<'_, f64>>) -> PyResult<PySpline> {
+    let q = quats_of(&quats, "quats")?;
+    wrap(sp::PiecewiseNlerp::new(&q, times_of(&times).as_deref()))
+}
+
+#[pyfunction]
+#[pyo3(signature = (quats, times, seq))]
+fn lin_euler_spline(quats: PyReadonlyArray2<'_, f64>, times: Option<PyReadonlyArray1<'_, f64>>, seq: &str) -> PyResult<PySpline> {
+    let q = quats_of(&quats, "quats")?;
+    wrap(sp::PiecewiseLinEuler::new(&q, times_of(&times).as_deref(), seq))
+}
+
+#[pyfunction]
+#[pyo3(signature = (quats, times))]
+fn lin_mat_spline(quats: PyReadonlyArray2<'_, f64>, times: Option<PyReadonlyArray1<'_, f64>>) -> PyResult<PySpline> {
+    let q = quats_of(&quats, "quats")?;
+    wrap(sp::PiecewiseLinMat::new(&q, times_of(&times).as_deref()))
+}
+
+/// Position, velocity, acceleration (M, 9) of the linear or natural cubic position spline
+/// through `points` at `times`, at times `t` (inside the key range; the caller checks).
+#[pyfunction]
+fn position_eval<'py>(
+    py: Python<'py>,
+    times: PyReadonlyArray1<'py, f64>,
+    points: PyReadonlyArray2<'py, f64>,
+    cubic: bool,
+    t: PyReadonlyArray1<'py, f64>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let tk: Vec<f64> = times.as_array().iter().copied().collect();
+    let rows = Rows::new(&points, "positions", 3)?;
+    let pts: Vec<[f64; 3]> = (0..rows.len()).map(|i| rows.row::<3>(i)).collect();
+    let kind = if cubic { quatspline::translation::TranslationKind::Cubic } else { quatspline::translation::TranslationKind::Linear };
+    let spline = quatspline::translation::PositionSpline::new(&tk, &pts, kind).map_err(to_py)?;
+    let tv: Vec<f64> = t.as_array().iter().copied().collect();
+    crate::arrays::fill(py, "position_eval", tv.len(), |i| {
+        let ti = tv[i];
+        let seg = tk.partition_point(|&x| x <= ti).saturating_sub(1).min(tk.len() - 2);
+        let [p, v, a] = spline.eval(seg, ti);
+        Ok([p[0], p[1], p[2], v[0], v[1], v[2], a[0], a[1], a[2]])
+    })
+}
+
+/// Per segment (S, 3, 8): power-basis coefficients of the C³ spline's cumulative weights.
+#[pyfunction]
+#[pyo3(signature = (times, alpha, beta, variant))]
+fn c3_weights(
+    times: PyReadonlyArray1<'_, f64>,
+    alpha: PyReadonlyArray1<'_, f64>,
+    beta: PyReadonlyArray1<'_, f64>,
+    variant: &str,
+) -> PyResult<Vec<[[f64; 8]; 3]>> {
+    let t: Vec<f64> = times.as_array().iter().copied().collect();
+    let variant = match variant {
+        "knot" => sp::C3Variant::Knot,
+        "patent" => sp::C3Variant::Patent,
+        other => return Err(PyValueError::new_err(format!("variant: expected \"knot\" or \"patent\", got {other:?}"))),
+    };
+    let keys = vec![Quat::IDENTITY; t.len()];
+    let s = sp::C3Spline::new(&keys, Some(&t), &vec_of(&alpha), &vec_of(&beta), variant, false).map_err(to_py)?;
+    Ok(s.cumulative_weights().to_vec())
 }
 
 #[pyfunction]
@@ -374,6 +439,11 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(cumulative_bspline, m)?)?;
     m.add_function(wrap_pyfunction!(natural_spline, m)?)?;
     m.add_function(wrap_pyfunction!(beta_spline, m)?)?;
+    m.add_function(wrap_pyfunction!(nlerp_spline, m)?)?;
+    m.add_function(wrap_pyfunction!(lin_euler_spline, m)?)?;
+    m.add_function(wrap_pyfunction!(lin_mat_spline, m)?)?;
+    m.add_function(wrap_pyfunction!(position_eval, m)?)?;
+    m.add_function(wrap_pyfunction!(c3_weights, m)?)?;
     m.add_function(wrap_pyfunction!(c3_spline, m)?)?;
     Ok(())
 }

@@ -20,6 +20,7 @@ pub mod jet;
 pub mod quat;
 pub mod special;
 pub mod spline;
+pub mod translation;
 pub mod vec3;
 
 pub use dual_quat::{DualQuat, Screw};

@@ -187,6 +187,12 @@ impl C3Spline {
         Ok(C3Spline { base: padded, logs, times, basis })
     }
 
+    /// Per segment, the power-basis coefficients of the cumulative weights C̃₁, C̃₂, C̃₃ in the
+    /// local parameter (reused by the dual-quaternion screw spline).
+    pub fn cumulative_weights(&self) -> &[[[f64; 8]; 3]] {
+        &self.basis
+    }
+
     #[inline(always)]
     fn segment<const N: usize>(&self, s: usize, t: f64) -> JQuat<N> {
         let (t0, t1) = (self.times[s], self.times[s + 1]);

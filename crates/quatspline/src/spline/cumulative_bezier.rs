@@ -21,7 +21,11 @@ pub struct CumulativeBezier {
 
 impl CumulativeBezier {
     /// Control points q₀ … qₙ (n ≥ 1).
-    pub fn new(ctrl: &[Quat], canonicalize: bool) -> Result<Self> {
+    /// `domain` (t₀, t₁) maps u = (t − t₀)/(t₁ − t₀); (0, 1) is the plain curve.
+    pub fn new(ctrl: &[Quat], domain: (f64, f64), canonicalize: bool) -> Result<Self> {
+        if !(domain.0.is_finite() && domain.1.is_finite() && domain.1 > domain.0) {
+            return Err(crate::error::Error::invalid("domain", format!("expected finite t0 < t1, got {domain:?}")));
+        }
         let ctrl = prepare_keys(ctrl, "control_points", 2, canonicalize)?;
         let logs = ctrl.windows(2).map(|w| (w[0].conj() * w[1]).log().vec()).collect();
         let n = ctrl.len() - 1;
@@ -29,13 +33,13 @@ impl CumulativeBezier {
         for i in 1..=n {
             binom[i] = binom[i - 1] * (n + 1 - i) as f64 / i as f64;
         }
-        Ok(CumulativeBezier { ctrl, logs, binom, joints: [0.0, 1.0] })
+        Ok(CumulativeBezier { ctrl, logs, binom, joints: [domain.0, domain.1] })
     }
 
     #[inline(always)]
     fn segment<const N: usize>(&self, _seg: usize, t: f64) -> JQuat<N> {
         let n = self.ctrl.len() - 1;
-        let u = Jet::<N>::variable(t, 1.0);
+        let u = super::local::<N>(t, self.joints[0], self.joints[1]);
         let v = Jet::<N>::constant(1.0) - u;
         // Bernstein B_{i,n} as jets, then suffix sums B̃_j.
         let mut up = vec![Jet::<N>::constant(1.0); n + 1];

@@ -8,6 +8,7 @@
 //! | method | file | interpolates | continuity |
 //! |---|---|---|---|
 //! | piecewise slerp | `piecewise_slerp.rs` | yes | C⁰ |
+//! | piecewise NLerp / LinEuler / LinMat (baselines) | `nlerp.rs`, `lin_euler.rs`, `lin_mat.rs` | yes | C⁰ |
 //! | spherical Bézier (de Casteljau) | `spherical_bezier.rs` | ends | C^∞ (one curve) |
 //! | cumulative Bézier (Kim–Kim–Shin) | `cumulative_bezier.rs` | ends | C^∞ (one curve) |
 //! | Squad | `squad.rs` | yes | C¹ |
@@ -24,7 +25,10 @@ mod cumulative_bezier;
 mod cumulative_bspline;
 mod eval;
 mod keys;
+mod lin_euler;
+mod lin_mat;
 mod natural_spline;
+mod nlerp;
 mod piecewise_slerp;
 mod spherical_bezier;
 mod squad;
@@ -36,7 +40,10 @@ pub use cumulative_bezier::CumulativeBezier;
 pub use cumulative_bspline::CumulativeBSpline;
 pub use eval::{angular_into, evaluate_into, Extrapolate, Frame};
 pub use keys::{canonicalize_chain, prepare_keys, prepare_times};
+pub use lin_euler::PiecewiseLinEuler;
+pub use lin_mat::PiecewiseLinMat;
 pub use natural_spline::{NaturalEnds, NaturalSpline};
+pub use nlerp::PiecewiseNlerp;
 pub use piecewise_slerp::PiecewiseSlerp;
 pub use spherical_bezier::{de_casteljau, SphericalBezier};
 pub use squad::Squad;

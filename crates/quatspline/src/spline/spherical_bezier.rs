@@ -49,15 +49,19 @@ pub struct SphericalBezier {
 
 impl SphericalBezier {
     /// Control points b₀ … bₙ (n ≥ 1).
-    pub fn new(ctrl: &[Quat], canonicalize: bool) -> Result<Self> {
+    /// `domain` (t₀, t₁) maps u = (t − t₀)/(t₁ − t₀); (0, 1) is the plain curve.
+    pub fn new(ctrl: &[Quat], domain: (f64, f64), canonicalize: bool) -> Result<Self> {
+        if !(domain.0.is_finite() && domain.1.is_finite() && domain.1 > domain.0) {
+            return Err(crate::error::Error::invalid("domain", format!("expected finite t0 < t1, got {domain:?}")));
+        }
         let ctrl = prepare_keys(ctrl, "control_points", 2, canonicalize)?;
         let logs = ctrl.windows(2).map(|w| (w[0].conj() * w[1]).log().vec()).collect();
-        Ok(SphericalBezier { ctrl, logs, joints: [0.0, 1.0] })
+        Ok(SphericalBezier { ctrl, logs, joints: [domain.0, domain.1] })
     }
 
     #[inline(always)]
     fn segment<const N: usize>(&self, _seg: usize, t: f64) -> JQuat<N> {
-        de_casteljau(&self.ctrl, &self.logs, Jet::variable(t, 1.0))
+        de_casteljau(&self.ctrl, &self.logs, super::local::<N>(t, self.joints[0], self.joints[1]))
     }
 }
 

@@ -1,0 +1,103 @@
+"""The trajectory record and the checks every reader shares."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+class TrajectoryError(ValueError):
+    """A file that cannot be read as a trajectory (the message names file, line, column)."""
+
+
+@dataclass
+class Trajectory:
+    """Times (N,), unit quaternions (N, 4) in (w, x, y, z) order, optional positions (N, 3),
+    and optional extra columns (name → (N,) or (N, k) arrays, e.g. angular velocity)."""
+
+    times: np.ndarray
+    quats: np.ndarray
+    positions: np.ndarray | None = None
+    extra: dict[str, np.ndarray] = field(default_factory=dict)
+    name: str = ""
+
+    def __post_init__(self):
+        self.times = np.asarray(self.times, dtype=float).reshape(-1)
+        self.quats = np.asarray(self.quats, dtype=float).reshape(-1, 4)
+        if self.positions is not None:
+            self.positions = np.asarray(self.positions, dtype=float).reshape(-1, 3)
+        if len(self.times) != len(self.quats):
+            raise ValueError(
+                f"trajectory: {len(self.times)} times but {len(self.quats)} quaternions"
+            )
+        if self.positions is not None and len(self.positions) != len(self.times):
+            raise ValueError(
+                f"trajectory: {len(self.times)} times but {len(self.positions)} positions"
+            )
+
+    def __len__(self) -> int:
+        return len(self.times)
+
+
+def finish(
+    path,
+    times,
+    quats,
+    positions=None,
+    lines=None,
+    sort: bool = False,
+    dedupe: bool = False,
+    name: str = "",
+) -> Trajectory:
+    """Validates what a reader parsed: finite values, non-zero quaternions (normalised),
+    strictly increasing times (or sorted / de-duplicated on request). ``lines`` gives the file
+    line of each row for messages."""
+    times = np.asarray(times, dtype=float)
+    quats = np.asarray(quats, dtype=float).reshape(-1, 4)
+    pos = None if positions is None else np.asarray(positions, dtype=float).reshape(-1, 3)
+    lines = np.arange(1, len(times) + 1) if lines is None else np.asarray(lines)
+    if len(times) == 0:
+        raise TrajectoryError(f"{path}: no data rows")
+    bad = ~np.isfinite(times) | ~np.all(np.isfinite(quats), axis=1)
+    if pos is not None:
+        bad |= ~np.all(np.isfinite(pos), axis=1)
+    if np.any(bad):
+        k = int(np.argmax(bad))
+        raise TrajectoryError(f"{path}:{lines[k]}: NaN or inf in this row")
+    norm = np.linalg.norm(quats, axis=1)
+    if np.any(norm < 1e-12):
+        k = int(np.argmax(norm < 1e-12))
+        raise TrajectoryError(f"{path}:{lines[k]}: quaternion of zero norm")
+    quats = quats / norm[:, None]
+    if sort:
+        order = np.argsort(times, kind="stable")
+        times, quats, lines = times[order], quats[order], lines[order]
+        pos = None if pos is None else pos[order]
+    if dedupe:
+        keep = np.concatenate([[True], np.diff(times) != 0])
+        times, quats, lines = times[keep], quats[keep], lines[keep]
+        pos = None if pos is None else pos[keep]
+    dt = np.diff(times)
+    if np.any(dt <= 0):
+        k = int(np.argmax(dt <= 0)) + 1
+        what = "duplicate" if dt[k - 1] == 0 else "decreasing"
+        raise TrajectoryError(
+            f"{path}:{lines[k]}: {what} timestamp {times[k]!r} after {times[k - 1]!r} "
+            "(use --sort / --dedupe, or sort=True / dedupe=True)"
+        )
+    return Trajectory(times, quats, pos, name=name)
+
+
+def parse_float(path, line: int, col: int, name: str, cell: str) -> float:
+    try:
+        return float(cell)
+    except ValueError:
+        raise TrajectoryError(
+            f"{path}:{line}: column {col} ({name!r}): not a number: {cell.strip()!r}"
+        ) from None
+
+
+def fmt(x: float) -> str:
+    """Shortest round-trip representation."""
+    return repr(float(x))

@@ -1,0 +1,192 @@
+"""BVH motion capture: one joint's rotation (local, or world through the chain of parents)
+and position, as a trajectory. The rotation order of each joint is taken from its CHANNELS
+line (e.g. ``Zrotation Xrotation Yrotation`` → R = Rz·Rx·Ry, intrinsic "ZXY", degrees).
+
+Options: ``joint`` (default: the root; an unknown name lists the joints), ``world=False``
+(local rotation relative to the parent) or ``True`` (rotation and position in the world
+frame by forward kinematics), ``skip_frames=0`` (e.g. 1 to drop a T-pose reference frame).
+Frame i is at time i × Frame Time.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .._atomic import atomic_write
+from ._common import Trajectory, TrajectoryError, finish, parse_float
+
+AXES = {"Xrotation": "X", "Yrotation": "Y", "Zrotation": "Z"}
+POS = ("Xposition", "Yposition", "Zposition")
+
+
+@dataclass
+class Joint:
+    name: str
+    parent: int
+    offset: np.ndarray
+    channels: list[str] = field(default_factory=list)
+    start: int = 0
+
+
+def _parse_hierarchy(path, lines):
+    joints: list[Joint] = []
+    stack: list[int] = []
+    nchan = 0
+    i = 0
+    pending: Joint | None = None
+    in_end_site = 0
+    while i < len(lines):
+        s = lines[i].strip()
+        i += 1
+        if not s or s == "HIERARCHY":
+            continue
+        if s == "MOTION":
+            return joints, nchan, i
+        word = s.split()
+        if word[0] in ("ROOT", "JOINT"):
+            if len(word) < 2:
+                raise TrajectoryError(f"{path}:{i}: {word[0]} without a name")
+            pending = Joint(" ".join(word[1:]), stack[-1] if stack else -1, np.zeros(3))
+            joints.append(pending)
+        elif word[0] == "End":
+            in_end_site += 1
+            pending = None
+        elif word[0] == "{":
+            if in_end_site:
+                in_end_site += 1
+            else:
+                stack.append(len(joints) - 1)
+        elif word[0] == "}":
+            if in_end_site:
+                in_end_site -= 1
+                if in_end_site == 1:
+                    in_end_site = 0
+            elif stack:
+                stack.pop()
+            else:
+                raise TrajectoryError(f"{path}:{i}: unbalanced '}}'")
+        elif word[0] == "OFFSET":
+            if len(word) != 4:
+                raise TrajectoryError(f"{path}:{i}: OFFSET needs 3 numbers")
+            vals = [parse_float(path, i, k + 2, "OFFSET", v) for k, v in enumerate(word[1:])]
+            if not in_end_site and joints:
+                joints[-1].offset = np.array(vals)
+        elif word[0] == "CHANNELS":
+            if not joints or in_end_site:
+                raise TrajectoryError(f"{path}:{i}: CHANNELS outside a joint")
+            try:
+                n = int(word[1])
+            except (IndexError, ValueError):
+                raise TrajectoryError(f"{path}:{i}: CHANNELS needs a count") from None
+            chans = word[2:]
+            if len(chans) != n or any(c not in AXES and c not in POS for c in chans):
+                raise TrajectoryError(f"{path}:{i}: bad CHANNELS line {s!r}")
+            joints[-1].channels = chans
+            joints[-1].start = nchan
+            nchan += n
+        else:
+            raise TrajectoryError(f"{path}:{i}: unexpected {word[0]!r} in HIERARCHY")
+    raise TrajectoryError(f"{path}: no MOTION section")
+
+
+def _rotation(joint: Joint, frames: np.ndarray) -> np.ndarray:
+    from ..convert import from_euler
+
+    rot = [(c, k) for k, c in enumerate(joint.channels) if c in AXES]
+    if not rot:
+        q = np.zeros((len(frames), 4))
+        q[:, 0] = 1.0
+        return q
+    if len(rot) != 3:
+        raise TrajectoryError(f"joint {joint.name!r}: expected 3 rotation channels, got {len(rot)}")
+    seq = "".join(AXES[c] for c, _ in rot)
+    angles = frames[:, [joint.start + k for _, k in rot]]
+    return from_euler(seq, angles, degrees=True)
+
+
+def _translation(joint: Joint, frames: np.ndarray) -> np.ndarray:
+    t = np.tile(joint.offset, (len(frames), 1))
+    for axis, name in enumerate(POS):
+        if name in joint.channels:
+            t[:, axis] += frames[:, joint.start + joint.channels.index(name)]
+    return t
+
+
+def joints_of(path) -> list[str]:
+    with open(path, encoding="utf-8-sig") as f:
+        lines = f.read().splitlines()
+    return [j.name for j in _parse_hierarchy(path, lines)[0]]
+
+
+def read(path, joint: str | None = None, world: bool = False, skip_frames: int = 0, sort=False, dedupe=False) -> Trajectory:
+    from ..algebra import multiply, rotate
+
+    with open(path, encoding="utf-8-sig") as f:
+        lines = f.read().splitlines()
+    joints, nchan, i = _parse_hierarchy(path, lines)
+    if not joints:
+        raise TrajectoryError(f"{path}: no joints in HIERARCHY")
+    names = [j.name for j in joints]
+    target = 0 if joint is None else (names.index(joint) if joint in names else None)
+    if target is None:
+        raise TrajectoryError(f"{path}: no joint {joint!r}; joints: {', '.join(names)}")
+    try:
+        nframes = int(lines[i].split(":")[1])
+        dt = float(lines[i + 1].split(":")[1])
+    except (IndexError, ValueError):
+        raise TrajectoryError(f"{path}:{i + 1}: expected 'Frames: N' and 'Frame Time: dt'") from None
+    if not (dt > 0 and np.isfinite(dt)):
+        raise TrajectoryError(f"{path}:{i + 2}: Frame Time must be positive, got {dt}")
+    data = []
+    for k in range(nframes):
+        ln = i + 3 + k
+        if ln - 1 >= len(lines):
+            raise TrajectoryError(f"{path}: truncated: {k} of {nframes} frames")
+        cells = lines[ln - 1].split()
+        if len(cells) != nchan:
+            raise TrajectoryError(f"{path}:{ln}: expected {nchan} channel values, got {len(cells)}")
+        data.append([parse_float(path, ln, c + 1, "channel", v) for c, v in enumerate(cells)])
+    frames = np.array(data, dtype=float).reshape(-1, nchan)[skip_frames:]
+    if len(frames) == 0:
+        raise TrajectoryError(f"{path}: no frames")
+    chain = [target]
+    while joints[chain[-1]].parent >= 0:
+        chain.append(joints[chain[-1]].parent)
+    chain.reverse()
+    if world:
+        q = None
+        pos = None
+        for j in chain:
+            local_q = _rotation(joints[j], frames)
+            local_t = _translation(joints[j], frames)
+            if q is None:
+                q, pos = local_q, local_t
+            else:
+                pos = pos + rotate(q, local_t)
+                q = multiply(q, local_q)
+    else:
+        q = _rotation(joints[target], frames)
+        has_pos = any(c in POS for c in joints[target].channels)
+        pos = _translation(joints[target], frames) if has_pos else None
+    times = (np.arange(len(frames)) + skip_frames) * dt
+    lines_of = np.arange(len(frames)) + i + 3 + skip_frames
+    return finish(path, times, q, pos, lines_of, sort, dedupe, name=names[target])
+
+
+def write(path, traj: Trajectory, joint: str = "Root") -> None:
+    from ..convert import as_euler
+
+    dt = np.diff(traj.times)
+    if len(traj) < 2 or np.any(np.abs(dt - dt[0]) > 1e-9 * max(1.0, abs(dt[0]))):
+        raise ValueError(f"{path}: BVH needs uniformly spaced times (resample first)")
+    angles = as_euler(traj.quats, "ZXY", degrees=True)
+    pos = traj.positions if traj.positions is not None else np.zeros((len(traj), 3))
+    with atomic_write(path) as f:
+        f.write(f"HIERARCHY\nROOT {traj.name or joint}\n{{\n  OFFSET 0 0 0\n")
+        f.write("  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n")
+        f.write("  End Site\n  {\n    OFFSET 0 0 0\n  }\n}\n")
+        f.write(f"MOTION\nFrames: {len(traj)}\nFrame Time: {dt[0]!r}\n")
+        for p, a in zip(pos, angles):
+            f.write(" ".join(repr(float(v)) for v in (*p, *a)) + "\n")

@@ -1,0 +1,134 @@
+"""CSV with a header row: a time column and quaternion (or Euler angle) columns, optional
+positions. Column names are matched case-insensitively, with '#', spaces and units in
+brackets ignored:
+
+- time: ``t``, ``time``, ``timestamp``, ``times``, ``sec``, ``seconds``;
+- quaternion: ``qw qx qy qz`` or ``w x y z`` (any column order: scalar-last files such as
+  ``t,qx,qy,qz,qw`` are read correctly);
+- Euler angles (with ``euler="xyz"`` etc., ``degrees=True`` for degrees): ``roll pitch yaw``,
+  ``rx ry rz``, ``e1 e2 e3`` or ``a1 a2 a3``;
+- positions (optional): ``x y z`` (when the quaternion is ``qw…``), ``tx ty tz``, ``px py pz``.
+
+Delimiter: ``,``, ``;`` or tab, from the header. A UTF-8 BOM and CRLF line ends are fine.
+"""
+
+from __future__ import annotations
+
+import csv
+import re
+
+import numpy as np
+
+from .._atomic import atomic_write
+from ._common import Trajectory, TrajectoryError, finish, fmt, parse_float
+
+TIME = ("t", "time", "timestamp", "times", "sec", "seconds")
+QUATS = (("qw", "qx", "qy", "qz"), ("w", "x", "y", "z"), ("q_w", "q_x", "q_y", "q_z"))
+EULER = (("roll", "pitch", "yaw"), ("rx", "ry", "rz"), ("e1", "e2", "e3"), ("a1", "a2", "a3"))
+POSITIONS = (("tx", "ty", "tz"), ("px", "py", "pz"), ("x", "y", "z"))
+MAX_LINE = 1 << 20
+
+
+def _clean(name: str) -> str:
+    name = re.sub(r"\[.*?\]", "", name).strip().lstrip("#").strip().lower()
+    return name
+
+
+def _find(names: list[str], groups) -> tuple[int, ...] | None:
+    for group in groups:
+        if all(g in names for g in group):
+            return tuple(names.index(g) for g in group)
+    return None
+
+
+def read(
+    path,
+    euler: str | None = None,
+    degrees: bool = False,
+    sort: bool = False,
+    dedupe: bool = False,
+) -> Trajectory:
+    with open(path, encoding="utf-8-sig", newline="") as f:
+        header_line = f.readline()
+        if len(header_line) > MAX_LINE:
+            raise TrajectoryError(f"{path}:1: header line longer than {MAX_LINE} characters")
+        if not header_line.strip():
+            raise TrajectoryError(f"{path}:1: empty file or empty header")
+        delim = max((",", ";", "\t"), key=header_line.count)
+        header = next(csv.reader([header_line], delimiter=delim))
+        names = [_clean(h) for h in header]
+        ti = next((names.index(n) for n in TIME if n in names), None)
+        if ti is None:
+            raise TrajectoryError(
+                f"{path}:1: bad header: no time column (expected one of {', '.join(TIME)}); "
+                f"got {', '.join(header)}"
+            )
+        if euler is not None:
+            qi = _find(names, EULER)
+            if qi is None:
+                raise TrajectoryError(
+                    f"{path}:1: bad header: --euler needs angle columns "
+                    f"({'; '.join(' '.join(g) for g in EULER)})"
+                )
+        else:
+            qi = _find(names, QUATS)
+            if qi is None:
+                raise TrajectoryError(
+                    f"{path}:1: bad header: no quaternion columns (qw qx qy qz or w x y z), "
+                    "and no --euler SEQ given for angle columns"
+                )
+        pos_groups = POSITIONS if names[qi[0]] != "w" else POSITIONS[:2]
+        pi = _find(names, pos_groups)
+        times, rows, pos, lines = [], [], [], []
+        reader = csv.reader(f, delimiter=delim)
+        ncol = len(header)
+        try:
+            for row in reader:
+                line = reader.line_num + 1
+                if not row or all(not c.strip() for c in row):
+                    continue
+                if len(row) != ncol:
+                    raise TrajectoryError(
+                        f"{path}:{line}: expected {ncol} columns (as the header), got {len(row)}"
+                    )
+                times.append(parse_float(path, line, ti + 1, header[ti], row[ti]))
+                rows.append([parse_float(path, line, c + 1, header[c], row[c]) for c in qi])
+                if pi is not None:
+                    pos.append([parse_float(path, line, c + 1, header[c], row[c]) for c in pi])
+                lines.append(line)
+        except csv.Error as e:
+            raise TrajectoryError(f"{path}:{reader.line_num + 1}: {e}") from None
+    if not rows:
+        raise TrajectoryError(f"{path}: no data rows")
+    if euler is not None:
+        from ..convert import from_euler
+
+        try:
+            quats = from_euler(euler, np.array(rows), degrees=degrees)
+        except ValueError as e:
+            bad = ~np.all(np.isfinite(np.array(rows)), axis=1)
+            if np.any(bad):
+                raise TrajectoryError(f"{path}:{lines[int(np.argmax(bad))]}: NaN or inf") from None
+            raise TrajectoryError(f"{path}: {e}") from None
+    else:
+        quats = np.array(rows)
+    return finish(path, times, quats, pos if pi is not None else None, lines, sort, dedupe)
+
+
+def write(path, traj: Trajectory) -> None:
+    cols = ["t", "qw", "qx", "qy", "qz"]
+    blocks = [traj.times[:, None], traj.quats]
+    if traj.positions is not None:
+        cols += ["x", "y", "z"]
+        blocks.append(traj.positions)
+    for name, arr in traj.extra.items():
+        a = np.asarray(arr, dtype=float).reshape(len(traj), -1)
+        cols += [name] if a.shape[1] == 1 else [f"{name}_{k}" for k in "xyz"[: a.shape[1]]]
+        blocks.append(a)
+    data = np.hstack(blocks)
+    if not np.all(np.isfinite(data)):
+        raise ValueError(f"{path}: refusing to write NaN or inf")
+    with atomic_write(path, newline="") as f:
+        f.write(",".join(cols) + "\n")
+        for row in data:
+            f.write(",".join(fmt(v) for v in row) + "\n")

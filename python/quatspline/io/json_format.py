@@ -1,0 +1,52 @@
+"""JSON: ``{"times": [...], "quats": [[w, x, y, z], ...], "positions": [[x, y, z], ...]}``
+(``positions`` optional; ``"layout": "xyzw"`` for scalar-last quaternions)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from .._atomic import atomic_write
+from ._common import Trajectory, TrajectoryError, finish
+
+
+def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
+    try:
+        with open(path, encoding="utf-8-sig") as f:
+            doc = json.load(f)
+    except json.JSONDecodeError as e:
+        raise TrajectoryError(f"{path}:{e.lineno}: column {e.colno}: invalid JSON ({e.msg})") from None
+    if not isinstance(doc, dict) or "times" not in doc or "quats" not in doc:
+        raise TrajectoryError(f'{path}: expected an object with "times" and "quats"')
+    try:
+        times = np.array(doc["times"], dtype=float)
+        quats = np.array(doc["quats"], dtype=float)
+        pos = np.array(doc["positions"], dtype=float) if doc.get("positions") is not None else None
+    except (TypeError, ValueError) as e:
+        raise TrajectoryError(f"{path}: non-numeric or ragged values ({e})") from None
+    if times.ndim != 1 or quats.shape != (len(times), 4):
+        raise TrajectoryError(
+            f"{path}: expected times (N,) and quats (N, 4), got {times.shape} and {quats.shape}"
+        )
+    if pos is not None and pos.shape != (len(times), 3):
+        raise TrajectoryError(f"{path}: expected positions ({len(times)}, 3), got {pos.shape}")
+    layout = doc.get("layout", "wxyz")
+    if layout == "xyzw":
+        quats = quats[:, [3, 0, 1, 2]]
+    elif layout != "wxyz":
+        raise TrajectoryError(f'{path}: "layout" must be "wxyz" or "xyzw", got {layout!r}')
+    lines = np.arange(len(times))  # entry index, not a line
+    return finish(path, times, quats, pos, lines, sort, dedupe)
+
+
+def write(path, traj: Trajectory) -> None:
+    doc = {"layout": "wxyz", "times": traj.times.tolist(), "quats": traj.quats.tolist()}
+    if traj.positions is not None:
+        doc["positions"] = traj.positions.tolist()
+    for k, v in traj.extra.items():
+        doc[k] = np.asarray(v).tolist()
+    if not all(np.all(np.isfinite(np.asarray(v, dtype=float))) for k, v in doc.items() if k != "layout"):
+        raise ValueError(f"{path}: refusing to write NaN or inf")
+    with atomic_write(path) as f:
+        json.dump(doc, f)

@@ -1,0 +1,42 @@
+"""RepoIMU CSV (as shipped with the ahrs tests): ``;``-separated, two header rows,
+``time [s]; Vicon orientation W; X; Y; Z; IMU acc XYZ; gyro XYZ; mag XYZ``. Only time and the
+reference orientation are read."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._common import Trajectory, TrajectoryError, finish, parse_float
+
+NAMES = ("time", "W", "X", "Y", "Z")
+
+
+def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
+    rows, lines = [], []
+    with open(path, encoding="utf-8-sig") as f:
+        first = f.readline()
+        if not first.startswith("Time (s);Vicon Orientation"):
+            raise TrajectoryError(f"{path}:1: bad header: not a RepoIMU file")
+        f.readline()
+        for line, text in enumerate(f, start=3):
+            s = text.strip()
+            if not s:
+                continue
+            cells = s.split(";")
+            if len(cells) < 5:
+                raise TrajectoryError(f"{path}:{line}: expected at least 5 columns, got {len(cells)}")
+            rows.append([parse_float(path, line, c + 1, NAMES[c], cells[c]) for c in range(5)])
+            lines.append(line)
+    if not rows:
+        raise TrajectoryError(f"{path}: no data rows")
+    a = np.array(rows)
+    return finish(path, a[:, 0], a[:, 1:5], None, lines, sort, dedupe)
+
+
+def write(path, traj: Trajectory) -> None:
+    from .._atomic import atomic_write
+
+    with atomic_write(path) as f:
+        f.write("Time (s);Vicon Orientation;;;\n;W;X;Y;Z\n")
+        for t, q in zip(traj.times, traj.quats):
+            f.write(";".join(repr(float(v)) for v in (t, *q)) + "\n")

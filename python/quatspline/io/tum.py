@@ -1,0 +1,42 @@
+"""TUM RGB-D trajectory files: ``timestamp tx ty tz qx qy qz qw`` (quaternion scalar last),
+whitespace separated, ``#`` comment lines."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._atomic import atomic_write
+from ._common import Trajectory, TrajectoryError, finish, fmt, parse_float
+
+NAMES = ("timestamp", "tx", "ty", "tz", "qx", "qy", "qz", "qw")
+
+
+def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
+    rows, lines = [], []
+    with open(path, encoding="utf-8-sig") as f:
+        for line, text in enumerate(f, start=1):
+            s = text.strip()
+            if not s or s.startswith("#"):
+                continue
+            cells = s.split()
+            if len(cells) != 8:
+                raise TrajectoryError(
+                    f"{path}:{line}: expected 8 columns (timestamp tx ty tz qx qy qz qw), "
+                    f"got {len(cells)}"
+                )
+            rows.append([parse_float(path, line, c + 1, NAMES[c], v) for c, v in enumerate(cells)])
+            lines.append(line)
+    if not rows:
+        raise TrajectoryError(f"{path}: no data rows")
+    a = np.array(rows)
+    quats = a[:, [7, 4, 5, 6]]
+    return finish(path, a[:, 0], quats, a[:, 1:4], lines, sort, dedupe)
+
+
+def write(path, traj: Trajectory) -> None:
+    pos = traj.positions if traj.positions is not None else np.zeros((len(traj), 3))
+    with atomic_write(path) as f:
+        f.write("# timestamp tx ty tz qx qy qz qw\n")
+        for t, p, q in zip(traj.times, pos, traj.quats):
+            vals = [t, *p, q[1], q[2], q[3], q[0]]
+            f.write(" ".join(fmt(v) for v in vals) + "\n")

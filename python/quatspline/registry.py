@@ -1,0 +1,167 @@
+"""Every method by name, with its parameters: one table for ``quatspline.spline`` and the CLI.
+
+``spline(method, quats, times=None, **params)`` builds any method from keys at times. The
+approximating methods are adapted to keys at times as follows (documented choices):
+
+- ``bezier`` / ``cumulative_bezier``: one curve with the keys as control points, over
+  [t₀, t_last] (passes through the first and last key only);
+- ``bspline``: the uniform cumulative B-spline with the keys as control points, the first and
+  last key doubled so the curve spans [t₀, t_last]; it treats the key times as uniform;
+- ``beta``: the Beta spline with the keys as vertices, the first and last doubled, one segment
+  per key interval (joints at the key times).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import spline as sp
+
+__all__ = ["METHODS", "Method", "Param", "interpolating_methods", "spline"]
+
+
+@dataclass(frozen=True)
+class Param:
+    type: type
+    default: object
+    help: str
+
+
+@dataclass(frozen=True)
+class Method:
+    name: str
+    summary: str
+    interpolating: bool
+    continuity: str
+    params: dict
+
+
+def _pad(q):
+    q = np.asarray(q, dtype=float)
+    return np.vstack([q[:1], q, q[-1:]])
+
+
+def _times_or_default(times, n):
+    return np.arange(n, dtype=float) if times is None else np.asarray(times, dtype=float)
+
+
+def _build(name, q, times, p):
+    if name == "slerp":
+        return sp.PiecewiseSlerp(q, times)
+    if name == "nlerp":
+        return sp.PiecewiseNlerp(q, times)
+    if name == "lin_euler":
+        return sp.PiecewiseLinEuler(q, times, seq=p["seq"])
+    if name == "lin_mat":
+        return sp.PiecewiseLinMat(q, times)
+    if name == "squad":
+        return sp.Squad(q, times)
+    if name == "catmull_rom":
+        return sp.CatmullRom(q, times, ends=p["ends"])
+    if name == "natural":
+        return sp.NaturalSpline(q, times, ends=p["ends"])
+    if name == "c3":
+        return sp.C3Spline(q, times, alpha=p["alpha"], beta=p["beta"], variant=p["variant"])
+    t = _times_or_default(times, len(q))
+    if len(t) != len(q):
+        raise ValueError(f"times: expected {len(q)} times (one per key), got {len(t)}")
+    if name == "bezier":
+        return sp.SphericalBezier(q, domain=(t[0], t[-1]))
+    if name == "cumulative_bezier":
+        return sp.CumulativeBezier(q, domain=(t[0], t[-1]))
+    if name == "bspline":
+        k = int(p["order"])
+        if k != 4:
+            raise ValueError("order: the registry's bspline spans the keys with order 4 only")
+        return sp.CumulativeBSpline(_pad(q), dt=(t[-1] - t[0]) / (len(q) - 1), t0=t[0], order=4)
+    if name == "beta":
+        return sp.BetaSpline(_pad(q), beta1=p["beta1"], beta2=p["beta2"], times=t)
+    raise AssertionError(name)
+
+
+METHODS: dict[str, Method] = {
+    m.name: m
+    for m in [
+        Method("slerp", "piecewise slerp", True, "C0", {}),
+        Method("nlerp", "piecewise normalised lerp (baseline)", True, "C0", {}),
+        Method(
+            "lin_euler",
+            "Euler angles lerped (baseline)",
+            True,
+            "C0",
+            {"seq": Param(str, "xyz", "Euler sequence, scipy's convention")},
+        ),
+        Method("lin_mat", "matrices lerped and projected (baseline)", True, "C0", {}),
+        Method("squad", "Shoemake's Squad, C¹ in time", True, "C1", {}),
+        Method(
+            "catmull_rom",
+            "Catmull–Rom (Gortler), C¹ in time",
+            True,
+            "C1",
+            {"ends": Param(str, "reflect", "reflect | duplicate")},
+        ),
+        Method(
+            "natural",
+            "global C² spline (scipy RotationSpline's construction)",
+            True,
+            "C2",
+            {"ends": Param(str, "natural", "natural | clamped (clamped = scipy's RotationSpline)")},
+        ),
+        Method(
+            "c3",
+            "the patent's C³ spline",
+            True,
+            "C3",
+            {
+                "alpha": Param(float, 5 / 16, "shape parameter α (q', q'', q''' at keys)"),
+                "beta": Param(float, 0.0, "shape parameter β (q''' at keys)"),
+                "variant": Param(str, "knot", "knot | patent"),
+            },
+        ),
+        Method("bezier", "one spherical Bézier curve over all keys", False, "C∞ (one curve)", {}),
+        Method("cumulative_bezier", "one cumulative Bézier curve over all keys", False, "C∞", {}),
+        Method(
+            "bspline",
+            "cumulative cubic B-spline with the keys as control points",
+            False,
+            "C2",
+            {"order": Param(int, 4, "spline order (4 = cubic)")},
+        ),
+        Method(
+            "beta",
+            "Beta quaternion spline with the keys as vertices",
+            False,
+            "G1",
+            {
+                "beta1": Param(float, 1.0, "shape parameter β₁ > 0 (bias)"),
+                "beta2": Param(float, 0.0, "shape parameter β₂ (tension)"),
+            },
+        ),
+    ]
+}
+
+
+def interpolating_methods() -> list[str]:
+    return [m.name for m in METHODS.values() if m.interpolating]
+
+
+def spline(method: str, quats, times=None, **params) -> sp.Spline:
+    """Builds ``method`` through ``quats`` at ``times``; unknown names and parameters raise a
+    ValueError that lists the valid ones."""
+    if method not in METHODS:
+        raise ValueError(f"method: unknown method {method!r}; valid: {', '.join(METHODS)}")
+    m = METHODS[method]
+    unknown = sorted(set(params) - set(m.params))
+    if unknown:
+        valid = ", ".join(m.params) or "none"
+        raise ValueError(f"{unknown[0]}: unknown parameter of {method}; valid: {valid}")
+    p = {}
+    for name, spec in m.params.items():
+        v = params.get(name, spec.default)
+        try:
+            p[name] = spec.type(v)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name}: expected {spec.type.__name__}, got {v!r}") from None
+    return _build(method, quats, times, p)
