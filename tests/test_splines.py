@@ -12,6 +12,9 @@ N = 8
 # method name -> (constructor from keys and times, claimed C^k, interpolates)
 METHODS = {
     "slerp": (lambda q, t: qs.PiecewiseSlerp(q, t), 0, True),
+    "nlerp": (lambda q, t: qs.PiecewiseNlerp(q, t), 0, True),
+    "lin_euler": (lambda q, t: qs.PiecewiseLinEuler(q, t, seq="ZYX"), 0, True),
+    "lin_mat": (lambda q, t: qs.PiecewiseLinMat(q, t), 0, True),
     "squad": (lambda q, t: qs.Squad(q, t), 1, True),
     "catmull_rom": (lambda q, t: qs.CatmullRom(q, t), 1, True),
     "catmull_rom_duplicate": (lambda q, t: qs.CatmullRom(q, t, ends="duplicate"), 1, True),

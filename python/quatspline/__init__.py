@@ -42,15 +42,15 @@ from .registry import METHODS, spline
 from .rigid import rotate_points
 from .screw import ScrewSpline
 from .spline import (
-    PiecewiseLinEuler,
-    PiecewiseLinMat,
-    PiecewiseNlerp,
     BetaSpline,
     C3Spline,
     CatmullRom,
     CumulativeBezier,
     CumulativeBSpline,
     NaturalSpline,
+    PiecewiseLinEuler,
+    PiecewiseLinMat,
+    PiecewiseNlerp,
     PiecewiseSlerp,
     SphericalBezier,
     Spline,

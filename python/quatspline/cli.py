@@ -10,7 +10,6 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -18,7 +17,8 @@ import numpy as np
 from . import __version__
 from . import io as qio
 from .continuity import continuity
-from .registry import METHODS, interpolating_methods, spline as make_spline
+from .registry import METHODS, interpolating_methods
+from .registry import spline as make_spline
 from .spline import path_length
 
 
@@ -119,10 +119,14 @@ def angle_deg(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Rotation angle between unit quaternions, degrees, exact for small and large angles:
     2·atan2(|a − s b|, |a + s b|) with s the sign of a·b (q and −q are the same rotation)."""
     s = np.where(np.sum(a * b, axis=-1) < 0, -1.0, 1.0)[..., None]
-    return np.degrees(2 * np.arctan2(np.linalg.norm(a - s * b, axis=-1), np.linalg.norm(a + s * b, axis=-1)))
+    return np.degrees(
+        2 * np.arctan2(np.linalg.norm(a - s * b, axis=-1), np.linalg.norm(a + s * b, axis=-1))
+    )
 
 
-def compare(traj: qio.Trajectory, methods: list[str], holdout: int | None = None, samples_per_key: int = 8) -> list[dict]:
+def compare(
+    traj: qio.Trajectory, methods: list[str], holdout: int | None = None, samples_per_key: int = 8
+) -> list[dict]:
     t_all = traj.times - traj.times[0]
     if holdout:
         if holdout < 2:
@@ -218,7 +222,9 @@ def cmd_plot(args) -> int:
     traj = _read(args)
     kt = traj.times - traj.times[0]
     if args.kind == "family":
-        fig = plot.family(_family(args, traj), title=f"{args.method}: {args.family or 'alpha sweep'}")
+        fig = plot.family(
+            _family(args, traj), title=f"{args.method}: {args.family or 'alpha sweep'}"
+        )
     else:
         s = _build(args.method, traj, kt, _params(args.param))
         if args.kind == "sphere":
@@ -248,7 +254,9 @@ def cmd_demo(args) -> int:
 # ---- parser ---------------------------------------------------------------------------------
 def _input_options(p):
     p.add_argument("input", help="trajectory file (csv, json, npz, tum, euroc, repoimu, bvh)")
-    p.add_argument("--in-format", choices=sorted(qio.FORMATS), help="input format (default: guessed)")
+    p.add_argument(
+        "--in-format", choices=sorted(qio.FORMATS), help="input format (default: guessed)"
+    )
     p.add_argument("--euler", metavar="SEQ", help="CSV with Euler angle columns in sequence SEQ")
     p.add_argument("--degrees", action="store_true", help="Euler angles in degrees")
     p.add_argument("--joint", help="BVH joint (default: the root)")
@@ -284,7 +292,9 @@ def build_parser() -> argparse.ArgumentParser:
     c = sub.add_parser("compare", help="compare methods on a recording")
     _input_options(c)
     c.add_argument("--methods", help="comma-separated methods (default: all interpolating)")
-    c.add_argument("--holdout", type=int, metavar="K", help="keys = every K-th frame; score the rest")
+    c.add_argument(
+        "--holdout", type=int, metavar="K", help="keys = every K-th frame; score the rest"
+    )
     c.add_argument("--json", action="store_true", help="print JSON instead of a table")
     c.set_defaults(func=cmd_compare)
 
@@ -298,7 +308,9 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--force", action="store_true", help="allow overwriting the input file")
     pl.set_defaults(func=cmd_plot)
 
-    d = sub.add_parser("demo", help="the papers' examples and a real recording through every method")
+    d = sub.add_parser(
+        "demo", help="the papers' examples and a real recording through every method"
+    )
     d.add_argument("--out", default="out", help="output directory (default: out)")
     d.add_argument("--recording", help="recording to use (default: bundled TUM RGB-D fr1/xyz)")
     d.set_defaults(func=cmd_demo)

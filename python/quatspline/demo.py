@@ -14,7 +14,8 @@ from ._atomic import atomic_write
 from .algebra import normalize
 from .examples import BETA_EXAMPLE1_VERTICES, BETA_EXAMPLE2_VERTICES
 from .interpolate import slerp
-from .registry import interpolating_methods, spline as make_spline
+from .registry import interpolating_methods
+from .registry import spline as make_spline
 from .spline import BetaSpline
 
 DATA = Path(__file__).resolve().parents[2] / "data"
@@ -49,7 +50,12 @@ def run(out: Path, recording: Path | None = None) -> int:
     _write_csv(out / "beta_example1_control_points.csv", "segment,j,qw,qx,qy,qz", np.array(rows))
     tb, qb = beta.sample(n=201)
     _write_csv(out / "samples" / "beta_example1.csv", "t,qw,qx,qy,qz", np.column_stack([tb, qb]))
-    plot.save(plot.sphere(beta, key_times=beta.joints, title="Beta spline, paper Example 1 (β₁=1, β₂=0.5)"), out / "sphere.png")
+    plot.save(
+        plot.sphere(
+            beta, key_times=beta.joints, title="Beta spline, paper Example 1 (β₁=1, β₂=0.5)"
+        ),
+        out / "sphere.png",
+    )
     from .continuity import continuity
 
     (j1,) = continuity(beta)
@@ -63,8 +69,12 @@ def run(out: Path, recording: Path | None = None) -> int:
     for b12 in (0.5, 2.0, 4.0):
         b2 = np.full(len(BETA_EXAMPLE2_VERTICES), 0.5)
         b2[1] = b12
-        fam[f"β₁,₂ = {b12}"] = BetaSpline(BETA_EXAMPLE2_VERTICES, beta1=1.0, beta2=b2)
-    plot.save(plot.family(fam, title="Beta spline, paper Example 2: β₂ at vertex 1"), out / "family.png")
+        fam[f"β₁,₂ = {b12}"] = BetaSpline(
+            BETA_EXAMPLE2_VERTICES, beta1=1.0, beta2=b2, canonicalize=False
+        )
+    plot.save(
+        plot.family(fam, title="Beta spline, paper Example 2: β₂ at vertex 1"), out / "family.png"
+    )
 
     # 3. A real recording through every interpolating method
     rec = recording or RECORDING
@@ -81,14 +91,29 @@ def run(out: Path, recording: Path | None = None) -> int:
     for m in interpolating_methods():
         s = make_spline(m, traj.quats[idx], t_rel[idx])
         ts = np.arange(0.0, t_rel[idx[-1]], 0.01)
-        qio.write(out / "samples" / f"{rec.stem}_{m}.csv", qio.Trajectory(ts + traj.times[0], s(ts)))
+        qio.write(
+            out / "samples" / f"{rec.stem}_{m}.csv", qio.Trajectory(ts + traj.times[0], s(ts))
+        )
     short = idx[t_rel[idx] <= 3.0]
     c3 = make_spline("c3", traj.quats[short], t_rel[short])
-    plot.save(plot.rates(c3, key_times=t_rel[short], title="C³ spline on TUM RGB-D fr1/xyz (keys every 0.1 s)"), out / "rates.png")
+    plot.save(
+        plot.rates(
+            c3, key_times=t_rel[short], title="C³ spline on TUM RGB-D fr1/xyz (keys every 0.1 s)"
+        ),
+        out / "rates.png",
+    )
     from .pose import PoseSpline
 
     pose = PoseSpline(t_rel[idx], traj.quats[idx], traj.positions[idx], rotation="c3")
-    plot.save(plot.body(pose.rotation, positions=pose.position, snapshots=10, title="TUM RGB-D fr1/xyz: the camera as a rigid body (C³ pose spline)"), out / "body.png")
+    plot.save(
+        plot.body(
+            pose.rotation,
+            positions=pose.position,
+            snapshots=10,
+            title="TUM RGB-D fr1/xyz: the camera as a rigid body (C³ pose spline)",
+        ),
+        out / "body.png",
+    )
 
     report = [
         "# quatspline demo",
@@ -112,5 +137,8 @@ def run(out: Path, recording: Path | None = None) -> int:
     ]
     (out / "report.md").write_text("\n".join(report))
     print(table)
-    print(f"\nwrote {out}/ (report.md, 4 figures, compare.md/json, samples/) in {time.perf_counter() - start:.1f} s")
+    print(
+        f"\nwrote {out}/ (report.md, 4 figures, compare.md/json, samples/) "
+        f"in {time.perf_counter() - start:.1f} s"
+    )
     return 0

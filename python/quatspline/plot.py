@@ -78,7 +78,9 @@ def body(spline: Spline, positions=None, snapshots: int = 8, title: str = ""):
     t = np.linspace(*spline.domain, snapshots)
     q = spline(t)
     if positions is None:
-        pos = np.column_stack([np.arange(snapshots) * 1.6, np.zeros(snapshots), np.zeros(snapshots)])
+        pos = np.column_stack(
+            [np.arange(snapshots) * 1.6, np.zeros(snapshots), np.zeros(snapshots)]
+        )
         scale = 1.0
     else:
         pos = np.asarray(positions(t))
@@ -95,7 +97,13 @@ def body(spline: Spline, positions=None, snapshots: int = 8, title: str = ""):
         for k in range(3):
             tip = rotate(q[m], np.eye(3)[k] * 0.8 * scale) + pos[m]
             ax.plot(*zip(pos[m], tip), color=AXIS_COLOURS[k], linewidth=2)
-    ax.set_box_aspect((np.ptp(pos[:, 0]) + 2 * scale, np.ptp(pos[:, 1]) + 2 * scale, np.ptp(pos[:, 2]) + 2 * scale))
+    ax.set_box_aspect(
+        (
+            np.ptp(pos[:, 0]) + 2 * scale,
+            np.ptp(pos[:, 1]) + 2 * scale,
+            np.ptp(pos[:, 2]) + 2 * scale,
+        )
+    )
     ax.set_title(title or f"{spline.method}: rigid body along the motion")
     return fig
 
@@ -123,18 +131,30 @@ def rates(spline: Spline, key_times=None, n: int = 2000, title: str = ""):
 
 
 def family(splines: dict, n: int = 600, title: str = ""):
-    """``splines``: label → Spline (one shape parameter swept)."""
+    """``splines``: label → Spline (one shape parameter swept); the body x axis (solid) and
+    z axis (dashed) of each."""
     plt = _plt()
     fig = plt.figure(figsize=(6.4, 6.0))
     ax = fig.add_subplot(projection="3d")
     _sphere_wire(ax)
     cmap = plt.get_cmap("viridis")
+    styles = {0: "-", 2: "--"}
     for k, (label, s) in enumerate(splines.items()):
         _, q = s.sample(n=n)
-        p = rotate(q, [1.0, 0.0, 0.0])
-        ax.plot(p[:, 0], p[:, 1], p[:, 2], color=cmap(k / max(len(splines) - 1, 1)), linewidth=2, label=label)
+        colour = cmap(k / max(len(splines) - 1, 1))
+        for axis, style in styles.items():
+            p = rotate(q, np.eye(3)[axis])
+            ax.plot(
+                p[:, 0],
+                p[:, 1],
+                p[:, 2],
+                style,
+                color=colour,
+                linewidth=2,
+                label=label if axis == 0 else None,
+            )
     ax.legend(loc="upper left", fontsize=8)
-    ax.set_title(title or "shape parameter family: body x-axis path")
+    ax.set_title(title or "shape parameter family: body x (solid) and z (dashed) axes")
     return fig
 
 

@@ -31,16 +31,21 @@ class ScrewSpline:
         p = with_width(positions, "positions", 3)
         if t.ndim != 1 or q.shape != (len(t), 4) or p.shape != (len(t), 3):
             raise ValueError(
-                f"times/quats/positions: expected (N,), (N, 4), (N, 3); got {t.shape}, {q.shape}, {p.shape}"
+                "times/quats/positions: expected (N,), (N, 4), (N, 3); "
+                f"got {t.shape}, {q.shape}, {p.shape}"
             )
         if len(t) < 2:
             raise ValueError(f"quats: needs at least 2 keys, got {len(t)}")
         if not np.all(np.isfinite(t)):
-            raise ValueError(f"times: non-finite value at element {int(np.argmax(~np.isfinite(t)))}")
+            raise ValueError(
+                f"times: non-finite value at element {int(np.argmax(~np.isfinite(t)))}"
+            )
         bad = np.diff(t) <= 0
         if np.any(bad):
             k = int(np.argmax(bad)) + 1
-            raise ValueError(f"times: not strictly increasing at index {k} ({t[k]} after {t[k - 1]})")
+            raise ValueError(
+                f"times: not strictly increasing at index {k} ({t[k]} after {t[k - 1]})"
+            )
         dq = dq_from_pose(q, p)
         for k in range(1, len(dq)):
             if np.dot(dq[k - 1, :4], dq[k, :4]) < 0:

@@ -7,7 +7,7 @@ Taylor-mode differentiation of the same formula in the Rust core (never finite d
 | class | interpolates | continuity | source |
 |---|---|---|---|
 | ``PiecewiseSlerp`` | yes | C⁰ | seeds 001/003 |
-| ``PiecewiseNlerp``, ``PiecewiseLinEuler``, ``PiecewiseLinMat`` | yes | C⁰ | baselines, seeds 001/002 |
+| ``PiecewiseNlerp``, ``…LinEuler``, ``…LinMat`` | yes | C⁰ | baselines, seeds 001/002 |
 | ``SphericalBezier`` | end points | C^∞ (one curve) | Shoemake 1985 (de Casteljau) |
 | ``CumulativeBezier`` | end points | C^∞ (one curve) | Kim, Kim & Shin 1995 |
 | ``Squad`` | yes | C¹ | Shoemake 1987, seed 003 |
@@ -193,7 +193,9 @@ class PiecewiseLinEuler(Spline):
     def __init__(self, quats, times=None, seq: str = "xyz", extrapolate: str = "raise"):
         q = _keys(quats, "quats")
         t = _times(times, len(q))
-        super().__init__(_core.lin_euler_spline(q, t, str(seq)), extrapolate, quats=q, times=t, seq=seq)
+        super().__init__(
+            _core.lin_euler_spline(q, t, str(seq)), extrapolate, quats=q, times=t, seq=seq
+        )
 
 
 class PiecewiseLinMat(Spline):

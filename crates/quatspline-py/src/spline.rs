@@ -239,34 +239,52 @@ fn piecewise_slerp(
 }
 
 #[pyfunction]
-fn spherical_bezier(control_points: PyReadonlyArray2<'_, f64>, domain: (f64, f64), canonicalize: bool) -> PyResult<PySpline> {
+fn spherical_bezier(
+    control_points: PyReadonlyArray2<'_, f64>,
+    domain: (f64, f64),
+    canonicalize: bool,
+) -> PyResult<PySpline> {
     let q = quats_of(&control_points, "control_points")?;
     wrap(sp::SphericalBezier::new(&q, domain, canonicalize))
 }
 
 #[pyfunction]
-fn cumulative_bezier(control_points: PyReadonlyArray2<'_, f64>, domain: (f64, f64), canonicalize: bool) -> PyResult<PySpline> {
+fn cumulative_bezier(
+    control_points: PyReadonlyArray2<'_, f64>,
+    domain: (f64, f64),
+    canonicalize: bool,
+) -> PyResult<PySpline> {
     let q = quats_of(&control_points, "control_points")?;
     wrap(sp::CumulativeBezier::new(&q, domain, canonicalize))
 }
 
 #[pyfunction]
 #[pyo3(signature = (quats, times))]
-fn nlerp_spline(quats: PyReadonlyArray2<'_, f64>, times: Option<PyReadonlyArray1<'_, f64>>) -> PyResult<PySpline> {
+fn nlerp_spline(
+    quats: PyReadonlyArray2<'_, f64>,
+    times: Option<PyReadonlyArray1<'_, f64>>,
+) -> PyResult<PySpline> {
     let q = quats_of(&quats, "quats")?;
     wrap(sp::PiecewiseNlerp::new(&q, times_of(&times).as_deref()))
 }
 
 #[pyfunction]
 #[pyo3(signature = (quats, times, seq))]
-fn lin_euler_spline(quats: PyReadonlyArray2<'_, f64>, times: Option<PyReadonlyArray1<'_, f64>>, seq: &str) -> PyResult<PySpline> {
+fn lin_euler_spline(
+    quats: PyReadonlyArray2<'_, f64>,
+    times: Option<PyReadonlyArray1<'_, f64>>,
+    seq: &str,
+) -> PyResult<PySpline> {
     let q = quats_of(&quats, "quats")?;
     wrap(sp::PiecewiseLinEuler::new(&q, times_of(&times).as_deref(), seq))
 }
 
 #[pyfunction]
 #[pyo3(signature = (quats, times))]
-fn lin_mat_spline(quats: PyReadonlyArray2<'_, f64>, times: Option<PyReadonlyArray1<'_, f64>>) -> PyResult<PySpline> {
+fn lin_mat_spline(
+    quats: PyReadonlyArray2<'_, f64>,
+    times: Option<PyReadonlyArray1<'_, f64>>,
+) -> PyResult<PySpline> {
     let q = quats_of(&quats, "quats")?;
     wrap(sp::PiecewiseLinMat::new(&q, times_of(&times).as_deref()))
 }
@@ -284,7 +302,11 @@ fn position_eval<'py>(
     let tk: Vec<f64> = times.as_array().iter().copied().collect();
     let rows = Rows::new(&points, "positions", 3)?;
     let pts: Vec<[f64; 3]> = (0..rows.len()).map(|i| rows.row::<3>(i)).collect();
-    let kind = if cubic { quatspline::translation::TranslationKind::Cubic } else { quatspline::translation::TranslationKind::Linear };
+    let kind = if cubic {
+        quatspline::translation::TranslationKind::Cubic
+    } else {
+        quatspline::translation::TranslationKind::Linear
+    };
     let spline = quatspline::translation::PositionSpline::new(&tk, &pts, kind).map_err(to_py)?;
     let tv: Vec<f64> = t.as_array().iter().copied().collect();
     crate::arrays::fill(py, "position_eval", tv.len(), |i| {
@@ -308,10 +330,15 @@ fn c3_weights(
     let variant = match variant {
         "knot" => sp::C3Variant::Knot,
         "patent" => sp::C3Variant::Patent,
-        other => return Err(PyValueError::new_err(format!("variant: expected \"knot\" or \"patent\", got {other:?}"))),
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "variant: expected \"knot\" or \"patent\", got {other:?}"
+            )))
+        }
     };
     let keys = vec![Quat::IDENTITY; t.len()];
-    let s = sp::C3Spline::new(&keys, Some(&t), &vec_of(&alpha), &vec_of(&beta), variant, false).map_err(to_py)?;
+    let s =
+        sp::C3Spline::new(&keys, Some(&t), &vec_of(&alpha), &vec_of(&beta), variant, false).map_err(to_py)?;
     Ok(s.cumulative_weights().to_vec())
 }
 

@@ -446,6 +446,30 @@ fn unreachable_order() -> Quat {
     Quat::new(f64::NAN, f64::NAN, f64::NAN, f64::NAN)
 }
 
+impl<const N: usize> Jet<N> {
+    /// atan2(y, x) of jets, through θ' = (x y' − y x')/(x² + y²) integrated term by term
+    /// (exact to the jet's order). The value is libm's atan2.
+    #[inline(always)]
+    pub fn atan2(y: Self, x: Self) -> Self {
+        let mut out = Jet::constant(y.0[0].atan2(x.0[0]));
+        if N == 1 {
+            return out;
+        }
+        let (dy, dx) = (y.shifted(), x.shifted());
+        let g = (x * dy - y * dx) * (x * x + y * y).recip();
+        for k in 1..N {
+            out.0[k] = g.0[k - 1] / k as f64;
+        }
+        out
+    }
+
+    /// The jet of the derivative: coefficients (k+1) c_{k+1}; the last one is unknown (0).
+    #[inline(always)]
+    fn shifted(self) -> Self {
+        Jet(std::array::from_fn(|k| if k + 1 < N { (k + 1) as f64 * self.0[k + 1] } else { 0.0 }))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -514,29 +538,5 @@ mod tests {
         assert!((f.derivative(1) - 3.0 * 0.49).abs() < 1e-15);
         assert!((f.derivative(2) - 6.0 * 0.7).abs() < 1e-15);
         assert!((f.derivative(3) - 6.0).abs() < 1e-15);
-    }
-}
-
-impl<const N: usize> Jet<N> {
-    /// atan2(y, x) of jets, through θ' = (x y' − y x')/(x² + y²) integrated term by term
-    /// (exact to the jet's order). The value is libm's atan2.
-    #[inline(always)]
-    pub fn atan2(y: Self, x: Self) -> Self {
-        let mut out = Jet::constant(y.0[0].atan2(x.0[0]));
-        if N == 1 {
-            return out;
-        }
-        let (dy, dx) = (y.shifted(), x.shifted());
-        let g = (x * dy - y * dx) * (x * x + y * y).recip();
-        for k in 1..N {
-            out.0[k] = g.0[k - 1] / k as f64;
-        }
-        out
-    }
-
-    /// The jet of the derivative: coefficients (k+1) c_{k+1}; the last one is unknown (0).
-    #[inline(always)]
-    fn shifted(self) -> Self {
-        Jet(std::array::from_fn(|k| if k + 1 < N { (k + 1) as f64 * self.0[k + 1] } else { 0.0 }))
     }
 }

@@ -26,7 +26,10 @@ impl PositionSpline {
     pub fn new(times: &[f64], points: &[Vec3], kind: TranslationKind) -> Result<Self> {
         let n = times.len();
         if points.len() != n {
-            return Err(Error::invalid("positions", format!("expected {n} positions (one per key), got {}", points.len())));
+            return Err(Error::invalid(
+                "positions",
+                format!("expected {n} positions (one per key), got {}", points.len()),
+            ));
         }
         if let Some(i) = points.iter().position(|p| p.iter().any(|v| !v.is_finite())) {
             return Err(Error::NonFinite { arg: "positions", index: i });
@@ -42,7 +45,9 @@ impl PositionSpline {
                 for j in 0..k {
                     let i = j + 1;
                     diag[j] = 2.0 * (h[i - 1] + h[i]);
-                    rhs[j] = 6.0 * ((points[i + 1][c] - points[i][c]) / h[i] - (points[i][c] - points[i - 1][c]) / h[i - 1]);
+                    rhs[j] = 6.0
+                        * ((points[i + 1][c] - points[i][c]) / h[i]
+                            - (points[i][c] - points[i - 1][c]) / h[i - 1]);
                 }
                 for j in 1..k {
                     let w = h[j] / diag[j - 1];
@@ -70,8 +75,10 @@ impl PositionSpline {
         let (p0, p1, m0, m1) = (self.points[i], self.points[i + 1], self.m[i], self.m[i + 1]);
         let mut out = [[0.0; 3]; 3];
         for c in 0..3 {
-            out[0][c] = a * p0[c] + b * p1[c] + ((a * a * a - a) * m0[c] + (b * b * b - b) * m1[c]) * h * h / 6.0;
-            out[1][c] = (p1[c] - p0[c]) / h + ((1.0 - 3.0 * a * a) * m0[c] + (3.0 * b * b - 1.0) * m1[c]) * h / 6.0;
+            out[0][c] =
+                a * p0[c] + b * p1[c] + ((a * a * a - a) * m0[c] + (b * b * b - b) * m1[c]) * h * h / 6.0;
+            out[1][c] =
+                (p1[c] - p0[c]) / h + ((1.0 - 3.0 * a * a) * m0[c] + (3.0 * b * b - 1.0) * m1[c]) * h / 6.0;
             out[2][c] = a * m0[c] + b * m1[c];
         }
         out

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ._common import Trajectory, TrajectoryError
 from . import bvh, csv_format, euroc, json_format, npz_format, repoimu, tum
+from ._common import Trajectory, TrajectoryError
 
 __all__ = ["FORMATS", "Trajectory", "TrajectoryError", "detect_format", "read", "write"]
 

@@ -120,7 +120,14 @@ def joints_of(path) -> list[str]:
     return [j.name for j in _parse_hierarchy(path, lines)[0]]
 
 
-def read(path, joint: str | None = None, world: bool = False, skip_frames: int = 0, sort=False, dedupe=False) -> Trajectory:
+def read(
+    path,
+    joint: str | None = None,
+    world: bool = False,
+    skip_frames: int = 0,
+    sort=False,
+    dedupe=False,
+) -> Trajectory:
     from ..algebra import multiply, rotate
 
     with open(path, encoding="utf-8-sig") as f:
@@ -136,7 +143,9 @@ def read(path, joint: str | None = None, world: bool = False, skip_frames: int =
         nframes = int(lines[i].split(":")[1])
         dt = float(lines[i + 1].split(":")[1])
     except (IndexError, ValueError):
-        raise TrajectoryError(f"{path}:{i + 1}: expected 'Frames: N' and 'Frame Time: dt'") from None
+        raise TrajectoryError(
+            f"{path}:{i + 1}: expected 'Frames: N' and 'Frame Time: dt'"
+        ) from None
     if not (dt > 0 and np.isfinite(dt)):
         raise TrajectoryError(f"{path}:{i + 2}: Frame Time must be positive, got {dt}")
     data = []
@@ -187,6 +196,6 @@ def write(path, traj: Trajectory, joint: str = "Root") -> None:
         f.write(f"HIERARCHY\nROOT {traj.name or joint}\n{{\n  OFFSET 0 0 0\n")
         f.write("  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n")
         f.write("  End Site\n  {\n    OFFSET 0 0 0\n  }\n}\n")
-        f.write(f"MOTION\nFrames: {len(traj)}\nFrame Time: {dt[0]!r}\n")
+        f.write(f"MOTION\nFrames: {len(traj)}\nFrame Time: {float(dt[0])!r}\n")
         for p, a in zip(pos, angles):
             f.write(" ".join(repr(float(v)) for v in (*p, *a)) + "\n")

@@ -24,7 +24,9 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
                 continue
             cells = s.split(",")
             if len(cells) < 8:
-                raise TrajectoryError(f"{path}:{line}: expected at least 8 columns, got {len(cells)}")
+                raise TrajectoryError(
+                    f"{path}:{line}: expected at least 8 columns, got {len(cells)}"
+                )
             try:
                 ns = int(cells[0])
             except ValueError:
@@ -43,7 +45,10 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
 def write(path, traj: Trajectory) -> None:
     pos = traj.positions if traj.positions is not None else np.zeros((len(traj), 3))
     with atomic_write(path) as f:
-        f.write("#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []\n")
+        f.write(
+            "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],"
+            "q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []\n"
+        )
         for t, p, q in zip(traj.times, pos, traj.quats):
             vals = [repr(float(v)) for v in (*p, *q)]
             f.write(f"{int(round(t * 1e9))}," + ",".join(vals) + "\n")

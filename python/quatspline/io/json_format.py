@@ -16,7 +16,9 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
         with open(path, encoding="utf-8-sig") as f:
             doc = json.load(f)
     except json.JSONDecodeError as e:
-        raise TrajectoryError(f"{path}:{e.lineno}: column {e.colno}: invalid JSON ({e.msg})") from None
+        raise TrajectoryError(
+            f"{path}:{e.lineno}: column {e.colno}: invalid JSON ({e.msg})"
+        ) from None
     if not isinstance(doc, dict) or "times" not in doc or "quats" not in doc:
         raise TrajectoryError(f'{path}: expected an object with "times" and "quats"')
     try:
@@ -46,7 +48,9 @@ def write(path, traj: Trajectory) -> None:
         doc["positions"] = traj.positions.tolist()
     for k, v in traj.extra.items():
         doc[k] = np.asarray(v).tolist()
-    if not all(np.all(np.isfinite(np.asarray(v, dtype=float))) for k, v in doc.items() if k != "layout"):
+    if not all(
+        np.all(np.isfinite(np.asarray(v, dtype=float))) for k, v in doc.items() if k != "layout"
+    ):
         raise ValueError(f"{path}: refusing to write NaN or inf")
     with atomic_write(path) as f:
         json.dump(doc, f)

@@ -24,7 +24,9 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
                 continue
             cells = s.split(";")
             if len(cells) < 5:
-                raise TrajectoryError(f"{path}:{line}: expected at least 5 columns, got {len(cells)}")
+                raise TrajectoryError(
+                    f"{path}:{line}: expected at least 5 columns, got {len(cells)}"
+                )
             rows.append([parse_float(path, line, c + 1, NAMES[c], cells[c]) for c in range(5)])
             lines.append(line)
     if not rows:

@@ -24,7 +24,10 @@ impl CumulativeBezier {
     /// `domain` (t₀, t₁) maps u = (t − t₀)/(t₁ − t₀); (0, 1) is the plain curve.
     pub fn new(ctrl: &[Quat], domain: (f64, f64), canonicalize: bool) -> Result<Self> {
         if !(domain.0.is_finite() && domain.1.is_finite() && domain.1 > domain.0) {
-            return Err(crate::error::Error::invalid("domain", format!("expected finite t0 < t1, got {domain:?}")));
+            return Err(crate::error::Error::invalid(
+                "domain",
+                format!("expected finite t0 < t1, got {domain:?}"),
+            ));
         }
         let ctrl = prepare_keys(ctrl, "control_points", 2, canonicalize)?;
         let logs = ctrl.windows(2).map(|w| (w[0].conj() * w[1]).log().vec()).collect();
