@@ -62,3 +62,13 @@ def test_beta_spline_fields():
         assert j.beta_g1_residual < 1e-12
         assert j.g1_residual < 1e-12 and j.order == 0  # G¹ with ξ = β₁/h ratio, not C¹
         assert j.beta_g2_residual > 1e-6 and j.theorem2_residual > 1e-7
+
+
+def test_certificate_treats_q_and_minus_q_as_the_same_rotation():
+    # Euler angles crossing ±180°: the LinEuler quaternion path ends a segment at −key
+    keys = qs.from_euler("xyz", [[0, 0, 150], [0, 0, 170], [0, 0, -175], [0, 0, -140]], degrees=True)
+    s = qs.PiecewiseLinEuler(keys, seq="xyz")
+    left = s.segment_derivatives(1, 2.0)[0]
+    right = s.segment_derivatives(2, 2.0)[0]
+    assert np.dot(left, right) < -0.99  # the raw quaternions are antipodal at joint 2
+    assert [j.order for j in qs.continuity(s)] == [0, 0]

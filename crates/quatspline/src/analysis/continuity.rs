@@ -1,7 +1,8 @@
 //! The continuity certificate: what is true at every joint of any spline (MATH.md §9).
 //!
 //! At joint k (time τ_k) with left limits L_m = q^(m)(τ_k⁻) from segment k−1 and right limits
-//! R_m from segment k (m = 0 … 3, time derivatives), it reports:
+//! R_m from segment k (m = 0 … 3, time derivatives; the left side negated when L₀·R₀ < 0, since
+//! q and −q are the same rotation), it reports:
 //! - the jumps |R_m − L_m|, absolute and relative to max(|L_m|, |R_m|, 1e-4·M_m) where M_m is
 //!   the largest |q^(m)| met at any joint or segment midpoint (so a derivative that vanishes at a key does not
 //!   turn rounding into a "jump", and the measure does not depend on the time unit);
@@ -43,7 +44,15 @@ pub fn continuity(s: &dyn Spline, order: usize, tol: f64) -> Vec<JointReport> {
     let order = order.min(3);
     let j = s.joints();
     let sides: Vec<([Quat; 4], [Quat; 4])> = (1..j.len() - 1)
-        .map(|k| (s.segment_jet4(k - 1, j[k]).derivatives(), s.segment_jet4(k, j[k]).derivatives()))
+        .map(|k| {
+            let mut left = s.segment_jet4(k - 1, j[k]).derivatives();
+            let right = s.segment_jet4(k, j[k]).derivatives();
+            // q and −q are the same rotation: compare on the double cover's same sheet.
+            if left[0].dot(right[0]) < 0.0 {
+                left = left.map(|d| -d);
+            }
+            (left, right)
+        })
         .collect();
     // The derivative sizes met along the curve: at every joint and every segment midpoint.
     let mut big = [0.0f64; 4];
