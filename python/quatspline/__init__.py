@@ -8,7 +8,7 @@ broadcasting, conversions, the CLI, file I/O and plots.
 from __future__ import annotations
 
 from . import examples, io
-from ._core import __version__
+from ._core import __version__, get_num_threads, set_num_threads
 from .algebra import canonicalize, conjugate, exp, inverse, log, multiply, normalize, power, rotate
 from .continuity import JointContinuity, continuity
 from .convert import (
@@ -61,6 +61,8 @@ from .spline import (
 
 __all__ = [
     "__version__",
+    "get_num_threads",
+    "set_num_threads",
     "METHODS",
     "PiecewiseLinEuler",
     "PiecewiseLinMat",

@@ -117,9 +117,23 @@ class Spline:
         out = self._core.evaluate(flat, order, self.extrapolate == "clamp")
         return ta.shape, out
 
-    def __call__(self, t) -> np.ndarray:
-        shape, out = self._eval(t, 0)
-        return out.reshape((*shape, 4))
+    def __call__(self, t, out: np.ndarray | None = None) -> np.ndarray:
+        """Orientations at t; with ``out`` (float64, C-contiguous, shape t.shape + (4,)) the
+        result is written there (no allocation) and ``out`` is returned."""
+        if out is None:
+            shape, res = self._eval(t, 0)
+            return res.reshape((*shape, 4))
+        ta = as_real(t, "t")
+        want = (*ta.shape, 4)
+        if not isinstance(out, np.ndarray) or out.dtype != np.float64:
+            raise ValueError(f"out: expected a float64 numpy array, got {getattr(out, 'dtype', type(out))}")
+        if out.shape != want:
+            raise ValueError(f"out: expected shape {want}, got {out.shape}")
+        if not out.flags.c_contiguous or not out.flags.writeable:
+            raise ValueError("out: expected a writeable C-contiguous array")
+        flat = np.ascontiguousarray(ta.reshape(-1))
+        self._core.evaluate_out(flat, 0, self.extrapolate == "clamp", out.reshape(-1, 4))
+        return out
 
     def derivative(self, t, order: int = 1) -> np.ndarray:
         """The order-th time derivative of q (order 0…3) as quaternions, shape t.shape + (4,)."""

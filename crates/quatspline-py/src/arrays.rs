@@ -17,13 +17,47 @@ pub fn to_py(e: Error) -> PyErr {
     }
 }
 
-/// Runs `f` with the GIL released; a panic becomes a `RuntimeError` naming `what`.
+/// The thread pool set by `set_num_threads` (None: rayon's global pool, one thread per core).
+static POOL: std::sync::RwLock<Option<std::sync::Arc<rayon::ThreadPool>>> = std::sync::RwLock::new(None);
+
+/// Sets the number of threads for batch work (0 = one per core).
+pub fn set_num_threads(n: usize) -> PyResult<()> {
+    let pool = if n == 0 {
+        None
+    } else {
+        Some(std::sync::Arc::new(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| PyRuntimeError::new_err(e.to_string()))?,
+        ))
+    };
+    *POOL.write().map_err(|_| PyRuntimeError::new_err("thread pool lock poisoned"))? = pool;
+    Ok(())
+}
+
+/// The number of threads batch work uses.
+pub fn num_threads() -> usize {
+    match POOL.read().ok().and_then(|p| p.as_ref().map(|p| p.current_num_threads())) {
+        Some(n) => n,
+        None => rayon::current_num_threads(),
+    }
+}
+
+/// Runs `f` with the GIL released, inside the configured pool; a panic becomes a
+/// `RuntimeError` naming `what`.
 pub fn guarded<T: Send>(
     py: Python<'_>,
     what: &str,
     f: impl FnOnce() -> Result<T, Error> + Send,
 ) -> PyResult<T> {
-    let r = py.detach(|| std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)));
+    let pool = POOL.read().ok().and_then(|p| p.clone());
+    let r = py.detach(|| {
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| match pool {
+            Some(p) => p.install(f),
+            None => f(),
+        }))
+    });
     match r {
         Ok(Ok(v)) => Ok(v),
         Ok(Err(e)) => Err(to_py(e)),
@@ -153,6 +187,27 @@ pub fn fill<'py, const W: usize>(
                 }
             }
             r
+        })?;
+    }
+    Ok(out)
+}
+
+/// `fill` on the calling thread only (the reference path for tests).
+pub fn fill_serial<'py, const W: usize>(
+    py: Python<'py>,
+    what: &str,
+    n: usize,
+    f: impl Fn(usize) -> Result<[f64; W], Error> + Sync,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let out = PyArray2::<f64>::zeros(py, [n, W], false);
+    {
+        let mut rw = out.readwrite();
+        let slice = rw.as_slice_mut().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        guarded(py, what, || {
+            for (i, chunk) in slice.chunks_exact_mut(W).enumerate() {
+                chunk.copy_from_slice(&f(i)?);
+            }
+            Ok(())
         })?;
     }
     Ok(out)

@@ -49,6 +49,23 @@ impl PySpline {
         what: &str,
         f: impl Fn(&dyn sp::Spline, &[f64], usize, &mut [f64]) -> Result<(), Error> + Sync,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let m = t.as_array().len();
+        // SAFETY: every element is written before the array is returned; on error it is dropped.
+        let out = unsafe { PyArray2::<f64>::new(py, [m, width], false) };
+        self.batch_into(py, t, &out, width, what, f)?;
+        Ok(out)
+    }
+
+    /// Like `batch`, into a caller-provided C-contiguous float64 (M, width) array.
+    fn batch_into<'py>(
+        &self,
+        py: Python<'py>,
+        t: PyReadonlyArray1<'py, f64>,
+        out: &Bound<'py, PyArray2<f64>>,
+        width: usize,
+        what: &str,
+        f: impl Fn(&dyn sp::Spline, &[f64], usize, &mut [f64]) -> Result<(), Error> + Sync,
+    ) -> PyResult<()> {
         let tv = t.as_array();
         let owned;
         let ts: &[f64] = match tv.as_slice() {
@@ -59,10 +76,17 @@ impl PySpline {
             }
         };
         let m = ts.len();
-        // SAFETY: every element is written before the array is returned; on error it is dropped.
-        let out = unsafe { PyArray2::<f64>::new(py, [m, width], false) };
+        let dims = out.dims();
+        if dims[0] != m || dims[1] != width {
+            return Err(PyValueError::new_err(format!(
+                "out: expected shape ({m}, {width}), got ({}, {})",
+                dims[0], dims[1]
+            )));
+        }
         {
-            let mut rw = out.readwrite();
+            let mut rw = out
+                .try_readwrite()
+                .map_err(|e| PyValueError::new_err(format!("out: not writeable ({e})")))?;
             let slice = rw.as_slice_mut().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
             let s: &dyn sp::Spline = &*self.inner;
             guarded(py, what, || {
@@ -84,7 +108,7 @@ impl PySpline {
                 r
             })?;
         }
-        Ok(out)
+        Ok(())
     }
 }
 
@@ -133,6 +157,46 @@ impl PySpline {
         let ex = extrapolate(clamp);
         self.batch(py, t, 4 * (order + 1), "Spline.evaluate", move |s, tc, first, o| {
             sp::evaluate_into(s, tc, first, order, ex, o)
+        })
+    }
+
+    /// Like `evaluate`, into `out` (C-contiguous float64 of shape (M, 4·(order+1))).
+    fn evaluate_out<'py>(
+        &self,
+        py: Python<'py>,
+        t: PyReadonlyArray1<'py, f64>,
+        order: usize,
+        clamp: bool,
+        out: &Bound<'py, PyArray2<f64>>,
+    ) -> PyResult<()> {
+        if order > 3 {
+            return Err(PyValueError::new_err(format!("order: expected 0, 1, 2 or 3, got {order}")));
+        }
+        let ex = extrapolate(clamp);
+        self.batch_into(py, t, out, 4 * (order + 1), "Spline.evaluate", move |s, tc, first, o| {
+            sp::evaluate_into(s, tc, first, order, ex, o)
+        })
+    }
+
+    /// The straightforward scalar path (for tests): per sample, binary search and one segment
+    /// evaluation, one thread, no cursor. (M, 4·(order+1)).
+    fn evaluate_scalar<'py>(
+        &self,
+        py: Python<'py>,
+        t: PyReadonlyArray1<'py, f64>,
+        order: usize,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let s = Arc::clone(&self.inner);
+        let tv: Vec<f64> = t.as_array().iter().copied().collect();
+        crate::arrays::fill_serial::<16>(py, "Spline.evaluate_scalar", tv.len(), move |i| {
+            let ti = tv[i];
+            let seg = s.locate(ti);
+            let d = sp::derivatives_on(&*s, seg, ti, order);
+            let mut row = [0.0; 16];
+            for m in 0..=order.min(3) {
+                row[4 * m..4 * m + 4].copy_from_slice(&d[m].to_wxyz());
+            }
+            Ok(row)
         })
     }
 
@@ -456,7 +520,27 @@ fn c3_spline(
     ))
 }
 
+/// Sets the number of threads for batch evaluation (0 = one per core).
+#[pyfunction]
+fn set_num_threads(n: usize) -> PyResult<()> {
+    crate::arrays::set_num_threads(n)
+}
+
+#[pyfunction]
+fn get_num_threads() -> usize {
+    crate::arrays::num_threads()
+}
+
+/// Raises a deliberate panic inside the guarded path (tests that no panic reaches Python).
+#[pyfunction]
+fn _panic_for_test(py: Python<'_>) -> PyResult<()> {
+    crate::arrays::guarded(py, "_panic_for_test", || -> Result<(), Error> { panic!("deliberate test panic") })
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(set_num_threads, m)?)?;
+    m.add_function(wrap_pyfunction!(get_num_threads, m)?)?;
+    m.add_function(wrap_pyfunction!(_panic_for_test, m)?)?;
     m.add_class::<PySpline>()?;
     m.add_function(wrap_pyfunction!(piecewise_slerp, m)?)?;
     m.add_function(wrap_pyfunction!(spherical_bezier, m)?)?;

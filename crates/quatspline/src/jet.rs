@@ -105,7 +105,7 @@ impl<const N: usize> Jet<N> {
 
     #[inline(always)]
     pub fn sin_cos(self) -> (Self, Self) {
-        let (s, c) = self.0[0].sin_cos();
+        let (s, c) = crate::special::sin_cos(self.0[0]);
         if N == 1 {
             return (Jet::constant(s), Jet::constant(c));
         }
@@ -175,7 +175,8 @@ const CS_SERIES: f64 = 0.5;
 /// Derivatives 0..3 of C(x) = cos√x and S(x) = sin√x/√x at x ≥ 0 (values exact by libm).
 fn cos_sinc_sqrt<const N: usize>(x: f64) -> ([f64; N], [f64; N]) {
     let r = x.sqrt();
-    let (c0, s0) = (r.cos(), sinc(r));
+    let (sr, c0) = crate::special::sin_cos(r);
+    let s0 = if r < crate::special::SINC_SWITCH { sinc(r) } else { sr / r };
     if N == 1 {
         return (take([c0, 0.0, 0.0, 0.0]), take([s0, 0.0, 0.0, 0.0]));
     }
@@ -304,6 +305,26 @@ fn theta_over_sin<const N: usize>(w: f64, s: f64) -> [f64; N] {
     take(g)
 }
 
+/// A logarithm (pure quaternion) stored as unit axis × angle, so exp(s·log) needs no square
+/// root or division per evaluation: exp(s a n) = (cos(s a), sin(s a) n).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Axis {
+    pub n: [f64; 3],
+    pub a: f64,
+}
+
+impl Axis {
+    /// From the vector part of a logarithm (zero gives a = 0 and a zero axis).
+    pub fn from_log(v: [f64; 3]) -> Self {
+        let a = crate::vec3::norm_robust(v);
+        if a > 0.0 {
+            Axis { n: [v[0] / a, v[1] / a, v[2] / a], a }
+        } else {
+            Axis { n: [0.0; 3], a: 0.0 }
+        }
+    }
+}
+
 /// A quaternion whose components are jets: q(t) with its derivatives.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JQuat<const N: usize> {
@@ -353,16 +374,12 @@ impl<const N: usize> JQuat<N> {
         self.w * o.w + self.x * o.x + self.y * o.y + self.z * o.z
     }
 
-    /// exp of the pure quaternion (0, u·s) for a constant vector u and a scalar jet s — the
-    /// factor exp(B(t) ω) of every cumulative form. Cheaper than [`JQuat::exp_pure`].
+    /// exp(s · log) for a precomputed axis–angle logarithm and a scalar jet s: the factor of
+    /// every cumulative form.
     #[inline(always)]
-    pub fn exp_scaled(u: [f64; 3], s: Jet<N>) -> Self {
-        let a = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt();
-        let phi = s * a;
-        let (sn, cs) = phi.sin_cos();
-        // sin(φ)/a is accurate to an ulp for any a > 0; at a = 0 its limit is s.
-        let k = if a > 1e-150 { sn * (1.0 / a) } else { s };
-        JQuat { w: cs, x: k * u[0], y: k * u[1], z: k * u[2] }
+    pub fn exp_axis(ax: &Axis, s: Jet<N>) -> Self {
+        let (sn, cs) = (s * ax.a).sin_cos();
+        JQuat { w: cs, x: sn * ax.n[0], y: sn * ax.n[1], z: sn * ax.n[2] }
     }
 
     /// exp of a pure quaternion (0, u) whose components are jets.

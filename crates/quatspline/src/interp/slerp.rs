@@ -42,7 +42,7 @@ pub fn slerp(q0: Quat, q1: Quat, t: f64, long_path: bool) -> Quat {
         return q0 * (q0.conj() * q1).powf(t);
     }
     let theta = s.atan2(d);
-    let (st, ct) = (t * theta).sin_cos();
+    let (st, ct) = crate::special::sin_cos(t * theta);
     let w = if theta < SMALL { t * sinc(t * theta) * atan2_over(s, d) } else { st / s };
     q0.scale(ct) + r.scale(w)
 }

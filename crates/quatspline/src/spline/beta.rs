@@ -17,7 +17,7 @@
 
 use super::{prepare_keys, prepare_times, segment_jets, Spline};
 use crate::error::{Error, Result};
-use crate::jet::{JQuat, Jet};
+use crate::jet::{Axis, JQuat, Jet};
 use crate::quat::Quat;
 
 /// Residuals of the geometric constraints at one interior joint (local parameter u).
@@ -48,7 +48,7 @@ pub struct BetaSpline {
     gamma: Vec<f64>,
     delta: Vec<f64>,
     ctrl: Vec<[Quat; 4]>,
-    logs: Vec<[[f64; 3]; 3]>,
+    logs: Vec<[Axis; 3]>,
     times: Vec<f64>,
 }
 
@@ -114,8 +114,10 @@ impl BetaSpline {
             let q3 = q2[i] * (q2[i].conj() * q1[i + 1]).powf(1.0 / (1.0 + b1[i + 1]));
             ctrl.push([q0, q1[i], q2[i], q3]);
         }
-        let logs =
-            ctrl.iter().map(|c| std::array::from_fn(|j| (c[j].conj() * c[j + 1]).log().vec())).collect();
+        let logs = ctrl
+            .iter()
+            .map(|c| std::array::from_fn(|j| Axis::from_log((c[j].conj() * c[j + 1]).log().vec())))
+            .collect();
         Ok(BetaSpline { p, beta1: b1, beta2: b2, gamma, delta, ctrl, logs, times })
     }
 
@@ -133,7 +135,7 @@ impl BetaSpline {
         let b = [one - v * v * v, u2 * 3.0 - u2 * u * 2.0, u2 * u];
         let mut q = JQuat::constant(self.ctrl[s][0]);
         for j in 0..3 {
-            q = q * JQuat::exp_scaled(self.logs[s][j], b[j]);
+            q = q * JQuat::exp_axis(&self.logs[s][j], b[j]);
         }
         q
     }

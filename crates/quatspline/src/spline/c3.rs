@@ -18,7 +18,7 @@
 
 use super::{prepare_keys, prepare_times, segment_jets, Spline};
 use crate::error::{Error, Result};
-use crate::jet::{JQuat, Jet};
+use crate::jet::{Axis, JQuat, Jet};
 use crate::quat::Quat;
 
 /// Where the shape parameters live.
@@ -34,7 +34,7 @@ pub enum C3Variant {
 #[derive(Debug, Clone)]
 pub struct C3Spline {
     base: Vec<Quat>,
-    logs: Vec<[f64; 3]>,
+    logs: Vec<Axis>,
     times: Vec<f64>,
     /// Per segment, power-basis coefficients of C̃₁, C̃₂, C̃₃ in the local parameter.
     basis: Vec<[[f64; 8]; 3]>,
@@ -125,8 +125,8 @@ impl C3Spline {
         padded.push(k[0]);
         padded.extend_from_slice(&k);
         padded.push(k[n - 1]);
-        let logs: Vec<[f64; 3]> = std::iter::once([0.0; 3])
-            .chain(padded.windows(2).map(|w| (w[0].conj() * w[1]).log().vec()))
+        let logs: Vec<Axis> = std::iter::once(Axis::default())
+            .chain(padded.windows(2).map(|w| Axis::from_log((w[0].conj() * w[1]).log().vec())))
             .collect();
         let blend: Vec<[[f64; 8]; 4]> = match variant {
             C3Variant::Patent => {
@@ -200,7 +200,7 @@ impl C3Spline {
         let mut q = JQuat::constant(self.base[s]);
         for j in 0..3 {
             let w = Jet::poly(&self.basis[s][j], u);
-            q = q * JQuat::exp_scaled(self.logs[s + 1 + j], w);
+            q = q * JQuat::exp_axis(&self.logs[s + 1 + j], w);
         }
         q
     }

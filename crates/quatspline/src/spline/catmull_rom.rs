@@ -12,7 +12,7 @@
 
 use super::{de_casteljau, local, prepare_keys, prepare_times, segment_jets, Spline};
 use crate::error::Result;
-use crate::jet::JQuat;
+use crate::jet::{Axis, JQuat};
 use crate::quat::Quat;
 use crate::vec3;
 
@@ -30,7 +30,7 @@ pub enum CatmullRomEnds {
 pub struct CatmullRom {
     times: Vec<f64>,
     ctrl: Vec<[Quat; 4]>,
-    logs: Vec<[[f64; 3]; 3]>,
+    logs: Vec<[Axis; 3]>,
 }
 
 fn log_canonical(q: Quat) -> [f64; 3] {
@@ -69,7 +69,7 @@ impl CatmullRom {
             let d = Quat::pure(vec3::scale(tangent[i], h[i] / 3.0)).exp() * c[i];
             let e = Quat::pure(vec3::scale(tangent[i + 1], -h[i] / 3.0)).exp() * c[i + 1];
             let seg = [c[i], d.canonical_to(c[i]), e.canonical_to(c[i + 1]), c[i + 1]];
-            logs.push(std::array::from_fn(|j| (seg[j].conj() * seg[j + 1]).log().vec()));
+            logs.push(std::array::from_fn(|j| Axis::from_log((seg[j].conj() * seg[j + 1]).log().vec())));
             ctrl.push(seg);
         }
         Ok(CatmullRom { times, ctrl, logs })

@@ -7,14 +7,14 @@
 
 use super::{prepare_keys, segment_jets, Spline};
 use crate::error::Result;
-use crate::jet::{JQuat, Jet};
+use crate::jet::{Axis, JQuat, Jet};
 use crate::quat::Quat;
 
 /// One cumulative Bézier curve of any degree on u ∈ [0, 1].
 #[derive(Debug, Clone)]
 pub struct CumulativeBezier {
     ctrl: Vec<Quat>,
-    logs: Vec<[f64; 3]>,
+    logs: Vec<Axis>,
     binom: Vec<f64>,
     joints: [f64; 2],
 }
@@ -30,7 +30,7 @@ impl CumulativeBezier {
             ));
         }
         let ctrl = prepare_keys(ctrl, "control_points", 2, canonicalize)?;
-        let logs = ctrl.windows(2).map(|w| (w[0].conj() * w[1]).log().vec()).collect();
+        let logs = ctrl.windows(2).map(|w| Axis::from_log((w[0].conj() * w[1]).log().vec())).collect();
         let n = ctrl.len() - 1;
         let mut binom = vec![1.0; n + 1];
         for i in 1..=n {
@@ -59,7 +59,7 @@ impl CumulativeBezier {
             cum[i] = tail;
         }
         for j in 1..=n {
-            q = q * JQuat::exp_scaled(self.logs[j - 1], cum[j]);
+            q = q * JQuat::exp_axis(&self.logs[j - 1], cum[j]);
         }
         q
     }

@@ -11,7 +11,7 @@
 
 use super::{local, prepare_keys, segment_jets, Spline};
 use crate::error::{Error, Result};
-use crate::jet::{JQuat, Jet};
+use crate::jet::{Axis, JQuat, Jet};
 use crate::quat::Quat;
 
 /// The cumulative blending matrix M̃ (k×k, row j = coefficients of B̃ⱼ in powers of u).
@@ -53,7 +53,7 @@ pub fn cumulative_blending_matrix(k: usize) -> Vec<Vec<f64>> {
 #[derive(Debug, Clone)]
 pub struct CumulativeBSpline {
     ctrl: Vec<Quat>,
-    logs: Vec<[f64; 3]>,
+    logs: Vec<Axis>,
     basis: Vec<Vec<f64>>,
     order: usize,
     joints: Vec<f64>,
@@ -72,8 +72,8 @@ impl CumulativeBSpline {
             return Err(Error::NonFinite { arg: "t0", index: 0 });
         }
         let ctrl = prepare_keys(ctrl, "control_quats", order, canonicalize)?;
-        let mut logs = vec![[0.0; 3]];
-        logs.extend(ctrl.windows(2).map(|w| (w[0].conj() * w[1]).log().vec()));
+        let mut logs = vec![Axis::default()];
+        logs.extend(ctrl.windows(2).map(|w| Axis::from_log((w[0].conj() * w[1]).log().vec())));
         let segs = ctrl.len() - order + 1;
         let joints = (0..=segs).map(|i| t0 + i as f64 * dt).collect();
         Ok(CumulativeBSpline { ctrl, logs, basis: cumulative_blending_matrix(order), order, joints })
@@ -85,7 +85,7 @@ impl CumulativeBSpline {
         let mut q = JQuat::constant(self.ctrl[i]);
         for j in 1..self.order {
             let b = Jet::poly(&self.basis[j], u);
-            q = q * JQuat::exp_scaled(self.logs[i + j], b);
+            q = q * JQuat::exp_axis(&self.logs[i + j], b);
         }
         q
     }

@@ -23,11 +23,46 @@ pub enum Frame {
     Body,
 }
 
-/// q, q', …, q^(order) at time t (order ≤ 3), located in its segment. None outside with clamp
-/// means "held": the caller writes the end value with zero derivatives.
+/// A segment cursor for runs of sorted times: the segment of the previous sample is tried
+/// first, then its successor, and only then a binary search — so sorted input costs O(1) per
+/// sample and unsorted input O(log n). It picks exactly the segment [`Spline::locate`] picks.
+pub struct Cursor<'a> {
+    joints: &'a [f64],
+    seg: usize,
+}
+
+impl<'a> Cursor<'a> {
+    pub fn new(s: &'a dyn Spline) -> Self {
+        Cursor { joints: s.joints(), seg: 0 }
+    }
+
+    #[inline(always)]
+    fn fits(&self, k: usize, t: f64) -> bool {
+        let j = self.joints;
+        let last = j.len() - 2;
+        j[k] <= t && (t < j[k + 1] || k == last) || (k == 0 && t < j[0])
+    }
+
+    /// The segment containing t (same rule as `Spline::locate`).
+    #[inline(always)]
+    pub fn locate(&mut self, t: f64) -> usize {
+        let last = self.joints.len() - 2;
+        if self.fits(self.seg, t) {
+            return self.seg;
+        }
+        if self.seg < last && self.fits(self.seg + 1, t) {
+            self.seg += 1;
+            return self.seg;
+        }
+        let k = self.joints.partition_point(|&x| x <= t);
+        self.seg = k.saturating_sub(1).min(last);
+        self.seg
+    }
+}
+
+/// q, q', …, q^(order) at time t (order ≤ 3) on segment `seg`.
 #[inline]
-pub fn derivatives_at(s: &dyn Spline, t: f64, order: usize) -> [Quat; 4] {
-    let seg = s.locate(t);
+pub fn derivatives_on(s: &dyn Spline, seg: usize, t: f64, order: usize) -> [Quat; 4] {
     let mut d = [Quat::default(); 4];
     match order {
         0 => d[0] = s.segment_jet1(seg, t).value(),
@@ -68,9 +103,11 @@ pub fn evaluate_into(
         return Err(Error::invalid("order", format!("expected 0, 1, 2 or 3, got {order}")));
     }
     let w = 4 * (order + 1);
+    let mut cursor = Cursor::new(s);
     for (k, (&ti, row)) in t.iter().zip(out.chunks_exact_mut(w)).enumerate() {
         let (tc, held) = resolve(s, first + k, ti, ex)?;
-        let d = derivatives_at(s, tc, if held { 0 } else { order });
+        let seg = cursor.locate(tc);
+        let d = derivatives_on(s, seg, tc, if held { 0 } else { order });
         for (m, q) in d.iter().take(order + 1).enumerate() {
             row[4 * m..4 * m + 4].copy_from_slice(&q.to_wxyz());
         }
@@ -92,13 +129,15 @@ pub fn angular_into(
     if !(1..=3).contains(&order) {
         return Err(Error::invalid("order", format!("expected 1, 2 or 3, got {order}")));
     }
+    let mut cursor = Cursor::new(s);
     for (k, (&ti, row)) in t.iter().zip(out.chunks_exact_mut(3)).enumerate() {
         let (tc, held) = resolve(s, first + k, ti, ex)?;
         if held {
             row.copy_from_slice(&[0.0; 3]);
             continue;
         }
-        let d = derivatives_at(s, tc, order);
+        let seg = cursor.locate(tc);
+        let d = derivatives_on(s, seg, tc, order);
         row.copy_from_slice(&angular(&d, order, frame == Frame::Body));
     }
     Ok(())

@@ -9,15 +9,14 @@
 
 use super::{local, prepare_keys, prepare_times, segment_jets, Spline};
 use crate::error::Result;
-use crate::jet::{JQuat, Jet};
+use crate::jet::{Axis, JQuat, Jet};
 use crate::quat::Quat;
-use crate::vec3;
 
 /// Projected matrix lerp between consecutive keys.
 #[derive(Debug, Clone)]
 pub struct PiecewiseLinMat {
     keys: Vec<Quat>,
-    axis: Vec<[f64; 3]>,
+    axis: Vec<Axis>,
     angle: Vec<f64>,
     times: Vec<f64>,
 }
@@ -28,10 +27,10 @@ impl PiecewiseLinMat {
         let times = prepare_times(times, keys.len())?;
         let (mut axis, mut angle) = (Vec::new(), Vec::new());
         for w in keys.windows(2) {
-            let l = (w[0].conj() * w[1]).log().vec();
-            let half = vec3::norm(l);
-            axis.push(if half > 0.0 { vec3::scale(l, 1.0 / half) } else { [1.0, 0.0, 0.0] });
-            angle.push(2.0 * half);
+            let l = Axis::from_log((w[0].conj() * w[1]).log().vec());
+            // unit-angle axis: exp_axis(ψ/2) = exp(ψ/2 · n)
+            axis.push(Axis { n: if l.a > 0.0 { l.n } else { [1.0, 0.0, 0.0] }, a: 1.0 });
+            angle.push(2.0 * l.a);
         }
         Ok(PiecewiseLinMat { keys, axis, angle, times })
     }
@@ -41,7 +40,7 @@ impl PiecewiseLinMat {
         let u = local::<N>(t, self.times[i], self.times[i + 1]);
         let (s, c) = self.angle[i].sin_cos();
         let psi = Jet::atan2(u * s, Jet::<N>::constant(1.0) - u + u * c);
-        JQuat::constant(self.keys[i]) * JQuat::exp_scaled(self.axis[i], psi * 0.5)
+        JQuat::constant(self.keys[i]) * JQuat::exp_axis(&self.axis[i], psi * 0.5)
     }
 }
 

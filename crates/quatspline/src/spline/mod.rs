@@ -38,7 +38,7 @@ pub use c3::{patent_blending, C3Spline, C3Variant};
 pub use catmull_rom::{CatmullRom, CatmullRomEnds};
 pub use cumulative_bezier::CumulativeBezier;
 pub use cumulative_bspline::CumulativeBSpline;
-pub use eval::{angular_into, evaluate_into, Extrapolate, Frame};
+pub use eval::{angular_into, derivatives_on, evaluate_into, Cursor, Extrapolate, Frame};
 pub use keys::{canonicalize_chain, prepare_keys, prepare_times};
 pub use lin_euler::PiecewiseLinEuler;
 pub use lin_mat::PiecewiseLinMat;

@@ -6,7 +6,7 @@
 
 use super::{local, prepare_keys, prepare_times, segment_jets, Spline};
 use crate::error::Result;
-use crate::jet::JQuat;
+use crate::jet::{Axis, JQuat};
 use crate::quat::Quat;
 
 /// Slerp between consecutive keys.
@@ -14,7 +14,7 @@ use crate::quat::Quat;
 pub struct PiecewiseSlerp {
     keys: Vec<Quat>,
     times: Vec<f64>,
-    logs: Vec<[f64; 3]>,
+    logs: Vec<Axis>,
 }
 
 impl PiecewiseSlerp {
@@ -23,14 +23,14 @@ impl PiecewiseSlerp {
     pub fn new(keys: &[Quat], times: Option<&[f64]>, canonicalize: bool) -> Result<Self> {
         let keys = prepare_keys(keys, "quats", 2, canonicalize)?;
         let times = prepare_times(times, keys.len())?;
-        let logs = keys.windows(2).map(|w| (w[0].conj() * w[1]).log().vec()).collect();
+        let logs = keys.windows(2).map(|w| Axis::from_log((w[0].conj() * w[1]).log().vec())).collect();
         Ok(PiecewiseSlerp { keys, times, logs })
     }
 
     #[inline(always)]
     fn segment<const N: usize>(&self, i: usize, t: f64) -> JQuat<N> {
         let u = local::<N>(t, self.times[i], self.times[i + 1]);
-        JQuat::constant(self.keys[i]) * JQuat::exp_scaled(self.logs[i], u)
+        JQuat::constant(self.keys[i]) * JQuat::exp_axis(&self.logs[i], u)
     }
 }
 

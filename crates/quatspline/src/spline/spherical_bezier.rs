@@ -8,13 +8,13 @@
 
 use super::{prepare_keys, segment_jets, Spline};
 use crate::error::Result;
-use crate::jet::{JQuat, Jet};
+use crate::jet::{Axis, JQuat, Jet};
 use crate::quat::Quat;
 
 /// de Casteljau with slerp on jets. `logs[j]` = log(ctrl[j]* ctrl[j+1]) (vector part) saves the
 /// first level's logarithms, which do not depend on u.
 #[inline(always)]
-pub fn de_casteljau<const N: usize>(ctrl: &[Quat], logs: &[[f64; 3]], u: Jet<N>) -> JQuat<N> {
+pub fn de_casteljau<const N: usize>(ctrl: &[Quat], logs: &[Axis], u: Jet<N>) -> JQuat<N> {
     let n = ctrl.len();
     if n == 1 {
         return JQuat::constant(ctrl[0]);
@@ -29,7 +29,7 @@ pub fn de_casteljau<const N: usize>(ctrl: &[Quat], logs: &[[f64; 3]], u: Jet<N>)
         &mut heap
     };
     for (j, bj) in b.iter_mut().enumerate() {
-        *bj = JQuat::constant(ctrl[j]) * JQuat::exp_scaled(logs[j], u);
+        *bj = JQuat::constant(ctrl[j]) * JQuat::exp_axis(&logs[j], u);
     }
     for level in (1..n - 1).rev() {
         for j in 0..level {
@@ -43,7 +43,7 @@ pub fn de_casteljau<const N: usize>(ctrl: &[Quat], logs: &[[f64; 3]], u: Jet<N>)
 #[derive(Debug, Clone)]
 pub struct SphericalBezier {
     ctrl: Vec<Quat>,
-    logs: Vec<[f64; 3]>,
+    logs: Vec<Axis>,
     joints: [f64; 2],
 }
 
@@ -58,7 +58,7 @@ impl SphericalBezier {
             ));
         }
         let ctrl = prepare_keys(ctrl, "control_points", 2, canonicalize)?;
-        let logs = ctrl.windows(2).map(|w| (w[0].conj() * w[1]).log().vec()).collect();
+        let logs = ctrl.windows(2).map(|w| Axis::from_log((w[0].conj() * w[1]).log().vec())).collect();
         Ok(SphericalBezier { ctrl, logs, joints: [domain.0, domain.1] })
     }
 
