@@ -6,7 +6,7 @@ VENV    := .venv
 VPY     := $(VENV)/bin/python
 STAMP   := $(VENV)/.deps-stamp
 
-.PHONY: build demo test test-rust test-python lint bench clean
+.PHONY: build demo test test-rust test-python lint bench accuracy clean
 
 $(STAMP): pyproject.toml
 	test -x $(VPY) || $(PY) -m venv $(VENV)
@@ -37,6 +37,10 @@ lint: $(STAMP)
 
 bench: build
 	$(VPY) benchmarks/bench.py
+	cargo bench -p quatspline --bench core -- --warm-up-time 0.5 --measurement-time 2
+
+accuracy: build
+	$(VPY) benchmarks/accuracy.py
 
 clean:
 	rm -rf target $(VENV) out

@@ -12,7 +12,6 @@ import argparse
 from pathlib import Path
 
 import numpy as np
-
 import quatspline.io as qio
 from quatspline.cli import angle_deg, compare, format_table
 from quatspline.registry import interpolating_methods
@@ -22,7 +21,11 @@ BUNDLED = [
     ("TUM RGB-D fr1/xyz", DATA / "tum_rgbd_fr1_xyz" / "freiburg1_xyz-groundtruth.txt", {}),
     ("EuRoC V1_02 (first 10 s)", DATA / "euroc_v1_02_medium" / "V102_groundtruth_first10s.csv", {}),
     ("RepoIMU (first 30 s)", DATA / "repoimu" / "repoIMU_first30s.csv", {}),
-    ("MocapBank BVH, LeftElbow (local)", DATA / "mocapbank_bvh" / "test_mocapbank.bvh", {"joint": "LeftElbow"}),
+    (
+        "MocapBank BVH, LeftElbow (local)",
+        DATA / "mocapbank_bvh" / "test_mocapbank.bvh",
+        {"joint": "LeftElbow"},
+    ),
 ]
 
 

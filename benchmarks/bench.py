@@ -170,6 +170,86 @@ def print_matrix(title: str, rows: list[tuple[str, str, float]]) -> None:
         print(f"| {lib} {m} | {ns:.1f} |" + " |" * len(peers))
 
 
+def sclerp_pairs(n: int, repeat: int) -> list[tuple[str, str, float]]:
+    """Screw interpolation of pose pairs against pytransform3d."""
+    a = qs.dq_from_pose(random_quats(n, 5), np.random.default_rng(6).normal(size=(n, 3)))
+    b = qs.dq_from_pose(random_quats(n, 7), np.random.default_rng(8).normal(size=(n, 3)))
+    t = np.random.default_rng(9).uniform(0, 1, n)
+    rows = [("quatspline", "sclerp (pairs)", median_ns(lambda: qs.sclerp(a, b, t), n, repeat))]
+    try:
+        import pytransform3d.transformations as pt
+
+        m = min(n, 20_000)  # pytransform3d is a Python loop per pair: measure on fewer
+        rows.append(
+            (
+                "pytransform3d",
+                "dual_quaternion_sclerp (loop)",
+                median_ns(
+                    lambda: [pt.dual_quaternion_sclerp(a[i], b[i], t[i]) for i in range(m)],
+                    m,
+                    max(1, repeat // 2),
+                ),
+            )
+        )
+    except ImportError:
+        print("pytransform3d not installed: skipped")
+    return rows
+
+
+def scaling(repeat: int) -> None:
+    """ns/sample of C3Spline evaluation over sample counts, key counts and thread counts."""
+    print("\n## Scaling: C3Spline evaluation, ns/sample (median)\n")
+    print("| keys | samples | 1 thread | 2 threads |")
+    print("|---:|---:|---:|---:|")
+    cases = [(1000, m) for m in (10**3, 10**4, 10**5, 10**6, 10**7)]
+    cases += [(k, 10**6) for k in (10, 100, 10**4, 10**5, 10**6)]
+    for keys, m in cases:
+        q = random_quats(keys, 11) if keys > 1000 else random_walk(keys, 11)
+        s = qs.C3Spline(q)
+        t = np.linspace(0.0, keys - 1.0, m)
+        row = []
+        for threads in (1, 2):
+            qs.set_num_threads(threads)
+            r = max(1, repeat if m <= 10**6 else 3)
+            row.append(median_ns(lambda s=s, t=t: s(t), m, r))
+        qs.set_num_threads(0)
+        print(f"| {keys:,} | {m:,} | {row[0]:.1f} | {row[1]:.1f} |")
+
+
+def construction(repeat: int) -> None:
+    q = random_quats(1_000_000, 12)
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        qs.C3Spline(q)
+        times.append(time.perf_counter() - t0)
+    print(f"\nConstruction of a 1,000,000-key C3Spline: {statistics.median(times):.3f} s (median)")
+
+
+def memory() -> None:
+    """Peak resident memory of evaluating 10,000,000 samples, in a fresh process."""
+    import subprocess
+    import sys
+
+    code = (
+        "import resource, numpy as np, quatspline as qs\n"
+        "q = qs.normalize(np.random.default_rng(0).normal(size=(1000, 4)))\n"
+        "s = qs.C3Spline(q); t = np.linspace(0, 999, 10_000_000)\n"
+        "s(t[:10])\n"
+        "base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
+        "out = s(t)\n"
+        "peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
+        "print(base, peak, out.nbytes)\n"
+    )
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    base, peak, nbytes = (int(v) for v in r.stdout.split())
+    extra = (peak - base) * 1024 - nbytes
+    print(
+        f"Peak memory for 10,000,000 samples: +{(peak - base) / 1024:.0f} MB over the process "
+        f"before the call; output {nbytes / 2**20:.0f} MB; overhead {extra / 2**20:.0f} MB"
+    )
+
+
 def print_table(title: str, rows: list[tuple[str, str, float]]) -> None:
     ours = rows[0][2]
     print(f"\n## {title}\n")
@@ -184,16 +264,22 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=1_000_000, help="samples / pairs")
     ap.add_argument("--repeat", type=int, default=5, help="runs per measurement (median)")
+    ap.add_argument("--quick", action="store_true", help="skip scaling, construction, memory")
     args = ap.parse_args()
     print(
         f"machine: {platform.machine()}, {os.cpu_count()} cores, {platform.python_implementation()}"
         f" {platform.python_version()}, numpy {np.__version__}, quatspline {qs.__version__}"
     )
     print_table(f"{args.n:,} independent slerp pairs", slerp_pairs(args.n, args.repeat))
+    print_table(f"{args.n:,} screw interpolations (pose pairs)", sclerp_pairs(args.n, args.repeat))
     print_matrix(
         f"1,000 keys, {args.n:,} sorted samples (ratios: how many times faster quatspline is)",
         spline_methods(args.n, 1000, args.repeat),
     )
+    if not args.quick:
+        scaling(args.repeat)
+        construction(args.repeat)
+        memory()
 
 
 if __name__ == "__main__":

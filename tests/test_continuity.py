@@ -66,7 +66,9 @@ def test_beta_spline_fields():
 
 def test_certificate_treats_q_and_minus_q_as_the_same_rotation():
     # Euler angles crossing ±180°: the LinEuler quaternion path ends a segment at −key
-    keys = qs.from_euler("xyz", [[0, 0, 150], [0, 0, 170], [0, 0, -175], [0, 0, -140]], degrees=True)
+    keys = qs.from_euler(
+        "xyz", [[0, 0, 150], [0, 0, 170], [0, 0, -175], [0, 0, -140]], degrees=True
+    )
     s = qs.PiecewiseLinEuler(keys, seq="xyz")
     left = s.segment_derivatives(1, 2.0)[0]
     right = s.segment_derivatives(2, 2.0)[0]

@@ -7,7 +7,6 @@ import threading
 
 import numpy as np
 import pytest
-
 import quatspline as qs
 
 from .splinekit import random_times, random_walk
@@ -110,7 +109,9 @@ def test_out_parameter():
 
 
 def test_no_panic_reaches_python():
-    with pytest.raises(RuntimeError, match=r"internal error in _panic_for_test .*deliberate test panic"):
+    with pytest.raises(
+        RuntimeError, match=r"internal error in _panic_for_test .*deliberate test panic"
+    ):
         qs._core._panic_for_test()
     # the library still works afterwards
     assert qs.slerp([1, 0, 0, 0], [0, 1, 0, 0], 0.5).shape == (4,)

@@ -126,7 +126,9 @@ class Spline:
         ta = as_real(t, "t")
         want = (*ta.shape, 4)
         if not isinstance(out, np.ndarray) or out.dtype != np.float64:
-            raise ValueError(f"out: expected a float64 numpy array, got {getattr(out, 'dtype', type(out))}")
+            raise ValueError(
+                f"out: expected a float64 numpy array, got {getattr(out, 'dtype', type(out))}"
+            )
         if out.shape != want:
             raise ValueError(f"out: expected shape {want}, got {out.shape}")
         if not out.flags.c_contiguous or not out.flags.writeable:

@@ -5,6 +5,9 @@
 //! (`tests/test_special.py`). A lesson from scipy: a Taylor coefficient typo (1/12604 for
 //! 1/1260) passed tests at rtol 1e-7, so ours are tested at 1e-15.
 
+// fdlibm's kernel constants are kept digit for digit as published.
+#![allow(clippy::excessive_precision)]
+
 /// Below this |x|, [`sinc`] uses its Taylor series.
 pub const SINC_SWITCH: f64 = 1e-3;
 /// Below this s/|c|, [`atan2_over`] uses its Taylor series.
@@ -99,7 +102,7 @@ mod tests {
 const PIO2_1: f64 = 1.570_796_326_734_125_614_17e0;
 const PIO2_2: f64 = 6.077_100_506_303_965_976_6e-11;
 const PIO2_2T: f64 = 2.022_266_248_795_950_631_54e-21;
-const INV_PIO2: f64 = 6.366_197_723_675_813_824_33e-1;
+const INV_PIO2: f64 = std::f64::consts::FRAC_2_PI;
 
 const S1: f64 = -1.666_666_666_666_663_243_48e-1;
 const S2: f64 = 8.333_333_333_322_489_461_24e-3;
@@ -137,7 +140,7 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
     if x.abs() <= std::f64::consts::FRAC_PI_4 {
         return (kernel_sin(x), kernel_cos(x));
     }
-    if !(x.abs() < 823_549.6) {
+    if x.is_nan() || x.abs() >= 823_549.6 {
         return x.sin_cos();
     }
     // round to nearest by the 1.5·2⁵² trick (f64::round is a libm call on baseline x86-64)

@@ -42,21 +42,32 @@ pub struct C3Spline {
 
 const BINOM7: [f64; 8] = [1.0, 7.0, 21.0, 35.0, 35.0, 21.0, 7.0, 1.0];
 
-/// Power-basis coefficients of Σ c_l b_l(t) (degree-7 Bernstein).
-fn bernstein_to_power(c: &[f64; 8]) -> [f64; 8] {
-    let mut p = [0.0; 8];
-    // b_l(t) = C(7,l) t^l (1−t)^{7−l} = C(7,l) Σ_m C(7−l, m) (−1)^m t^{l+m}
-    for l in 0..8 {
+/// BERN_TO_POWER[k][l]: coefficient of tᵏ in b_l(t) = C(7,l) tˡ(1−t)^{7−l} (computed at compile
+/// time).
+const BERN_TO_POWER: [[f64; 8]; 8] = {
+    let mut m = [[0.0; 8]; 8];
+    let mut l = 0;
+    while l < 8 {
+        // b_l(t) = C(7,l) Σ_j C(7−l, j) (−1)^j t^{l+j}
         let mut binom = 1.0;
-        for m in 0..=(7 - l) {
-            if m > 0 {
-                binom = binom * (7 - l - m + 1) as f64 / m as f64;
+        let mut j = 0;
+        while j <= 7 - l {
+            if j > 0 {
+                binom = binom * (7 - l - j + 1) as f64 / j as f64;
             }
-            let sign = if m % 2 == 0 { 1.0 } else { -1.0 };
-            p[l + m] += c[l] * BINOM7[l] * binom * sign;
+            let sign = if j % 2 == 0 { 1.0 } else { -1.0 };
+            m[l + j][l] = BINOM7[l] * binom * sign;
+            j += 1;
         }
+        l += 1;
     }
-    p
+    m
+};
+
+/// Power-basis coefficients of Σ c_l b_l(t) (degree-7 Bernstein).
+#[inline]
+fn bernstein_to_power(c: &[f64; 8]) -> [f64; 8] {
+    std::array::from_fn(|k| (0..8).map(|l| BERN_TO_POWER[k][l] * c[l]).sum())
 }
 
 fn reversed(c: [f64; 8]) -> [f64; 8] {
