@@ -403,7 +403,7 @@ fn c3_weights(
     let keys = vec![Quat::IDENTITY; t.len()];
     let s =
         sp::C3Spline::new(&keys, Some(&t), &vec_of(&alpha), &vec_of(&beta), variant, false).map_err(to_py)?;
-    Ok(s.cumulative_weights().to_vec())
+    Ok(s.cumulative_weights())
 }
 
 #[pyfunction]

@@ -36,7 +36,8 @@ pub struct C3Spline {
     base: Vec<Quat>,
     logs: Vec<Axis>,
     times: Vec<f64>,
-    /// Per segment, power-basis coefficients of C̃₁, C̃₂, C̃₃ in the local parameter.
+    /// Per segment, Bernstein coefficients of C̃₁, C̃₂, C̃₃ in the local parameter (evaluated
+    /// in Bernstein form: stable, and exact at the ends, so keys are hit to the last bit).
     basis: Vec<[[f64; 8]; 3]>,
 }
 
@@ -192,7 +193,7 @@ impl C3Spline {
             .map(|c| {
                 let c1t: [f64; 8] = std::array::from_fn(|k| 1.0 - c[0][k]);
                 let c2t: [f64; 8] = std::array::from_fn(|k| c[2][k] + c[3][k]);
-                [bernstein_to_power(&c1t), bernstein_to_power(&c2t), bernstein_to_power(&c[3])]
+                [c1t, c2t, c[3]]
             })
             .collect();
         Ok(C3Spline { base: padded, logs, times, basis })
@@ -200,17 +201,29 @@ impl C3Spline {
 
     /// Per segment, the power-basis coefficients of the cumulative weights C̃₁, C̃₂, C̃₃ in the
     /// local parameter (reused by the dual-quaternion screw spline).
-    pub fn cumulative_weights(&self) -> &[[[f64; 8]; 3]] {
-        &self.basis
+    pub fn cumulative_weights(&self) -> Vec<[[f64; 8]; 3]> {
+        self.basis.iter().map(|b| b.map(|c| bernstein_to_power(&c))).collect()
     }
 
     #[inline(always)]
     fn segment<const N: usize>(&self, s: usize, t: f64) -> JQuat<N> {
         let (t0, t1) = (self.times[s], self.times[s + 1]);
         let u = Jet::<N>::variable((t - t0) / (t1 - t0), 1.0 / (t1 - t0));
+        let v = Jet::<N>::constant(1.0) - u;
+        let mut up = [Jet::<N>::constant(1.0); 8];
+        let mut vp = [Jet::<N>::constant(1.0); 8];
+        for k in 1..8 {
+            up[k] = up[k - 1] * u;
+            vp[k] = vp[k - 1] * v;
+        }
+        let b: [Jet<N>; 8] = std::array::from_fn(|l| up[l] * vp[7 - l] * BINOM7[l]);
         let mut q = JQuat::constant(self.base[s]);
         for j in 0..3 {
-            let w = Jet::poly(&self.basis[s][j], u);
+            let c = &self.basis[s][j];
+            let mut w = Jet::<N>::constant(0.0);
+            for l in 0..8 {
+                w = w + b[l] * c[l];
+            }
             q = q * JQuat::exp_axis(&self.logs[s + 1 + j], w);
         }
         q
