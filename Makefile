@@ -6,7 +6,7 @@ VENV    := .venv
 VPY     := $(VENV)/bin/python
 STAMP   := $(VENV)/.deps-stamp
 
-.PHONY: build demo test test-rust test-python lint bench accuracy clean
+.PHONY: build demo test test-rust test-python lint bench accuracy fuzz clean
 
 $(STAMP): pyproject.toml
 	test -x $(VPY) || $(PY) -m venv $(VENV)
@@ -38,6 +38,15 @@ lint: $(STAMP)
 bench: build
 	$(VPY) benchmarks/bench.py
 	cargo bench -p quatspline --bench core -- --warm-up-time 0.5 --measurement-time 2
+
+# Bounded fuzzing: FUZZ_SECONDS per target (cargo-fuzz needs a nightly toolchain).
+FUZZ_SECONDS ?= 60
+fuzz: build
+	command -v cargo-fuzz >/dev/null || cargo install cargo-fuzz
+	mkdir -p fuzz/corpus/splines fuzz/corpus/readers
+	cd fuzz && cargo +nightly fuzz run splines corpus/splines -- -max_total_time=$(FUZZ_SECONDS) -max_len=512
+	$(VENV)/bin/python -m pip install --quiet atheris
+	$(VPY) fuzz/readers_fuzz.py fuzz/corpus/readers -max_total_time=$(FUZZ_SECONDS)
 
 accuracy: build
 	$(VPY) benchmarks/accuracy.py

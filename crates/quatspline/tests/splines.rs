@@ -74,3 +74,43 @@ fn bad_parameters_are_errors_not_panics() {
     assert!(Squad::new(&q[..1], None, true).is_err());
     assert!(PiecewiseSlerp::new(&q, Some(&[0.0, 1.0, 1.0, 2.0, 3.0]), true).is_err());
 }
+
+// ---- regressions found by fuzzing (fuzz/fuzz_targets/splines.rs) --------------------------
+
+#[test]
+fn c3_huge_shape_parameters_are_rejected_not_nan() {
+    let q = walk(4);
+    assert!(C3Spline::new(&q, None, &[1e300], &[0.0], C3Variant::Knot, true).is_err());
+    assert!(C3Spline::new(&q, None, &[0.3], &[-1e7], C3Variant::Patent, true).is_err());
+}
+
+#[test]
+fn c3_knot_weights_do_not_overflow_at_huge_time_scales() {
+    let q = walk(4);
+    let t = [-6e306, -5e306, -4.5e306, -2e306];
+    let s = C3Spline::new(&q, Some(&t), &[0.3], &[0.1], C3Variant::Knot, true).unwrap();
+    for k in 0..3 {
+        for u in [0.0, 0.3, 1.0] {
+            let x = t[k] + u * (t[k + 1] - t[k]);
+            for d in s.segment_jet4(k, x).derivatives() {
+                assert!(d.is_finite(), "segment {k} at u = {u}: {d:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn beta_tiny_beta1_and_vanishing_denominator_are_rejected() {
+    let q = walk(5);
+    assert!(BetaSpline::new(&q, &[1e-300], &[0.0], None, true).is_err());
+    assert!(BetaSpline::new(&q, &[1.0], &[-4.0 + 1e-12], None, true).is_err());
+}
+
+#[test]
+fn keys_closer_than_the_time_resolution_are_rejected() {
+    let q = walk(3);
+    assert!(PiecewiseSlerp::new(&q, Some(&[0.0, 1e-300, 1.0]), true).is_err());
+    assert!(PiecewiseSlerp::new(&q, Some(&[1e9, 1e9 + 1e-3, 1e9 + 1.0]), true).is_ok());
+    assert!(PiecewiseSlerp::new(&q, Some(&[1e9, 1e9 + 1e-6, 1e9 + 1.0]), true).is_err());
+    assert!(PiecewiseSlerp::new(&q, Some(&[-1.7e308, 1.7e308, f64::MAX]), true).is_err());
+}

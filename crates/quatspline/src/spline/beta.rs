@@ -59,9 +59,7 @@ fn per_vertex(v: &[f64], n: usize, arg: &'static str) -> Result<Vec<f64>> {
         m if m == n => v.to_vec(),
         m => return Err(Error::invalid(arg, format!("expected 1 or {n} values (one per vertex), got {m}"))),
     };
-    if let Some(i) = out.iter().position(|x| !x.is_finite()) {
-        return Err(Error::NonFinite { arg, index: i });
-    }
+    super::check_shape(arg, &out)?;
     Ok(out)
 }
 
@@ -84,10 +82,13 @@ impl BetaSpline {
         if let Some(i) = b1.iter().position(|&b| b <= 0.0) {
             return Err(Error::invalid("beta1", format!("beta1[{i}] = {} must be > 0", b1[i])));
         }
+        if let Some(i) = b1.iter().position(|&b| b < 1e-6) {
+            return Err(Error::invalid("beta1", format!("beta1[{i}] = {} is below the supported 1e-6", b1[i])));
+        }
         let mut gamma = Vec::with_capacity(n);
         for i in 0..n {
             let den = b2[i] + 2.0 * b1[i] * (1.0 + b1[i]);
-            if den <= 0.0 {
+            if den <= 1e-9 * (1.0 + b2[i].abs()) {
                 return Err(Error::invalid(
                     "beta2",
                     format!(

@@ -112,9 +112,7 @@ fn per(v: &[f64], n: usize, arg: &'static str, what: &str) -> Result<Vec<f64>> {
         m if m == n => v.to_vec(),
         m => return Err(Error::invalid(arg, format!("expected 1 or {n} values ({what}), got {m}"))),
     };
-    if let Some(i) = out.iter().position(|x| !x.is_finite()) {
-        return Err(Error::NonFinite { arg, index: i });
-    }
+    super::check_shape(arg, &out)?;
     Ok(out)
 }
 
@@ -150,29 +148,35 @@ impl C3Spline {
             }
             C3Variant::Knot => {
                 let (a, b) = (per(alpha, n, "alpha", "one per key")?, per(beta, n, "beta", "one per key")?);
-                // τ-derivative weights (a_m, b_m, c_m), m = 1..3, of (p_{k−1}, p_k, p_{k+1}) at key k
-                let weights: Vec<[[f64; 3]; 3]> = (0..n)
-                    .map(|key| {
-                        let hl = if key == 0 { h[0] } else { h[key - 1] };
-                        let hr = if key == n - 1 { h[n - 2] } else { h[key] };
-                        let hb = 0.5 * (hl + hr);
-                        let (a1, a2, a3) = (a[key], 8.0 * a[key], 36.0 * a[key] + 6.0 * b[key]);
-                        let am = [-a1 / hl, a2 / (hl * hb), -a3 / (hl * hb * hb)];
-                        let cm = [a1 / hr, a2 / (hr * hb), a3 / (hr * hb * hb)];
-                        std::array::from_fn(|m| [am[m], -(am[m] + cm[m]), cm[m]])
-                    })
-                    .collect();
+                // τ-derivative weights (a_m, b_m, c_m), m = 1..3, of (p_{k−1}, p_k, p_{k+1}) at key k,
+                // already multiplied by h_s^m for a segment of length h_s: written with ratios
+                // of spacings so that nothing overflows or underflows for any time scale.
+                let spacing = |key: usize| -> (f64, f64) {
+                    let hl = if key == 0 { h[0] } else { h[key - 1] };
+                    let hr = if key == n - 1 { h[n - 2] } else { h[key] };
+                    (hl, hr)
+                };
+                let scaled = |key: usize, hs: f64| -> [[f64; 3]; 3] {
+                    let (hl, hr) = spacing(key);
+                    let hb = 0.5 * hl + 0.5 * hr;
+                    let (a1, a2, a3) = (a[key], 8.0 * a[key], 36.0 * a[key] + 6.0 * b[key]);
+                    let (l, r, m) = (hs / hl, hs / hr, hs / hb);
+                    let am = [-a1 * l, a2 * l * m, -a3 * l * m * m];
+                    let cm = [a1 * r, a2 * r * m, a3 * r * m * m];
+                    std::array::from_fn(|k| [am[k], -(am[k] + cm[k]), cm[k]])
+                };
                 (0..n - 1)
                     .map(|s| {
                         let hs = h[s];
-                        let sc = [hs, hs * hs, hs * hs * hs];
+                        let w0 = scaled(s, hs);
+                        let w1 = scaled(s + 1, hs);
                         let at0 = |j: usize| -> [f64; 4] {
                             // C0 ↔ a, C1 ↔ b, C2 ↔ c at key s; C3 not involved
-                            let v = if j == 1 { 1.0 } else { 0.0 };
                             if j == 3 {
                                 return [0.0; 4];
                             }
-                            [v, weights[s][0][j] * sc[0], weights[s][1][j] * sc[1], weights[s][2][j] * sc[2]]
+                            let v = if j == 1 { 1.0 } else { 0.0 };
+                            [v, w0[0][j], w0[1][j], w0[2][j]]
                         };
                         let at1 = |j: usize| -> [f64; 4] {
                             // C1 ↔ a, C2 ↔ b, C3 ↔ c at key s+1; C0 not involved
@@ -180,8 +184,7 @@ impl C3Spline {
                                 return [0.0; 4];
                             }
                             let v = if j == 2 { 1.0 } else { 0.0 };
-                            let w = &weights[s + 1];
-                            [v, w[0][j - 1] * sc[0], w[1][j - 1] * sc[1], w[2][j - 1] * sc[2]]
+                            [v, w1[0][j - 1], w1[1][j - 1], w1[2][j - 1]]
                         };
                         std::array::from_fn(|j| hermite7(at0(j), at1(j)))
                     })

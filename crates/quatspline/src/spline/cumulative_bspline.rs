@@ -72,9 +72,11 @@ impl CumulativeBSpline {
             return Err(Error::NonFinite { arg: "t0", index: 0 });
         }
         let ctrl = prepare_keys(ctrl, "control_quats", order, canonicalize)?;
+        let segs = ctrl.len() - order + 1;
+        super::check_span("dt", t0, t0 + dt, 1)?;
+        super::check_span("dt", t0, t0 + segs as f64 * dt, segs)?;
         let mut logs = vec![Axis::default()];
         logs.extend(ctrl.windows(2).map(|w| Axis::from_log((w[0].conj() * w[1]).log().vec())));
-        let segs = ctrl.len() - order + 1;
         let joints = (0..=segs).map(|i| t0 + i as f64 * dt).collect();
         Ok(CumulativeBSpline { ctrl, logs, basis: cumulative_blending_matrix(order), order, joints })
     }

@@ -51,6 +51,42 @@ pub fn prepare_times(times: Option<&[f64]>, n: usize) -> Result<Vec<f64>> {
                 format!("not strictly increasing at index {i} ({v} after {})", t[i - 1]),
             ));
         }
+        if i > 0 {
+            check_span("times", t[i - 1], v, i)?;
+        }
     }
     Ok(t.to_vec())
+}
+
+/// The smallest key spacing accepted, relative to the times' magnitude: closer keys leave
+/// too few significant bits in t − tᵢ for the local parameter and its derivatives (1/h³).
+pub const MIN_RELATIVE_SPACING: f64 = 1e-14;
+
+/// Checks that the span [a, b] is finite and wide enough (see [`MIN_RELATIVE_SPACING`]).
+pub fn check_span(arg: &'static str, a: f64, b: f64, index: usize) -> Result<()> {
+    let h = b - a;
+    let scale = 1f64.max(a.abs()).max(b.abs());
+    if !h.is_finite() {
+        return Err(Error::invalid(arg, format!("span {a} … {b} at index {index} overflows")));
+    }
+    if h < MIN_RELATIVE_SPACING * scale {
+        return Err(Error::invalid(
+            arg,
+            format!("keys at index {} and {index} are {h:e} apart: below 1e-14 × max(1, |t|)", index - 1),
+        ));
+    }
+    Ok(())
+}
+
+/// Checks a shape parameter list: finite and |value| ≤ 1e6 (beyond that derivatives overflow).
+pub fn check_shape(arg: &'static str, v: &[f64]) -> Result<()> {
+    for (i, x) in v.iter().enumerate() {
+        if !x.is_finite() {
+            return Err(Error::NonFinite { arg, index: i });
+        }
+        if x.abs() > 1e6 {
+            return Err(Error::invalid(arg, format!("{arg}[{i}] = {x} is beyond the supported range |{arg}| ≤ 1e6")));
+        }
+    }
+    Ok(())
 }
