@@ -32,8 +32,8 @@ test-python: build
 lint: $(STAMP)
 	cargo fmt --all --check
 	cargo clippy --workspace --all-targets --release -- -D warnings
-	$(VENV)/bin/ruff check python tests benchmarks
-	$(VENV)/bin/ruff format --check python tests benchmarks
+	$(VENV)/bin/ruff check python tests benchmarks fuzz
+	$(VENV)/bin/ruff format --check python tests benchmarks fuzz
 
 bench: build
 	$(VPY) benchmarks/bench.py

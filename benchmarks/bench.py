@@ -235,7 +235,8 @@ def memory() -> None:
     code = (
         "import numpy as np, quatspline as qs\n"
         "def hwm():\n"
-        "    return next(int(l.split()[1]) for l in open('/proc/self/status') if l.startswith('VmHWM'))\n"
+        "    lines = open('/proc/self/status').read().splitlines()\n"
+        "    return next(int(x.split()[1]) for x in lines if x.startswith('VmHWM'))\n"
         "q = qs.normalize(np.random.default_rng(0).normal(size=(1000, 4)))\n"
         "s = qs.C3Spline(q); t = np.linspace(0, 999, 10_000_000)\n"
         "s(t[:10])\n"

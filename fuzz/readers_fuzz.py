@@ -16,7 +16,6 @@ import atheris
 
 with atheris.instrument_imports():
     import numpy as np
-
     import quatspline.io as qio
 
 DIR = tempfile.mkdtemp(prefix="qs-fuzz-")

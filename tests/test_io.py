@@ -168,6 +168,13 @@ def write(tmp_path, name, text):
             BVH_HEAD + "Frames: 1\nFrame Time: 0.1\n0 0\n",
             r"a.bvh:10: expected 3 channel values, got 2",
         ),
+        # found by fuzz/readers_fuzz.py: a joint without CHANNELS and zero frames
+        (
+            "a.bvh",
+            "HIERARCHY\nROOT A\n{\n OFFSET 0 0 0\n}\nMOTION\nFrames: 0\nFrame Time: 0.1\n",
+            r"a.bvh: no CHANNELS",
+        ),
+        ("a.bvh", BVH_HEAD + "Frames: 0\nFrame Time: 0.1\n", r"a.bvh:8: no frames"),
     ],
 )
 def test_malformed_files_name_file_line_and_column(tmp_path, name, text, message):

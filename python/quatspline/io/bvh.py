@@ -139,6 +139,8 @@ def read(
     target = 0 if joint is None else (names.index(joint) if joint in names else None)
     if target is None:
         raise TrajectoryError(f"{path}: no joint {joint!r}; joints: {', '.join(names)}")
+    if nchan == 0:
+        raise TrajectoryError(f"{path}: no CHANNELS in HIERARCHY")
     try:
         nframes = int(lines[i].split(":")[1])
         dt = float(lines[i + 1].split(":")[1])
@@ -146,6 +148,8 @@ def read(
         raise TrajectoryError(
             f"{path}:{i + 1}: expected 'Frames: N' and 'Frame Time: dt'"
         ) from None
+    if nframes <= 0:
+        raise TrajectoryError(f"{path}:{i + 1}: no frames (Frames: {nframes})")
     if not (dt > 0 and np.isfinite(dt)):
         raise TrajectoryError(f"{path}:{i + 2}: Frame Time must be positive, got {dt}")
     data = []

@@ -83,7 +83,10 @@ impl BetaSpline {
             return Err(Error::invalid("beta1", format!("beta1[{i}] = {} must be > 0", b1[i])));
         }
         if let Some(i) = b1.iter().position(|&b| b < 1e-6) {
-            return Err(Error::invalid("beta1", format!("beta1[{i}] = {} is below the supported 1e-6", b1[i])));
+            return Err(Error::invalid(
+                "beta1",
+                format!("beta1[{i}] = {} is below the supported 1e-6", b1[i]),
+            ));
         }
         let mut gamma = Vec::with_capacity(n);
         for i in 0..n {

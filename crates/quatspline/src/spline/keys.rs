@@ -85,7 +85,10 @@ pub fn check_shape(arg: &'static str, v: &[f64]) -> Result<()> {
             return Err(Error::NonFinite { arg, index: i });
         }
         if x.abs() > 1e6 {
-            return Err(Error::invalid(arg, format!("{arg}[{i}] = {x} is beyond the supported range |{arg}| ≤ 1e6")));
+            return Err(Error::invalid(
+                arg,
+                format!("{arg}[{i}] = {x} is beyond the supported range |{arg}| ≤ 1e6"),
+            ));
         }
     }
     Ok(())

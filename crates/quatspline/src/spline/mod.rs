@@ -39,7 +39,9 @@ pub use catmull_rom::{CatmullRom, CatmullRomEnds};
 pub use cumulative_bezier::CumulativeBezier;
 pub use cumulative_bspline::CumulativeBSpline;
 pub use eval::{angular_into, derivatives_on, evaluate_into, Cursor, Extrapolate, Frame};
-pub use keys::{canonicalize_chain, check_shape, check_span, prepare_keys, prepare_times, MIN_RELATIVE_SPACING};
+pub use keys::{
+    canonicalize_chain, check_shape, check_span, prepare_keys, prepare_times, MIN_RELATIVE_SPACING,
+};
 pub use lin_euler::PiecewiseLinEuler;
 pub use lin_mat::PiecewiseLinMat;
 pub use natural_spline::{NaturalEnds, NaturalSpline};
