@@ -175,6 +175,11 @@ def write(tmp_path, name, text):
             r"a.bvh: no CHANNELS",
         ),
         ("a.bvh", BVH_HEAD + "Frames: 0\nFrame Time: 0.1\n", r"a.bvh:8: no frames"),
+        (
+            "a.bvh",
+            BVH_HEAD.replace("Xrotation", "Zrotation") + "Frames: 1\nFrame Time: 0.1\n0 0 0\n",
+            r"a.bvh: joint 'A': rotation channels ZZY repeat an axis",
+        ),
     ],
 )
 def test_malformed_files_name_file_line_and_column(tmp_path, name, text, message):

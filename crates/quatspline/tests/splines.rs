@@ -87,7 +87,7 @@ fn c3_huge_shape_parameters_are_rejected_not_nan() {
 #[test]
 fn c3_knot_weights_do_not_overflow_at_huge_time_scales() {
     let q = walk(4);
-    let t = [-6e306, -5e306, -4.5e306, -2e306];
+    let t = [-6e29, -5e29, -4.5e29, -2e29];
     let s = C3Spline::new(&q, Some(&t), &[0.3], &[0.1], C3Variant::Knot, true).unwrap();
     for k in 0..3 {
         for u in [0.0, 0.3, 1.0] {
@@ -113,4 +113,11 @@ fn keys_closer_than_the_time_resolution_are_rejected() {
     assert!(PiecewiseSlerp::new(&q, Some(&[1e9, 1e9 + 1e-3, 1e9 + 1.0]), true).is_ok());
     assert!(PiecewiseSlerp::new(&q, Some(&[1e9, 1e9 + 1e-6, 1e9 + 1.0]), true).is_err());
     assert!(PiecewiseSlerp::new(&q, Some(&[-1.7e308, 1.7e308, f64::MAX]), true).is_err());
+    // found by fuzzing: spacings 1e91 and 1e-11 overflowed the natural spline's jerk
+    assert!(
+        NaturalSpline::new(&q, Some(&[-9.586e90, -4.7e-224, 3.2e-11]), NaturalEnds::Natural, true).is_err()
+    );
+    assert!(
+        C3Spline::new(&q, Some(&[-6e306, -5e306, -4e306]), &[0.3], &[0.0], C3Variant::Knot, true).is_err()
+    );
 }

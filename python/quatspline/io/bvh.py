@@ -102,6 +102,8 @@ def _rotation(joint: Joint, frames: np.ndarray) -> np.ndarray:
     if len(rot) != 3:
         raise TrajectoryError(f"joint {joint.name!r}: expected 3 rotation channels, got {len(rot)}")
     seq = "".join(AXES[c] for c, _ in rot)
+    if seq[0] == seq[1] or seq[1] == seq[2]:
+        raise TrajectoryError(f"joint {joint.name!r}: rotation channels {seq} repeat an axis")
     angles = frames[:, [joint.start + k for _, k in rot]]
     return from_euler(seq, angles, degrees=True)
 
@@ -128,7 +130,6 @@ def read(
     sort=False,
     dedupe=False,
 ) -> Trajectory:
-    from ..algebra import multiply, rotate
 
     with open(path, encoding="utf-8-sig") as f:
         lines = f.read().splitlines()
@@ -168,6 +169,18 @@ def read(
     while joints[chain[-1]].parent >= 0:
         chain.append(joints[chain[-1]].parent)
     chain.reverse()
+    try:
+        q, pos = _pose(joints, chain, target, frames, world)
+    except TrajectoryError as e:
+        raise TrajectoryError(f"{path}: {e}") from None
+    times = (np.arange(len(frames)) + skip_frames) * dt
+    lines_of = np.arange(len(frames)) + i + 3 + skip_frames
+    return finish(path, times, q, pos, lines_of, sort, dedupe, name=names[target])
+
+
+def _pose(joints, chain, target, frames, world):
+    from ..algebra import multiply, rotate
+
     if world:
         q = None
         pos = None
@@ -183,9 +196,7 @@ def read(
         q = _rotation(joints[target], frames)
         has_pos = any(c in POS for c in joints[target].channels)
         pos = _translation(joints[target], frames) if has_pos else None
-    times = (np.arange(len(frames)) + skip_frames) * dt
-    lines_of = np.arange(len(frames)) + i + 3 + skip_frames
-    return finish(path, times, q, pos, lines_of, sort, dedupe, name=names[target])
+    return q, pos
 
 
 def write(path, traj: Trajectory, joint: str = "Root") -> None:

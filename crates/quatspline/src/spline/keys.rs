@@ -62,8 +62,20 @@ pub fn prepare_times(times: Option<&[f64]>, n: usize) -> Result<Vec<f64>> {
 /// too few significant bits in t − tᵢ for the local parameter and its derivatives (1/h³).
 pub const MIN_RELATIVE_SPACING: f64 = 1e-14;
 
+/// The largest |time| accepted: beyond it, rates × spans overflow in the derivative series.
+pub const MAX_TIME: f64 = 1e30;
+
 /// Checks that the span [a, b] is finite and wide enough (see [`MIN_RELATIVE_SPACING`]).
 pub fn check_span(arg: &'static str, a: f64, b: f64, index: usize) -> Result<()> {
+    if a.abs() > MAX_TIME || b.abs() > MAX_TIME {
+        return Err(Error::invalid(
+            arg,
+            format!(
+                "time {} at index {index} is beyond the supported range |t| ≤ 1e30",
+                if a.abs() > MAX_TIME { a } else { b }
+            ),
+        ));
+    }
     let h = b - a;
     let scale = 1f64.max(a.abs()).max(b.abs());
     if !h.is_finite() {
