@@ -168,7 +168,8 @@ def write(tmp_path, name, text):
             BVH_HEAD + "Frames: 1\nFrame Time: 0.1\n0 0\n",
             r"a.bvh:10: expected 3 channel values, got 2",
         ),
-        # found by fuzz/readers_fuzz.py: a joint without CHANNELS and zero frames
+        # found by fuzz/readers_fuzz.py: a .npy header with a broken descriptor, a joint
+        # without CHANNELS and zero frames, repeated rotation axes
         (
             "a.bvh",
             "HIERARCHY\nROOT A\n{\n OFFSET 0 0 0\n}\nMOTION\nFrames: 0\nFrame Time: 0.1\n",
@@ -206,3 +207,10 @@ def test_failed_write_leaves_existing_output_untouched(tmp_path):
         qio.write(out, bad)
     assert out.read_text() == "precious\n"
     assert [f.name for f in tmp_path.iterdir()] == ["o.csv"]  # no temporary left behind
+
+
+def test_damaged_npy_header_found_by_fuzzing(tmp_path):
+    p = tmp_path / "a.npz"
+    p.write_bytes(b"\x93NUMPY\x01\x00\x03\x00\xca]0\x00\x00")  # numpy raised TokenError
+    with pytest.raises(ValueError, match=r"a.npz: not a valid .npz file"):
+        qio.read(p)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import tokenize
 import zipfile
 
 import numpy as np
@@ -17,10 +18,18 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
                 raise TrajectoryError(f"{path}: expected arrays 'times' and 'quats', got {list(z)}")
             times, quats = z["times"], z["quats"]
             pos = z["positions"] if "positions" in z else None
-    except (zipfile.BadZipFile, ValueError, EOFError) as e:
-        if isinstance(e, TrajectoryError):
-            raise
-        raise TrajectoryError(f"{path}: not a valid .npz file ({e})") from None
+    except TrajectoryError:
+        raise
+    except (
+        zipfile.BadZipFile,
+        ValueError,
+        EOFError,
+        OSError,
+        SyntaxError,
+        tokenize.TokenError,
+    ) as e:
+        # numpy's loader can raise any of these on a damaged file (found by fuzzing)
+        raise TrajectoryError(f"{path}: not a valid .npz file ({type(e).__name__}: {e})") from None
     if times.ndim != 1 or quats.shape != (len(times), 4):
         raise TrajectoryError(
             f"{path}: expected times (N,) and quats (N, 4), got {times.shape} and {quats.shape}"
