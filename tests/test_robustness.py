@@ -133,3 +133,14 @@ def test_extreme_floats_through_a_spline(keys, ts):
     except ValueError:
         return
     assert np.all(np.isfinite(d))
+
+
+def test_huge_interpolation_parameters_are_rejected():
+    # found by hypothesis: t = 1.1e308 made t·θ overflow and slerp return NaN
+    with pytest.raises(
+        ValueError, match=r"t: element 0 is beyond the supported range \|t\| ≤ 1e12"
+    ):
+        qs.slerp([1.0, 0, 0, 0], [0, 1.0, 0, 0], 1.1444469943028113e308)
+    with pytest.raises(ValueError, match=r"^t: element 1 is beyond"):
+        qs.power([0.0, 1, 0, 0], [0.5, -1e13])
+    assert np.all(np.isfinite(qs.slerp([1.0, 0, 0, 0], [0, 1.0, 0, 0], 1e12)))

@@ -63,7 +63,7 @@ fn log<'py>(py: Python<'py>, q: Arr<'py>) -> Out<'py> {
 
 #[pyfunction]
 fn power<'py>(py: Python<'py>, q: Arr<'py>, t: Arr<'py>) -> Out<'py> {
-    let (q, t) = (Rows::new(&q, "q", 4)?, Rows::new(&t, "t", 1)?);
+    let (q, t) = (Rows::new(&q, "q", 4)?, Rows::new(&t, "t", 1)?.parameters()?);
     let n = same_len(&[("q", q.len()), ("t", t.len())])?;
     fill(py, "power", n, |i| Ok(q.rotation(i)?.powf(t.scalar(i)).to_wxyz()))
 }
@@ -140,14 +140,16 @@ fn as_euler<'py>(py: Python<'py>, q: Arr<'py>, seq: &str) -> Out<'py> {
 
 #[pyfunction]
 fn lerp<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>) -> Out<'py> {
-    let (a, b, t) = (Rows::new(&q0, "q0", 4)?, Rows::new(&q1, "q1", 4)?, Rows::new(&t, "t", 1)?);
+    let (a, b, t) =
+        (Rows::new(&q0, "q0", 4)?, Rows::new(&q1, "q1", 4)?, Rows::new(&t, "t", 1)?.parameters()?);
     let n = same_len(&[("q0", a.len()), ("q1", b.len()), ("t", t.len())])?;
     fill(py, "lerp", n, |i| Ok(interp::lerp(a.quat(i), b.quat(i), t.scalar(i)).to_wxyz()))
 }
 
 #[pyfunction]
 fn nlerp<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>, long_path: bool) -> Out<'py> {
-    let (a, b, t) = (Rows::new(&q0, "q0", 4)?, Rows::new(&q1, "q1", 4)?, Rows::new(&t, "t", 1)?);
+    let (a, b, t) =
+        (Rows::new(&q0, "q0", 4)?, Rows::new(&q1, "q1", 4)?, Rows::new(&t, "t", 1)?.parameters()?);
     let n = same_len(&[("q0", a.len()), ("q1", b.len()), ("t", t.len())])?;
     fill(py, "nlerp", n, |i| {
         interp::try_nlerp(a.rotation(i)?, b.rotation(i)?, t.scalar(i), long_path).map(Quat::to_wxyz).map_err(
@@ -158,7 +160,8 @@ fn nlerp<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>, long_pat
 
 #[pyfunction]
 fn slerp<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>, long_path: bool) -> Out<'py> {
-    let (a, b, t) = (Rows::new(&q0, "q0", 4)?, Rows::new(&q1, "q1", 4)?, Rows::new(&t, "t", 1)?);
+    let (a, b, t) =
+        (Rows::new(&q0, "q0", 4)?, Rows::new(&q1, "q1", 4)?, Rows::new(&t, "t", 1)?.parameters()?);
     let n = same_len(&[("q0", a.len()), ("q1", b.len()), ("t", t.len())])?;
     fill(py, "slerp", n, |i| {
         Ok(interp::slerp(a.rotation(i)?, b.rotation(i)?, t.scalar(i), long_path).to_wxyz())
@@ -168,7 +171,8 @@ fn slerp<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>, long_pat
 #[pyfunction]
 fn lin_euler<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>, seq: &str) -> Out<'py> {
     let s = parse_seq(seq)?;
-    let (a, b, t) = (Rows::new(&q0, "q0", 4)?, Rows::new(&q1, "q1", 4)?, Rows::new(&t, "t", 1)?);
+    let (a, b, t) =
+        (Rows::new(&q0, "q0", 4)?, Rows::new(&q1, "q1", 4)?, Rows::new(&t, "t", 1)?.parameters()?);
     let n = same_len(&[("q0", a.len()), ("q1", b.len()), ("t", t.len())])?;
     fill(py, "lin_euler", n, |i| {
         Ok(interp::lin_euler(s, a.rotation(i)?, b.rotation(i)?, t.scalar(i)).to_wxyz())
@@ -177,7 +181,8 @@ fn lin_euler<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>, seq:
 
 #[pyfunction]
 fn lin_mat<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>) -> Out<'py> {
-    let (a, b, t) = (Rows::new(&q0, "q0", 4)?, Rows::new(&q1, "q1", 4)?, Rows::new(&t, "t", 1)?);
+    let (a, b, t) =
+        (Rows::new(&q0, "q0", 4)?, Rows::new(&q1, "q1", 4)?, Rows::new(&t, "t", 1)?.parameters()?);
     let n = same_len(&[("q0", a.len()), ("q1", b.len()), ("t", t.len())])?;
     fill(py, "lin_mat", n, |i| Ok(interp::lin_mat(a.rotation(i)?, b.rotation(i)?, t.scalar(i)).to_wxyz()))
 }
@@ -253,14 +258,15 @@ fn dq_screw<'py>(py: Python<'py>, dq: Arr<'py>) -> Out<'py> {
 
 #[pyfunction]
 fn dq_power<'py>(py: Python<'py>, dq: Arr<'py>, t: Arr<'py>) -> Out<'py> {
-    let (d, t) = (Rows::new(&dq, "dq", 8)?, Rows::new(&t, "t", 1)?);
+    let (d, t) = (Rows::new(&dq, "dq", 8)?, Rows::new(&t, "t", 1)?.parameters()?);
     let n = same_len(&[("dq", d.len()), ("t", t.len())])?;
     fill(py, "dq_power", n, |i| Ok(unit_dq(&d, i)?.powf(t.scalar(i)).to_array()))
 }
 
 #[pyfunction]
 fn sclerp<'py>(py: Python<'py>, dq0: Arr<'py>, dq1: Arr<'py>, t: Arr<'py>) -> Out<'py> {
-    let (a, b, t) = (Rows::new(&dq0, "dq0", 8)?, Rows::new(&dq1, "dq1", 8)?, Rows::new(&t, "t", 1)?);
+    let (a, b, t) =
+        (Rows::new(&dq0, "dq0", 8)?, Rows::new(&dq1, "dq1", 8)?, Rows::new(&t, "t", 1)?.parameters()?);
     let n = same_len(&[("dq0", a.len()), ("dq1", b.len()), ("t", t.len())])?;
     fill(py, "sclerp", n, |i| Ok(interp::sclerp(unit_dq(&a, i)?, unit_dq(&b, i)?, t.scalar(i)).to_array()))
 }

@@ -104,6 +104,18 @@ impl<'a> Rows<'a> {
         self.view.nrows()
     }
 
+    /// Interpolation parameters: |t| ≤ 1e12 (beyond, t·θ carries no bits of the angle and
+    /// sin/cos of an overflowing product would be NaN).
+    pub fn parameters(self) -> PyResult<Self> {
+        if let Some(k) = self.view.iter().position(|v| v.abs() > 1e12) {
+            return Err(PyValueError::new_err(format!(
+                "{}: element {k} is beyond the supported range |t| ≤ 1e12",
+                self.name
+            )));
+        }
+        Ok(self)
+    }
+
     #[inline(always)]
     pub fn row<const W: usize>(&self, i: usize) -> [f64; W] {
         match self.flat {
