@@ -391,15 +391,7 @@ fn c3_weights(
     variant: &str,
 ) -> PyResult<Vec<[[f64; 8]; 3]>> {
     let t: Vec<f64> = times.as_array().iter().copied().collect();
-    let variant = match variant {
-        "knot" => sp::C3Variant::Knot,
-        "patent" => sp::C3Variant::Patent,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "variant: expected \"knot\" or \"patent\", got {other:?}"
-            )))
-        }
-    };
+    let variant = c3_variant(variant)?;
     let keys = vec![Quat::IDENTITY; t.len()];
     let s =
         sp::C3Spline::new(&keys, Some(&t), &vec_of(&alpha), &vec_of(&beta), variant, false).map_err(to_py)?;
@@ -473,6 +465,16 @@ fn natural_spline(
     wrap(sp::NaturalSpline::new(&q, times_of(&times).as_deref(), ends, canonicalize))
 }
 
+fn c3_variant(v: &str) -> PyResult<sp::C3Variant> {
+    match v {
+        "knot" => Ok(sp::C3Variant::Knot),
+        "patent" => Ok(sp::C3Variant::Patent),
+        other => {
+            Err(PyValueError::new_err(format!("variant: expected \"knot\" or \"patent\", got {other:?}")))
+        }
+    }
+}
+
 fn vec_of(a: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
     a.as_array().iter().copied().collect()
 }
@@ -501,15 +503,7 @@ fn c3_spline(
     canonicalize: bool,
 ) -> PyResult<PySpline> {
     let q = quats_of(&quats, "quats")?;
-    let variant = match variant {
-        "knot" => sp::C3Variant::Knot,
-        "patent" => sp::C3Variant::Patent,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "variant: expected \"knot\" or \"patent\", got {other:?}"
-            )))
-        }
-    };
+    let variant = c3_variant(variant)?;
     wrap(sp::C3Spline::new(
         &q,
         times_of(&times).as_deref(),
