@@ -216,13 +216,7 @@ const CS_TABLE: ([[f64; CS_TERMS]; 3], [[f64; CS_TERMS]; 3]) = {
         let mut m = 0;
         while m < CS_TERMS {
             let k = n + m;
-            // k!/(k−n)! = (m+1)(m+2)…(m+n)
-            let mut falling = 1.0;
-            let mut v = m + 1;
-            while v <= k {
-                falling *= v as f64;
-                v += 1;
-            }
+            let falling = const_falling(k, n);
             let sign = if k % 2 == 0 { 1.0 } else { -1.0 };
             c[n - 1][m] = sign * falling / const_factorial(2 * k);
             s[n - 1][m] = sign * falling / const_factorial(2 * k + 1);
@@ -232,6 +226,17 @@ const CS_TABLE: ([[f64; CS_TERMS]; 3], [[f64; CS_TERMS]; 3]) = {
     }
     (c, s)
 };
+
+/// k!/(k−n)! = (k−n+1)(k−n+2)…k, the n-th derivative's factor of x^k.
+const fn const_falling(k: usize, n: usize) -> f64 {
+    let mut f = 1.0;
+    let mut v = k + 1 - n;
+    while v <= k {
+        f *= v as f64;
+        v += 1;
+    }
+    f
+}
 
 const fn const_factorial(n: usize) -> f64 {
     let mut f = 1.0;
@@ -263,13 +268,7 @@ const G_TABLE: [[f64; G_TERMS]; 3] = {
         let mut m = 0;
         while m < G_TERMS {
             let k = n + m;
-            let mut falling = 1.0;
-            let mut v = m + 1;
-            while v <= k {
-                falling *= v as f64;
-                v += 1;
-            }
-            t[n - 1][m] = falling * a[k];
+            t[n - 1][m] = const_falling(k, n) * a[k];
             m += 1;
         }
         n += 1;

@@ -23,20 +23,15 @@ impl CumulativeBezier {
     /// Control points q₀ … qₙ (n ≥ 1).
     /// `domain` (t₀, t₁) maps u = (t − t₀)/(t₁ − t₀); (0, 1) is the plain curve.
     pub fn new(ctrl: &[Quat], domain: (f64, f64), canonicalize: bool) -> Result<Self> {
-        if !(domain.0.is_finite() && domain.1.is_finite() && domain.1 > domain.0) {
-            return Err(crate::error::Error::invalid(
-                "domain",
-                format!("expected finite t0 < t1, got {domain:?}"),
-            ));
-        }
+        let joints = super::check_domain(domain)?;
         let ctrl = prepare_keys(ctrl, "control_points", 2, canonicalize)?;
-        let logs = ctrl.windows(2).map(|w| Axis::from_log((w[0].conj() * w[1]).log().vec())).collect();
+        let logs = super::chain_logs(&ctrl);
         let n = ctrl.len() - 1;
         let mut binom = vec![1.0; n + 1];
         for i in 1..=n {
             binom[i] = binom[i - 1] * (n + 1 - i) as f64 / i as f64;
         }
-        Ok(CumulativeBezier { ctrl, logs, binom, joints: [domain.0, domain.1] })
+        Ok(CumulativeBezier { ctrl, logs, binom, joints })
     }
 
     #[inline(always)]

@@ -76,7 +76,7 @@ impl CumulativeBSpline {
         super::check_span("dt", t0, t0 + dt, 1)?;
         super::check_span("dt", t0, t0 + segs as f64 * dt, segs)?;
         let mut logs = vec![Axis::default()];
-        logs.extend(ctrl.windows(2).map(|w| Axis::from_log((w[0].conj() * w[1]).log().vec())));
+        logs.extend(super::chain_logs(&ctrl));
         let joints = (0..=segs).map(|i| t0 + i as f64 * dt).collect();
         Ok(CumulativeBSpline { ctrl, logs, basis: cumulative_blending_matrix(order), order, joints })
     }

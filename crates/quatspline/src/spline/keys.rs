@@ -1,6 +1,7 @@
 //! Validation of keyframes and key times, shared by every spline constructor.
 
 use crate::error::{Error, Result};
+use crate::jet::Axis;
 use crate::quat::Quat;
 
 /// Checks keys (finite, non-zero), normalises them and, unless `canonicalize` is false, flips
@@ -104,4 +105,18 @@ pub fn check_shape(arg: &'static str, v: &[f64]) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// The logarithms log(q_{k−1}* q_k) of consecutive keys, as axis × angle.
+pub fn chain_logs(q: &[Quat]) -> Vec<Axis> {
+    q.windows(2).map(|w| Axis::from_log((w[0].conj() * w[1]).log().vec())).collect()
+}
+
+/// A single curve's time domain (t₀, t₁): finite, increasing, wide enough.
+pub fn check_domain(domain: (f64, f64)) -> Result<[f64; 2]> {
+    if !(domain.0.is_finite() && domain.1.is_finite() && domain.1 > domain.0) {
+        return Err(Error::invalid("domain", format!("expected finite t0 < t1, got {domain:?}")));
+    }
+    check_span("domain", domain.0, domain.1, 1)?;
+    Ok([domain.0, domain.1])
 }

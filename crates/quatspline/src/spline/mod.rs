@@ -40,7 +40,8 @@ pub use cumulative_bezier::CumulativeBezier;
 pub use cumulative_bspline::CumulativeBSpline;
 pub use eval::{angular_into, derivatives_on, evaluate_into, Cursor, Extrapolate, Frame};
 pub use keys::{
-    canonicalize_chain, check_shape, check_span, prepare_keys, prepare_times, MIN_RELATIVE_SPACING,
+    canonicalize_chain, chain_logs, check_domain, check_shape, check_span, prepare_keys, prepare_times,
+    MAX_TIME, MIN_RELATIVE_SPACING,
 };
 pub use lin_euler::PiecewiseLinEuler;
 pub use lin_mat::PiecewiseLinMat;

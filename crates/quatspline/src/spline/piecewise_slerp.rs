@@ -23,7 +23,7 @@ impl PiecewiseSlerp {
     pub fn new(keys: &[Quat], times: Option<&[f64]>, canonicalize: bool) -> Result<Self> {
         let keys = prepare_keys(keys, "quats", 2, canonicalize)?;
         let times = prepare_times(times, keys.len())?;
-        let logs = keys.windows(2).map(|w| Axis::from_log((w[0].conj() * w[1]).log().vec())).collect();
+        let logs = super::chain_logs(&keys);
         Ok(PiecewiseSlerp { keys, times, logs })
     }
 

@@ -51,15 +51,10 @@ impl SphericalBezier {
     /// Control points b₀ … bₙ (n ≥ 1).
     /// `domain` (t₀, t₁) maps u = (t − t₀)/(t₁ − t₀); (0, 1) is the plain curve.
     pub fn new(ctrl: &[Quat], domain: (f64, f64), canonicalize: bool) -> Result<Self> {
-        if !(domain.0.is_finite() && domain.1.is_finite() && domain.1 > domain.0) {
-            return Err(crate::error::Error::invalid(
-                "domain",
-                format!("expected finite t0 < t1, got {domain:?}"),
-            ));
-        }
+        let joints = super::check_domain(domain)?;
         let ctrl = prepare_keys(ctrl, "control_points", 2, canonicalize)?;
-        let logs = ctrl.windows(2).map(|w| Axis::from_log((w[0].conj() * w[1]).log().vec())).collect();
-        Ok(SphericalBezier { ctrl, logs, joints: [domain.0, domain.1] })
+        let logs = super::chain_logs(&ctrl);
+        Ok(SphericalBezier { ctrl, logs, joints })
     }
 
     #[inline(always)]
