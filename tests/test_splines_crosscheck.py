@@ -62,7 +62,7 @@ def test_squad_matches_numpy_quaternion_on_uniform_keys():
     same_rotation(qs.Squad(q, t)(x), ref, 1e-13)
 
 
-def test_numpy_quaternion_squad_is_not_c1_for_nonuniform_times_but_ours_is():
+def test_squad_is_c1_in_time_for_nonuniform_times():
     from .splinekit import joint_jumps
 
     q = random_walk(8, 6, step=0.3)
