@@ -13,7 +13,8 @@ from pathlib import Path
 
 import numpy as np
 import quatspline.io as qio
-from quatspline.cli import angle_deg, compare, format_table
+from quatspline import angle_between
+from quatspline.ops import compare, format_table
 from quatspline.registry import interpolating_methods
 
 DATA = Path(__file__).resolve().parent.parent / "data"
@@ -38,7 +39,7 @@ def scipy_row(traj, k):
     q = traj.quats[[*idx]]
     s = RotationSpline(t[idx], Rotation.from_quat(q[:, [1, 2, 3, 0]]))
     pred = s(t[rest]).as_quat()[:, [3, 0, 1, 2]]
-    err = angle_deg(pred, traj.quats[rest])
+    err = angle_between(pred, traj.quats[rest], degrees=True)
     return float(np.median(err)), float(np.percentile(err, 95)), float(err.max())
 
 

@@ -7,7 +7,7 @@ broadcasting, conversions, the CLI, file I/O and plots.
 
 from __future__ import annotations
 
-from . import examples, io
+from . import examples, io, ops
 from ._core import __version__, get_num_threads, set_num_threads
 from .algebra import canonicalize, conjugate, exp, inverse, log, multiply, normalize, power, rotate
 from .continuity import JointContinuity, continuity
@@ -37,6 +37,7 @@ from .dualquat import (
     sclerp,
 )
 from .interpolate import lerp, lin_euler, lin_mat, nlerp, slerp
+from .metrics import angle_between
 from .pose import PoseSpline
 from .registry import METHODS, spline
 from .rigid import rotate_points
@@ -122,4 +123,6 @@ __all__ = [
     "sclerp",
     "slerp",
     "to_scipy",
+    "angle_between",
+    "ops",
 ]

@@ -14,12 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
+from . import __version__, ops
 from . import io as qio
-from .continuity import continuity
 from .registry import METHODS, interpolating_methods
-from .registry import spline as make_spline
-from .spline import path_length
 
 
 class UsageError(Exception):
@@ -47,158 +44,47 @@ def _read(args) -> qio.Trajectory:
     return qio.read(args.input, format=fmt, **opts)
 
 
-def _build(method: str, traj: qio.Trajectory, times, params: dict):
-    if method not in METHODS:
-        raise UsageError(f"--method: unknown method {method!r}; valid: {', '.join(METHODS)}")
-    try:
-        return make_spline(method, traj.quats, times, **params)
-    except ValueError as e:
-        msg = str(e)
-        if "unknown parameter" in msg or msg.startswith(tuple(METHODS[method].params)):
-            raise UsageError(msg) from None
-        raise
-
-
 def _guard_output(out: Path, inputs: list[Path], force: bool) -> None:
     for i in inputs:
         if out.exists() and i.exists() and out.resolve() == i.resolve() and not force:
             raise UsageError(f"{out}: refusing to overwrite the input file (use --force)")
 
 
-def _progress(iterable, desc: str, total: int | None = None):
-    try:
-        from tqdm import tqdm
-    except ImportError:  # pragma: no cover
-        return iterable
-    return tqdm(iterable, desc=desc, total=total, disable=None, leave=False, file=sys.stderr)
-
-
 # ---- sample ---------------------------------------------------------------------------------
 def cmd_sample(args) -> int:
     traj = _read(args)
-    t0 = traj.times[0]
-    s = _build(args.method, traj, traj.times - t0, _params(args.param))
-    a, b = s.domain
-    if args.rate is not None:
-        if not (args.rate > 0 and np.isfinite(args.rate)):
-            raise UsageError(f"--rate: expected a positive rate, got {args.rate}")
-        t = a + np.arange(int(np.floor((b - a) * args.rate + 1e-9)) + 1) / args.rate
-    elif args.count is not None:
-        if args.count < 1:
-            raise UsageError(f"--count: expected at least 1, got {args.count}")
-        t = np.linspace(a, b, args.count)
-    else:
+    times = None
+    if args.at is not None:
         at = Path(args.at)
         try:
-            t = np.loadtxt(at, ndmin=1, comments="#") - t0
+            times = np.loadtxt(at, ndmin=1, comments="#")
         except (OSError, ValueError) as e:
             raise ValueError(f"{at}: cannot read times ({e})") from None
-    q = s(t)
-    extra = {}
-    if args.derivatives:
-        extra = {
-            "omega": s.angular_velocity(t),
-            "alpha": s.angular_acceleration(t),
-            "jerk": s.jerk(t),
-        }
-    pos = None
-    if traj.positions is not None and METHODS[args.method].interpolating:
-        from .pose import PoseSpline
-
-        ps = PoseSpline(traj.times - t0, traj.quats, traj.positions, rotation="slerp")
-        pos = ps.position(np.clip(t, *ps.domain))
-    out = qio.Trajectory(t + t0, q, pos, extra=extra)
+    out = ops.sample_trajectory(
+        traj,
+        args.method,
+        rate=args.rate,
+        count=args.count,
+        times=times,
+        params=_params(args.param),
+        derivatives=args.derivatives,
+        max_samples=args.max_samples,
+    )
     _guard_output(Path(args.output), [Path(args.input)], args.force)
     qio.write(args.output, out, format=args.format)
-    print(f"wrote {args.output}: {len(t)} samples of {args.method} through {len(traj)} keys")
+    print(f"wrote {args.output}: {len(out)} samples of {args.method} through {len(traj)} keys")
     return 0
 
 
 # ---- compare --------------------------------------------------------------------------------
-def angle_deg(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Rotation angle between unit quaternions, degrees, exact for small and large angles:
-    2·atan2(|a − s b|, |a + s b|) with s the sign of a·b (q and −q are the same rotation)."""
-    s = np.where(np.sum(a * b, axis=-1) < 0, -1.0, 1.0)[..., None]
-    return np.degrees(
-        2 * np.arctan2(np.linalg.norm(a - s * b, axis=-1), np.linalg.norm(a + s * b, axis=-1))
-    )
-
-
-def compare(
-    traj: qio.Trajectory, methods: list[str], holdout: int | None = None, samples_per_key: int = 8
-) -> list[dict]:
-    t_all = traj.times - traj.times[0]
-    if holdout:
-        if holdout < 2:
-            raise UsageError(f"--holdout: expected K ≥ 2, got {holdout}")
-        idx = np.arange(0, len(t_all), holdout)
-        if len(idx) < 2:
-            raise ValueError(f"--holdout {holdout}: fewer than 2 keys in {len(t_all)} frames")
-        rest = np.setdiff1d(np.arange(idx[0], idx[-1] + 1), idx)
-    else:
-        idx = np.arange(len(t_all))
-    keys, kt = traj.quats[idx], t_all[idx]
-    rows = []
-    for m in _progress(methods, "methods"):
-        s = _build(m, qio.Trajectory(kt, keys), kt, {})
-        a, b = s.domain
-        n = int(min(max(samples_per_key * len(kt), 1000), 400_000))
-        t = np.linspace(a, b, n)
-        w = np.linalg.norm(s.angular_velocity(t), axis=1)
-        acc = np.linalg.norm(s.angular_acceleration(t), axis=1)
-        jerk = np.linalg.norm(s.jerk(t), axis=1)
-        orders = [j.order for j in continuity(s)] or [s.continuity]
-        row = {
-            "method": m,
-            "max_speed": float(w.max()),
-            "rms_speed": float(np.sqrt(np.mean(w**2))),
-            "rms_acceleration": float(np.sqrt(np.mean(acc**2))),
-            "rms_jerk": float(np.sqrt(np.mean(jerk**2))),
-            "path_length": float(path_length(s, per_segment=2)),
-            "continuity_order": int(min(orders)),
-        }
-        if holdout:
-            err = angle_deg(s(t_all[rest]), traj.quats[rest])
-            row.update(
-                holdout_median_deg=float(np.median(err)),
-                holdout_p95_deg=float(np.percentile(err, 95)),
-                holdout_max_deg=float(err.max()),
-            )
-        rows.append(row)
-    return rows
-
-
-def format_table(rows: list[dict]) -> str:
-    cols = [
-        ("method", "method", "{}"),
-        ("max_speed", "max |ω|", "{:.3g}"),
-        ("rms_speed", "rms |ω|", "{:.3g}"),
-        ("rms_acceleration", "rms |α|", "{:.3g}"),
-        ("rms_jerk", "rms jerk", "{:.3g}"),
-        ("path_length", "path (rad)", "{:.4g}"),
-        ("continuity_order", "C^k", "{}"),
-        ("holdout_median_deg", "median err (°)", "{:.4f}"),
-        ("holdout_p95_deg", "p95 err (°)", "{:.4f}"),
-        ("holdout_max_deg", "max err (°)", "{:.4f}"),
-    ]
-    cols = [c for c in cols if c[0] in rows[0]]
-    head = "| " + " | ".join(c[1] for c in cols) + " |"
-    sep = "|" + "|".join("---" if c[0] == "method" else "---:" for c in cols) + "|"
-    body = ["| " + " | ".join(f.format(r[k]) for k, _, f in cols) + " |" for r in rows]
-    return "\n".join([head, sep, *body])
-
-
 def cmd_compare(args) -> int:
     traj = _read(args)
     methods = args.methods.split(",") if args.methods else interpolating_methods()
-    for m in methods:
-        if m not in METHODS:
-            raise UsageError(f"--methods: unknown method {m!r}; valid: {', '.join(METHODS)}")
-    rows = compare(traj, methods, args.holdout)
+    rows = ops.compare(traj, methods, args.holdout, progress=True)
     if args.json:
         print(json.dumps(rows, indent=1))
     else:
-        print(format_table(rows))
+        print(ops.format_table(rows))
     return 0
 
 
@@ -208,11 +94,10 @@ def _family(args, traj):
     vals = [v for v in values.split(",") if v]
     if not vals:
         raise UsageError("--family: expected PARAM=v1,v2,…")
-    kt = traj.times - traj.times[0]
     base = _params(args.param)
     out = {}
     for v in vals:
-        out[f"{name} = {v}"] = _build(args.method, traj, kt, {**base, name: v})
+        out[f"{name} = {v}"] = ops.build_spline(args.method, traj, {**base, name: v})
     return out
 
 
@@ -226,7 +111,7 @@ def cmd_plot(args) -> int:
             _family(args, traj), title=f"{args.method}: {args.family or 'alpha sweep'}"
         )
     else:
-        s = _build(args.method, traj, kt, _params(args.param))
+        s = ops.build_spline(args.method, traj, _params(args.param))
         if args.kind == "sphere":
             fig = plot.sphere(s, key_times=kt)
         elif args.kind == "rates":
@@ -273,6 +158,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="methods: " + ", ".join(METHODS),
     )
     p.add_argument("--version", action="version", version=f"quatspline {__version__}")
+    p.add_argument("--debug", action="store_true", help="show the traceback of an error")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
 
     s = sub.add_parser("sample", help="sample a spline through a recording's keys")
@@ -286,6 +172,14 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--count", type=int, help="number of samples")
     g.add_argument("--at", metavar="TIMES_FILE", help="file of times to sample at")
     s.add_argument("--derivatives", action="store_true", help="add ω, α and jerk columns")
+    s.add_argument(
+        "--max-samples",
+        type=int,
+        default=ops.DEFAULT_MAX_SAMPLES,
+        metavar="N",
+        help=f"refuse to write more than N samples (default: {ops.DEFAULT_MAX_SAMPLES:,}; "
+        "about 140 bytes each in memory with positions and derivatives)",
+    )
     s.add_argument("--force", action="store_true", help="allow overwriting the input file")
     s.set_defaults(func=cmd_sample)
 
@@ -317,7 +211,30 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+_CLI_NAMES = {
+    "method": "--method",
+    "methods": "--methods",
+    "rate": "--rate",
+    "count": "--count",
+    "times": "--at",
+    "holdout": "--holdout",
+    "max_samples": "--max-samples",
+}
+
+
+def _cli_message(e: BaseException) -> str:
+    """The one-line message of an error, with library argument names as CLI options."""
+    msg = " ".join(str(e).split()) or type(e).__name__
+    name, sep, rest = msg.partition(":")
+    if sep and name in _CLI_NAMES:
+        msg = _CLI_NAMES[name] + sep + rest
+    return msg
+
+
 def main(argv: list[str] | None = None) -> int:
+    """Runs the command line; returns the exit code (0 success, 1 bad data or a failure,
+    2 bad usage, 130 interrupted). Every error is one line on standard error; ``--debug``
+    adds the traceback."""
     parser = build_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):
@@ -325,14 +242,28 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     try:
         return int(args.func(args))
-    except UsageError as e:
-        print(f"quatspline: error: {e}", file=sys.stderr)
-        return 2
-    except (ValueError, OSError, ImportError) as e:
-        print(f"quatspline: error: {e}", file=sys.stderr)
-        return 1
-    except KeyboardInterrupt:  # pragma: no cover
+    except KeyboardInterrupt:
+        if args.debug:
+            raise
+        print("quatspline: interrupted", file=sys.stderr)
         return 130
+    except Exception as e:
+        if args.debug:
+            import traceback
+
+            traceback.print_exc()
+        if isinstance(e, (UsageError, ops.ParameterError)):
+            code = 2
+        else:
+            code = 1
+        if isinstance(e, MemoryError):
+            msg = f"out of memory ({_cli_message(e)}); use fewer samples"
+        elif isinstance(e, (ValueError, OSError, ImportError, UsageError)):
+            msg = _cli_message(e)
+        else:  # an unexpected failure: still one line, with its kind
+            msg = f"{type(e).__name__}: {_cli_message(e)} (run with --debug for the traceback)"
+        print(f"quatspline: error: {msg}", file=sys.stderr)
+        return code
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -31,7 +31,7 @@ def _write_csv(path: Path, header: str, rows: np.ndarray) -> None:
 
 def run(out: Path, recording: Path | None = None) -> int:
     from . import plot
-    from .cli import compare, format_table
+    from .ops import compare, format_table
 
     start = time.perf_counter()
     out.mkdir(parents=True, exist_ok=True)
