@@ -9,10 +9,11 @@ taken from ``format`` or guessed from the extension and the first line. Every er
 
 from __future__ import annotations
 
+import inspect
 from pathlib import Path
 
 from . import bvh, csv_format, euroc, json_format, npz_format, repoimu, tum
-from ._common import Trajectory, TrajectoryError
+from ._common import MAX_SNIFF_LINE, Trajectory, TrajectoryError, check_regular_input
 
 __all__ = ["FORMATS", "Trajectory", "TrajectoryError", "detect_format", "read", "write"]
 
@@ -37,8 +38,9 @@ def detect_format(path) -> str:
         return "tum"
     first = ""
     if p.exists():
+        check_regular_input(p)  # a FIFO would block, /dev/zero would never end a line
         with open(p, encoding="utf-8-sig", errors="replace") as f:
-            first = f.readline()
+            first = f.readline(MAX_SNIFF_LINE)
     if first.startswith("#timestamp") and "q_RS_w" in first:
         return "euroc"
     if first.startswith("Time (s);Vicon Orientation"):
@@ -48,14 +50,29 @@ def detect_format(path) -> str:
     return "csv"
 
 
+def _check_options(fmt: str, fn, options: dict) -> None:
+    valid = [n for n in inspect.signature(fn).parameters if n != "path" and n != "traj"]
+    for name in options:
+        if name not in valid:
+            raise ValueError(
+                f"{name}: unknown option for format {fmt}; valid: {', '.join(valid) or 'none'}"
+            )
+
+
 def read(path, format: str | None = None, **options) -> Trajectory:
-    """Reads a trajectory. Options depend on the format (see each module)."""
-    fmt = format or detect_format(path)
-    if fmt not in FORMATS:
-        raise ValueError(f"format: unknown format {fmt!r}; valid: {', '.join(FORMATS)}")
+    """Reads a trajectory. Options depend on the format (see each module).
+
+    Only regular files are read (a FIFO, device or directory is refused before it is opened);
+    an unknown option is a ``ValueError`` naming it.
+    """
+    if format is not None and format not in FORMATS:
+        raise ValueError(f"format: unknown format {format!r}; valid: {', '.join(FORMATS)}")
     p = Path(path)
-    if not p.is_file():
+    if not p.exists():
         raise ValueError(f"{path}: no such file")
+    check_regular_input(p)
+    fmt = format or detect_format(path)
+    _check_options(fmt, FORMATS[fmt].read, options)
     try:
         return FORMATS[fmt].read(p, **options)
     except OSError as e:
@@ -65,15 +82,42 @@ def read(path, format: str | None = None, **options) -> Trajectory:
 
 
 def write(path, trajectory: Trajectory, format: str | None = None, **options) -> None:
-    """Writes a trajectory atomically; ``format`` defaults to the one of the extension."""
+    """Writes a trajectory atomically; ``format`` defaults to the one of the extension.
+
+    An extension that names no format (``.xlsx``, ``.parquet``) is refused with the list of
+    formats rather than written as CSV. The target must be a regular file or not exist (a
+    symbolic link is followed and its target replaced); a replaced file keeps its mode.
+    """
+    if not isinstance(trajectory, Trajectory):
+        raise TypeError(
+            f"trajectory: expected a quatspline.io.Trajectory, got {type(trajectory).__name__}"
+        )
+    if format is not None and format not in FORMATS:
+        raise ValueError(f"format: unknown format {format!r}; valid: {', '.join(FORMATS)}")
     fmt = format or detect_format_for_writing(path)
-    if fmt not in FORMATS:
-        raise ValueError(f"format: unknown format {fmt!r}; valid: {', '.join(FORMATS)}")
+    _check_options(fmt, FORMATS[fmt].write, options)
     FORMATS[fmt].write(Path(path), trajectory, **options)
 
 
+#: Output extensions and their formats.
+WRITE_EXTENSIONS = {
+    ".csv": "csv",
+    ".json": "json",
+    ".npz": "npz",
+    ".bvh": "bvh",
+    ".txt": "tum",
+    ".tum": "tum",
+}
+
+
 def detect_format_for_writing(path) -> str:
+    """The format of an output path from its extension; an unknown extension is an error
+    listing the extensions and formats (give ``format=`` to write euroc or repoimu)."""
     ext = Path(path).suffix.lower()
-    return {".json": "json", ".npz": "npz", ".bvh": "bvh", ".txt": "tum", ".tum": "tum"}.get(
-        ext, "csv"
-    )
+    if ext not in WRITE_EXTENSIONS:
+        known = ", ".join(f"{e} ({f})" for e, f in WRITE_EXTENSIONS.items())
+        raise ValueError(
+            f"{path}: unknown output extension {ext or '(none)'!r}; known: {known}; "
+            f"or choose a format ({', '.join(FORMATS)})"
+        )
+    return WRITE_EXTENSIONS[ext]

@@ -2,9 +2,14 @@
 
 from __future__ import annotations
 
+import os
+import stat
 from dataclasses import dataclass, field
 
 import numpy as np
+
+#: Longest first line read while guessing a format.
+MAX_SNIFF_LINE = 1 << 16
 
 
 class TrajectoryError(ValueError):
@@ -89,12 +94,37 @@ def finish(
     return Trajectory(times, quats, pos, name=name)
 
 
+def _kind(mode: int) -> str:
+    if stat.S_ISDIR(mode):
+        return "a directory"
+    if stat.S_ISFIFO(mode):
+        return "a FIFO (named pipe)"
+    if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
+        return "a device"
+    if stat.S_ISSOCK(mode):
+        return "a socket"
+    return "not a regular file"
+
+
+def check_regular_input(path) -> None:
+    """Refuses anything but a regular file (symbolic links are followed): a FIFO would block
+    forever, a device such as /dev/zero would never end."""
+    try:
+        st = os.stat(path)
+    except FileNotFoundError:
+        raise ValueError(f"{path}: no such file") from None
+    except OSError as e:
+        raise ValueError(f"{path}: cannot read ({e.strerror or e})") from None
+    if not stat.S_ISREG(st.st_mode):
+        raise ValueError(f"{path}: is {_kind(st.st_mode)}; only regular files are read")
+
+
 def parse_float(path, line: int, col: int, name: str, cell: str) -> float:
     try:
         return float(cell)
     except ValueError:
         raise TrajectoryError(
-            f"{path}:{line}: column {col} ({name!r}): not a number: {cell.strip()!r}"
+            f"{path}:{line}: column {col} ({name!r}): not a number: {cell.strip()[:40]!r}"
         ) from None
 
 

@@ -130,7 +130,12 @@ def read(
     sort=False,
     dedupe=False,
 ) -> Trajectory:
+    import numbers
 
+    if isinstance(skip_frames, bool) or not isinstance(skip_frames, numbers.Integral):
+        raise TypeError(f"skip_frames: expected an integer, got {type(skip_frames).__name__}")
+    if skip_frames < 0:
+        raise TrajectoryError(f"{path}: skip_frames must be ≥ 0, got {int(skip_frames)}")
     with open(path, encoding="utf-8-sig") as f:
         lines = f.read().splitlines()
     joints, nchan, i = _parse_hierarchy(path, lines)

@@ -31,8 +31,14 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
                 ns = int(cells[0])
             except ValueError:
                 raise TrajectoryError(
-                    f"{path}:{line}: column 1 ('timestamp'): not an integer: {cells[0].strip()!r}"
+                    f"{path}:{line}: column 1 ('timestamp'): not an integer: "
+                    f"{cells[0].strip()[:40]!r}"
                 ) from None
+            if abs(ns) > 10**30:
+                raise TrajectoryError(
+                    f"{path}:{line}: column 1 ('timestamp'): {len(str(abs(ns)))}-digit integer "
+                    "out of range (|t| ≤ 1e30 ns)"
+                )
             times.append(ns * 1e-9)
             rows.append([parse_float(path, line, c + 1, NAMES[c], cells[c]) for c in range(1, 8)])
             lines.append(line)

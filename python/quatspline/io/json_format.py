@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 
@@ -11,21 +12,41 @@ from .._atomic import atomic_write
 from ._common import Trajectory, TrajectoryError, finish
 
 
+def _parse_int(s: str) -> float:
+    # JSON integers become floats here: a 401-digit integer is out of range, not an OverflowError
+    x = float(s)
+    if not math.isfinite(x):
+        raise ValueError(f"integer of {len(s.lstrip('-'))} digits is out of range")
+    return x
+
+
+def _parse_float(s: str) -> float:
+    x = float(s)
+    if not math.isfinite(x):
+        raise ValueError(f"number {s[:40]!r} is out of range")
+    return x
+
+
 def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
+    with open(path, encoding="utf-8-sig") as f:
+        text = f.read()
     try:
-        with open(path, encoding="utf-8-sig") as f:
-            doc = json.load(f)
+        doc = json.loads(text, parse_int=_parse_int, parse_float=_parse_float)
     except json.JSONDecodeError as e:
         raise TrajectoryError(
             f"{path}:{e.lineno}: column {e.colno}: invalid JSON ({e.msg})"
         ) from None
+    except ValueError as e:  # out-of-range numbers from the hooks above
+        raise TrajectoryError(f"{path}: {e}") from None
+    except RecursionError:  # the parser's guard against deep nesting
+        raise TrajectoryError(f"{path}: JSON nested too deeply") from None
     if not isinstance(doc, dict) or "times" not in doc or "quats" not in doc:
         raise TrajectoryError(f'{path}: expected an object with "times" and "quats"')
     try:
         times = np.array(doc["times"], dtype=float)
         quats = np.array(doc["quats"], dtype=float)
         pos = np.array(doc["positions"], dtype=float) if doc.get("positions") is not None else None
-    except (TypeError, ValueError) as e:
+    except (TypeError, ValueError, RecursionError) as e:
         raise TrajectoryError(f"{path}: non-numeric or ragged values ({e})") from None
     if times.ndim != 1 or quats.shape != (len(times), 4):
         raise TrajectoryError(
