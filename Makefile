@@ -1,41 +1,74 @@
-# quatspline — build / demo / test / lint / bench.
+# quatspline — build / demo / test / lint / docs / wheel / bench.
 # Every target sets itself up on a fresh machine: it creates .venv/ and installs what it needs.
+# `make demo` installs only what the demo needs (maturin, numpy, tqdm, matplotlib for the
+# figures); `make test` adds the `test` and `docs` extras of pyproject.toml.
 
 PY      ?= python3
 VENV    := .venv
 VPY     := $(VENV)/bin/python
-STAMP   := $(VENV)/.deps-stamp
+BASE    := $(VENV)/.base-stamp
+DEV     := $(VENV)/.dev-stamp
+# maturin finds zig (the pip package `ziglang`) through the venv's python on PATH
+export PATH := $(abspath $(VENV))/bin:$(PATH)
 
-.PHONY: build demo test test-rust test-python lint bench accuracy fuzz clean
+.PHONY: build demo test test-rust test-python test-wheel lint typecheck docs wheel sdist \
+	bench accuracy fuzz clean
 
-$(STAMP): pyproject.toml
+$(BASE):
 	test -x $(VPY) || $(PY) -m venv $(VENV)
-	$(VPY) -m pip install --quiet --upgrade pip
-	$(VPY) -m pip install --quiet "maturin>=1.5,<2" numpy scipy pytest hypothesis mpmath \
-		numpy-quaternion pytransform3d splines ruff matplotlib tqdm
-	touch $(STAMP)
+	$(VPY) -m pip install --quiet --disable-pip-version-check "maturin>=1.5,<2"
+	touch $(BASE)
 
-build: $(STAMP)
-	$(VPY) -m maturin develop --release --quiet
+# The package's own dependencies (numpy, tqdm) and the plot extra come with `maturin develop`.
+build: $(BASE)
+	$(VPY) -m maturin develop --release --quiet --extras plot
 
 demo: build
 	$(VENV)/bin/quatspline demo
 
-test: build test-rust test-python lint
+# Test and docs extras, read from pyproject.toml by maturin (one list of dependencies).
+$(DEV): pyproject.toml $(BASE)
+	$(VPY) -m maturin develop --release --quiet --extras plot,test,docs
+	touch $(DEV)
+
+test: build $(DEV) test-rust test-python lint typecheck docs test-wheel
 
 test-rust:
 	cargo test --workspace --release
 
-test-python: build
+# Unit and property tests, and every docstring example as a doctest.
+test-python: build $(DEV)
 	$(VPY) -m pytest
 
-lint: $(STAMP)
+lint: $(BASE) $(DEV)
 	cargo fmt --all --check
 	cargo clippy --workspace --all-targets --release -- -D warnings
-	$(VENV)/bin/ruff check python tests benchmarks fuzz
-	$(VENV)/bin/ruff format --check python tests benchmarks fuzz
+	$(VENV)/bin/ruff check python tests tests_installed benchmarks fuzz examples docs
+	$(VENV)/bin/ruff format --check python tests tests_installed benchmarks fuzz examples docs
+
+# The gallery examples type-check against the package's annotations and stubs.
+typecheck: build $(DEV)
+	$(VPY) -m mypy --strict examples
+
+# The documentation site (Sphinx + numpydoc + sphinx-gallery); warnings are errors.
+docs: build $(DEV)
+	$(VPY) -m sphinx -W --keep-going -q -b html docs docs/_build/html
+	$(VPY) docs/check_api.py docs/_build/html
+
+# An abi3 wheel (CPython >= 3.9) for manylinux2014 (glibc 2.17), linked with zig, and an sdist.
+wheel: $(BASE)
+	$(VPY) -m pip install --quiet --disable-pip-version-check "ziglang>=0.11"
+	rm -f dist/quatspline-*.whl dist/quatspline-*.tar.gz
+	$(VPY) -m maturin build --release --zig --compatibility manylinux2014 --out dist --quiet
+	$(VPY) -m maturin sdist --out dist
+
+# The built wheel installed into a fresh venv outside the source tree (import, quick start,
+# CLI, demo without matplotlib).
+test-wheel: wheel $(DEV)
+	$(VPY) -m pytest tests_installed -q
 
 bench: build
+	$(VPY) -m maturin develop --release --quiet --extras plot,bench
 	$(VPY) benchmarks/bench.py
 	cargo bench -p quatspline --bench core -- --warm-up-time 0.5 --measurement-time 2
 
@@ -48,8 +81,8 @@ fuzz: build
 	$(VENV)/bin/python -m pip install --quiet atheris
 	$(VPY) fuzz/readers_fuzz.py fuzz/corpus/readers -max_total_time=$(FUZZ_SECONDS)
 
-accuracy: build
+accuracy: build $(DEV)
 	$(VPY) benchmarks/accuracy.py
 
 clean:
-	rm -rf target $(VENV) out
+	rm -rf target $(VENV) out dist docs/_build docs/api/generated docs/auto_examples

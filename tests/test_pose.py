@@ -20,7 +20,7 @@ def keys(n=7, seed=0):
 @pytest.mark.parametrize("rotation", ["c3", "squad", "natural"])
 def test_pose_spline_derivatives_match_finite_differences(rotation, translation):
     t, q, p = keys()
-    s = qs.PoseSpline(t, q, p, rotation=rotation, translation=translation)
+    s = qs.PoseSpline(q, t, p, rotation=rotation, translation=translation)
     np.testing.assert_allclose(s.position(t), p, atol=1e-12)
     mids = 0.5 * (t[1:] + t[:-1]) + 0.1 * np.diff(t)
     h = 1e-4
@@ -42,7 +42,7 @@ def test_pose_spline_derivatives_match_finite_differences(rotation, translation)
 
 def test_pose_transform_points():
     t, q, p = keys()
-    s = qs.PoseSpline(t, q, p)
+    s = qs.PoseSpline(q, t, p)
     body = np.array([[0.1, 0.0, 0.0], [0.0, 0.2, 0.3]])
     w = s.transform_points(t[:3], body)
     assert w.shape == (3, 2, 3)
@@ -52,16 +52,16 @@ def test_pose_transform_points():
 def test_pose_bad_input():
     t, q, p = keys()
     with pytest.raises(ValueError, match=r"positions: expected shape \(7, 3\)"):
-        qs.PoseSpline(t, q, p[:5])
+        qs.PoseSpline(q, t, p[:5])
     with pytest.raises(ValueError, match=r"translation: expected"):
-        qs.PoseSpline(t, q, p, translation="bezier")
+        qs.PoseSpline(q, t, p, translation="bezier")
     with pytest.raises(ValueError, match=r"outside the domain"):
-        qs.PoseSpline(t, q, p).position(t[-1] + 1)
+        qs.PoseSpline(q, t, p).position(t[-1] + 1)
 
 
 def test_screw_spline_equals_sclerp_on_two_keys():
     t, q, p = keys(2, 3)
-    s = qs.ScrewSpline(t, q, p)
+    s = qs.ScrewSpline(q, t, p)
     x = np.linspace(t[0], t[1], 21)
     a = qs.dq_from_pose(q[0], p[0])
     b = qs.dq_from_pose(q[1], p[1])
@@ -80,7 +80,7 @@ def one_sided_slopes(f, tk, h):
 @pytest.mark.parametrize("smooth", [False, True])
 def test_screw_spline_interpolates_and_its_continuity(smooth):
     t, q, p = keys(6, 4)
-    s = qs.ScrewSpline(t, q, p, smooth=smooth)
+    s = qs.ScrewSpline(q, t, p, smooth=smooth)
     qq, pp = s(t)
     np.testing.assert_allclose(pp, p, atol=1e-12)
     assert np.all(np.abs(np.abs(np.sum(qq * q, axis=1)) - 1) < 1e-12)

@@ -121,7 +121,7 @@ def cmd_plot(args) -> int:
             if traj.positions is not None:
                 from .pose import PoseSpline
 
-                pos = PoseSpline(kt, traj.quats, traj.positions, rotation="slerp").position
+                pos = PoseSpline(traj.quats, kt, traj.positions, rotation="slerp").position
             fig = plot.body(s, positions=pos)
     _guard_output(Path(args.output), [Path(args.input)], args.force)
     plot.save(fig, args.output)
@@ -205,7 +205,7 @@ def build_parser() -> argparse.ArgumentParser:
     d = sub.add_parser(
         "demo", help="the papers' examples and a real recording through every method"
     )
-    d.add_argument("--out", default="out", help="output directory (default: out)")
+    d.add_argument("-o", "--out", default="out", help="output directory (default: out)")
     d.add_argument("--recording", help="recording to use (default: bundled TUM RGB-D fr1/xyz)")
     d.set_defaults(func=cmd_demo)
     return p

@@ -1,9 +1,19 @@
 """``quatspline demo``: the papers' examples and one bundled real recording through every
-method, written to ``out/`` with figures, sample files, a comparison table and a report."""
+method, written to ``out/`` with figures, sample files, a comparison table and a report.
+
+The recording ships inside the package (:func:`quatspline.examples.load_recording`), so the
+demo runs from an installed wheel. Everything is written into a temporary directory beside
+``out`` and moved into place only when the demo has finished: a failure leaves ``out`` as it
+was. Without matplotlib the demo writes everything but the figures and says how to get them.
+"""
 
 from __future__ import annotations
 
+import importlib.util
 import json
+import os
+import shutil
+import tempfile
 import time
 from pathlib import Path
 
@@ -18,8 +28,7 @@ from .registry import interpolating_methods
 from .registry import spline as make_spline
 from .spline import BetaSpline
 
-DATA = Path(__file__).resolve().parents[2] / "data"
-RECORDING = DATA / "tum_rgbd_fr1_xyz" / "freiburg1_xyz-groundtruth.txt"
+PLOT_HINT = "figures skipped: matplotlib is not installed (pip install 'quatspline[plot]')"
 
 
 def _write_csv(path: Path, header: str, rows: np.ndarray) -> None:
@@ -29,12 +38,53 @@ def _write_csv(path: Path, header: str, rows: np.ndarray) -> None:
             f.write(",".join(repr(float(v)) for v in r) + "\n")
 
 
+def _have_matplotlib() -> bool:
+    return importlib.util.find_spec("matplotlib") is not None
+
+
 def run(out: Path, recording: Path | None = None) -> int:
-    from . import plot
+    """Runs the demo into ``out`` (created if missing; files of a previous run are replaced
+    only when this run has succeeded). ``recording``: any trajectory file instead of the
+    bundled one. Returns the exit code (0)."""
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"{out}: exists and is not a directory")
+    if recording is not None and not Path(recording).is_file():
+        raise ValueError(f"{recording}: no such file")
+    parent = out.resolve().parent
+    parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=parent))
+    try:
+        figures = _have_matplotlib()
+        summary = _run(tmp, recording, figures)
+        _move_into(tmp, out)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    print(summary.replace("{out}", str(out)))
+    if not figures:
+        print(PLOT_HINT)
+    return 0
+
+
+def _move_into(src: Path, dst: Path) -> None:
+    """Moves the finished tree ``src`` to ``dst``: a rename when ``dst`` does not exist,
+    otherwise file by file (each an atomic replace), keeping unrelated files in ``dst``."""
+    if not dst.exists():
+        os.rename(src, dst)
+        return
+    for root, _dirs, names in os.walk(src):
+        rel = Path(root).relative_to(src)
+        (dst / rel).mkdir(exist_ok=True)
+        for name in names:
+            os.replace(Path(root) / name, dst / rel / name)
+
+
+def _run(out: Path, recording: Path | None, figures: bool) -> str:
     from .ops import compare, format_table
 
+    if figures:
+        from . import plot
     start = time.perf_counter()
-    out.mkdir(parents=True, exist_ok=True)
     (out / "samples").mkdir(exist_ok=True)
     lines = []
 
@@ -50,12 +100,13 @@ def run(out: Path, recording: Path | None = None) -> int:
     _write_csv(out / "beta_example1_control_points.csv", "segment,j,qw,qx,qy,qz", np.array(rows))
     tb, qb = beta.sample(n=201)
     _write_csv(out / "samples" / "beta_example1.csv", "t,qw,qx,qy,qz", np.column_stack([tb, qb]))
-    plot.save(
-        plot.sphere(
-            beta, key_times=beta.joints, title="Beta spline, paper Example 1 (β₁=1, β₂=0.5)"
-        ),
-        out / "sphere.png",
-    )
+    if figures:
+        plot.save(
+            plot.sphere(
+                beta, key_times=beta.joints, title="Beta spline, paper Example 1 (β₁=1, β₂=0.5)"
+            ),
+            out / "sphere.png",
+        )
     from .continuity import continuity
 
     (j1,) = continuity(beta)
@@ -72,15 +123,22 @@ def run(out: Path, recording: Path | None = None) -> int:
         fam[f"β₁,₂ = {b12}"] = BetaSpline(
             BETA_EXAMPLE2_VERTICES, beta1=1.0, beta2=b2, canonicalize=False
         )
-    plot.save(
-        plot.family(fam, title="Beta spline, paper Example 2: β₂ at vertex 1"), out / "family.png"
-    )
+    if figures:
+        plot.save(
+            plot.family(fam, title="Beta spline, paper Example 2: β₂ at vertex 1"),
+            out / "family.png",
+        )
 
     # 3. A real recording through every interpolating method
-    rec = recording or RECORDING
-    if not rec.is_file():
-        raise ValueError(f"{rec}: demo recording not found (run from a source checkout)")
-    traj = qio.read(rec)
+    if recording is None:
+        from .examples import RECORDING, load_recording
+
+        traj = load_recording()
+        rec_name, rec_title = RECORDING, "TUM RGB-D fr1/xyz"
+    else:
+        traj = qio.read(recording)
+        rec_name = rec_title = Path(recording).name
+    stem = Path(rec_name).stem
     t_rel = traj.times - traj.times[0]
     rows = compare(traj, interpolating_methods(), holdout=10)
     table = format_table(rows)
@@ -91,29 +149,36 @@ def run(out: Path, recording: Path | None = None) -> int:
     for m in interpolating_methods():
         s = make_spline(m, traj.quats[idx], t_rel[idx])
         ts = np.arange(0.0, t_rel[idx[-1]], 0.01)
-        qio.write(
-            out / "samples" / f"{rec.stem}_{m}.csv", qio.Trajectory(ts + traj.times[0], s(ts))
-        )
+        qio.write(out / "samples" / f"{stem}_{m}.csv", qio.Trajectory(ts + traj.times[0], s(ts)))
     short = idx[t_rel[idx] <= 3.0]
     c3 = make_spline("c3", traj.quats[short], t_rel[short])
-    plot.save(
-        plot.rates(
-            c3, key_times=t_rel[short], title="C³ spline on TUM RGB-D fr1/xyz (keys every 0.1 s)"
-        ),
-        out / "rates.png",
-    )
+    if figures:
+        plot.save(
+            plot.rates(
+                c3,
+                key_times=t_rel[short],
+                title=f"C³ spline on {rec_title} (keys every 10th frame)",
+            ),
+            out / "rates.png",
+        )
     from .pose import PoseSpline
 
-    pose = PoseSpline(t_rel[idx], traj.quats[idx], traj.positions[idx], rotation="c3")
-    plot.save(
-        plot.body(
-            pose.rotation,
-            positions=pose.position,
-            snapshots=10,
-            title="TUM RGB-D fr1/xyz: the camera as a rigid body (C³ pose spline)",
-        ),
-        out / "body.png",
-    )
+    pose = PoseSpline(traj.quats[idx], t_rel[idx], traj.positions[idx], rotation="c3")
+    if figures:
+        plot.save(
+            plot.body(
+                pose.rotation,
+                positions=pose.position,
+                snapshots=10,
+                title=f"{rec_title}: the camera as a rigid body (C³ pose spline)",
+            ),
+            out / "body.png",
+        )
+    else:
+        lines.append(PLOT_HINT.replace("figures skipped", "Figures skipped") + ".")
+
+    def fig(title: str, name: str) -> list[str]:
+        return [f"![{title}]({name})", ""] if figures else []
 
     report = [
         "# quatspline demo",
@@ -121,24 +186,22 @@ def run(out: Path, recording: Path | None = None) -> int:
         *lines,
         "",
         "## Beta spline, Example 1 (sphere)",
-        "![sphere](sphere.png)",
         "",
+        *fig("sphere", "sphere.png"),
         "## Shape parameter family, Example 2",
-        "![family](family.png)",
         "",
-        f"## {rec.name}: every 10th frame as a key, the rest held out",
+        *fig("family", "family.png"),
+        f"## {rec_title}: every 10th frame as a key, the rest held out",
         "",
         table,
         "",
-        "![rates](rates.png)",
-        "",
-        "![body](body.png)",
-        "",
+        *fig("rates", "rates.png"),
+        *fig("body", "body.png"),
     ]
     (out / "report.md").write_text("\n".join(report))
     print(table)
-    print(
-        f"\nwrote {out}/ (report.md, 4 figures, compare.md/json, samples/) "
+    what = "4 figures, " if figures else ""
+    return (
+        f"\nwrote {{out}}/ (report.md, {what}compare.md/json, samples/) "
         f"in {time.perf_counter() - start:.1f} s"
     )
-    return 0

@@ -1,8 +1,46 @@
-"""The papers' worked examples as data (MATH.md §7)."""
+"""The papers' worked examples as data, and the recording that ships with the package."""
 
 from __future__ import annotations
 
+from importlib.resources import as_file, files
+from typing import TYPE_CHECKING
+
 import numpy as np
+
+if TYPE_CHECKING:
+    from .io import Trajectory
+
+#: File name of the bundled recording (inside the package's ``data`` folder).
+RECORDING = "freiburg1_xyz-groundtruth.txt"
+
+
+def load_recording() -> Trajectory:
+    """The TUM RGB-D ``fr1/xyz`` ground truth that ships inside the package.
+
+    A handheld camera tracked by motion capture: 3000 poses at 100 Hz over 30.1 s (one
+    110 ms gap), published by TU Munich under CC BY 4.0 (Sturm et al., IROS 2012). Read
+    with :func:`importlib.resources.files`, so it works from an installed wheel.
+
+    Returns
+    -------
+    Trajectory
+        ``times`` (3000,) in seconds (Unix time), ``quats`` (3000, 4) scalar first,
+        ``positions`` (3000, 3) in metres.
+
+    Examples
+    --------
+    >>> import quatspline as qs
+    >>> rec = qs.examples.load_recording()
+    >>> rec.quats.shape, rec.positions.shape
+    ((3000, 4), (3000, 3))
+    >>> round(float(rec.times[-1] - rec.times[0]), 2)
+    30.1
+    """
+    from . import io
+
+    with as_file(files("quatspline") / "data" / RECORDING) as path:
+        return io.read(path, format="tum")
+
 
 #: Beta paper, Example 1: auxiliary vertices P0..P4 as printed (normalise before use).
 BETA_EXAMPLE1_VERTICES = np.array(

@@ -260,7 +260,7 @@ def sample_trajectory(
     if traj.positions is not None:
         from .pose import PoseSpline
 
-        pos = PoseSpline(traj.times - t0, traj.quats, traj.positions, rotation="slerp").position(t)
+        pos = PoseSpline(traj.quats, traj.times - t0, traj.positions, rotation="slerp").position(t)
     return Trajectory(t + t0, q, pos, extra=extra, name=traj.name)
 
 

@@ -1,6 +1,6 @@
 """Pose trajectories: an orientation spline (any registered method) and a position spline.
 
-``PoseSpline(times, quats, positions, rotation="c3", translation="cubic", **params)``:
+``PoseSpline(quats, times, positions, rotation="c3", translation="cubic", **params)``:
 orientation and angular rates come from the rotation spline (exact derivatives), positions
 from a natural cubic spline (C², zero acceleration at the ends) or piecewise-linear
 interpolation (C⁰), with exact velocity and acceleration.
@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _core
-from ._arrays import as_real, with_width
+from ._arrays import as_times, pose_key_order, with_width
 from .algebra import rotate
 from .registry import spline as make_spline
 
@@ -23,8 +23,8 @@ class PoseSpline:
 
     def __init__(
         self,
-        times,
         quats,
+        times,
         positions,
         rotation: str = "c3",
         translation: str = "cubic",
@@ -33,7 +33,8 @@ class PoseSpline:
     ):
         if translation not in ("cubic", "linear"):
             raise ValueError(f"translation: expected 'cubic' or 'linear', got {translation!r}")
-        t = as_real(times, "times")
+        quats, times = pose_key_order(quats, times, "PoseSpline")
+        t = as_times(times, "times")
         p = with_width(positions, "positions", 3)
         if p.ndim != 2 or len(p) != len(t):
             raise ValueError(f"positions: expected shape ({len(t)}, 3), got {p.shape}")
@@ -52,7 +53,7 @@ class PoseSpline:
         return float(self._times[0]), float(self._times[-1])
 
     def _pos(self, t):
-        ta = as_real(t, "t")
+        ta = as_times(t, "t")
         flat = np.ascontiguousarray(ta.reshape(-1))
         a, b = self.domain
         if not np.all(np.isfinite(flat)):

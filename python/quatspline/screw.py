@@ -1,6 +1,6 @@
 """Screw-motion trajectories on dual quaternions (seed 001; MATH.md §3).
 
-``ScrewSpline(times, quats, positions)`` interpolates pose keys as unit dual quaternions
+``ScrewSpline(quats, times, positions)`` interpolates pose keys as unit dual quaternions
 Q̂ₖ = rₖ + ε ½ (0, tₖ) rₖ (consecutive keys sign-aligned):
 
 - ``smooth=False`` (default): piecewise ScLerp, Q̂ᵢ (Q̂ᵢ* Q̂ᵢ₊₁)^u, u = (τ − τᵢ)/hᵢ — each
@@ -20,15 +20,16 @@ from __future__ import annotations
 import numpy as np
 
 from . import _core
-from ._arrays import as_real, with_width
+from ._arrays import as_times, pose_key_order, with_width
 from .dualquat import dq_from_pose, dq_multiply, dq_power, dq_to_pose, dq_transform_point, sclerp
 
 __all__ = ["ScrewSpline"]
 
 
 class ScrewSpline:
-    def __init__(self, times, quats, positions, smooth: bool = False, alpha=5 / 16, beta=0.0):
-        t = np.ascontiguousarray(as_real(times, "times"), dtype=float)
+    def __init__(self, quats, times, positions, smooth: bool = False, alpha=5 / 16, beta=0.0):
+        quats, times = pose_key_order(quats, times, "ScrewSpline")
+        t = np.ascontiguousarray(as_times(times, "times"), dtype=float)
         q = with_width(quats, "quats", 4)
         p = with_width(positions, "positions", 3)
         if t.ndim != 1 or q.shape != (len(t), 4) or p.shape != (len(t), 3):
@@ -70,7 +71,7 @@ class ScrewSpline:
 
     def dual_quaternions(self, t) -> np.ndarray:
         """The pose as unit dual quaternions (M, 8) at times t (inside the domain)."""
-        x = np.atleast_1d(as_real(t, "t")).astype(float)
+        x = np.atleast_1d(as_times(t, "t")).astype(float)
         a, b = self.domain
         if not np.all(np.isfinite(x)) or np.any((x < a) | (x > b)):
             raise ValueError(f"t: expected finite times inside the domain [{a}, {b}]")

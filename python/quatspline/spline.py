@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _core
-from ._arrays import as_real, with_width
+from ._arrays import as_real, as_times, with_width
 
 __all__ = [
     "BetaSpline",
@@ -44,6 +44,13 @@ __all__ = [
 ]
 
 _FRAMES = ("world", "body")
+# scipy's RotationSpline(t, order) returns body-frame rates; ours takes an output array there.
+_ORDER_HINT = (
+    "{name}(t, {order}): the second argument is `out`, an output array, not scipy's derivative "
+    "order; for RotationSpline(t, 1) / (t, 2) use s.angular_velocity(t, frame='body') / "
+    "s.angular_acceleration(t, frame='body'), for the quaternion's derivative "
+    "s.derivative(t, {order})"
+)
 _EXTRAPOLATE = ("raise", "clamp")
 
 
@@ -57,7 +64,7 @@ def _keys(q, name: str) -> np.ndarray:
 def _times(times, n: int):
     if times is None:
         return None
-    t = as_real(times, "times")
+    t = as_times(times, "times")
     if t.ndim != 1:
         raise ValueError(f"times: expected shape ({n},), got {t.shape}")
     return np.ascontiguousarray(t)
@@ -112,7 +119,7 @@ class Spline:
 
     # ---- evaluation -------------------------------------------------------------------
     def _eval(self, t, order: int):
-        ta = as_real(t, "t")
+        ta = as_times(t, "t")
         flat = np.ascontiguousarray(ta.reshape(-1))
         out = self._core.evaluate(flat, order, self.extrapolate == "clamp")
         return ta.shape, out
@@ -123,7 +130,9 @@ class Spline:
         if out is None:
             shape, res = self._eval(t, 0)
             return res.reshape((*shape, 4))
-        ta = as_real(t, "t")
+        if isinstance(out, (int, np.integer)) and not isinstance(out, bool):
+            raise TypeError(_ORDER_HINT.format(order=int(out), name=type(self).__name__))
+        ta = as_times(t, "t")
         want = (*ta.shape, 4)
         if not isinstance(out, np.ndarray) or out.dtype != np.float64:
             raise ValueError(
@@ -154,7 +163,7 @@ class Spline:
     def _angular(self, t, order: int, frame: str) -> np.ndarray:
         if frame not in _FRAMES:
             raise ValueError(f"frame: expected one of {_FRAMES}, got {frame!r}")
-        ta = as_real(t, "t")
+        ta = as_times(t, "t")
         flat = np.ascontiguousarray(ta.reshape(-1))
         out = self._core.angular(flat, order, frame == "body", self.extrapolate == "clamp")
         return out.reshape((*ta.shape, 3))

@@ -1,0 +1,134 @@
+"""The built wheel as a new user gets it (issue 2.6): installed into a fresh venv in a
+temporary directory outside the source tree, without matplotlib, then ``import quatspline``,
+the README's quick start, ``quatspline --help`` and ``quatspline demo -o DIR``.
+
+Run by ``make test-wheel`` (part of ``make test``) after ``make wheel`` has put exactly one
+wheel and one sdist into ``dist/``.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+import tarfile
+import zipfile
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+DIST = ROOT / "dist"
+
+
+def _one(pattern: str) -> Path:
+    found = sorted(DIST.glob(pattern))
+    assert len(found) == 1, f"expected one {pattern} in {DIST} (run `make wheel`), got {found}"
+    return found[0]
+
+
+@pytest.fixture(scope="module")
+def wheel() -> Path:
+    return _one("quatspline-*.whl")
+
+
+@pytest.fixture(scope="module")
+def env(wheel, tmp_path_factory):
+    """(python, bin dir, work dir) of a fresh venv with the wheel installed."""
+    base = tmp_path_factory.mktemp("installed")
+    assert ROOT not in base.parents
+    subprocess.run([sys.executable, "-m", "venv", str(base / "venv")], check=True)
+    bindir = base / "venv" / "bin"
+    py = bindir / "python"
+    subprocess.run(
+        [str(py), "-m", "pip", "install", "--quiet", "--disable-pip-version-check", str(wheel)],
+        check=True,
+    )
+    work = base / "work"
+    work.mkdir()
+    return py, bindir, work
+
+
+def _run(env, *args, **kw):
+    py, bindir, work = env
+    clean = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
+    clean["PATH"] = f"{bindir}{os.pathsep}{clean.get('PATH', '')}"
+    return subprocess.run(
+        list(args), cwd=work, env=clean, capture_output=True, text=True, timeout=600, **kw
+    )
+
+
+def test_wheel_tag_is_abi3_manylinux2014(wheel):
+    # cp39-abi3: one wheel for every CPython >= 3.9; manylinux2014 = glibc 2.17 (CentOS 7,
+    # Ubuntu 14.04+, RHEL 8/9). auditwheel confirms the symbols allow that tag.
+    assert re.search(r"-cp39-abi3-manylinux2014_x86_64\.manylinux_2_17_x86_64\.whl$", wheel.name)
+    show = subprocess.run(
+        [sys.executable, "-m", "auditwheel", "show", str(wheel)],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    assert '"manylinux_2_17_x86_64"' in " ".join(show.split())
+    names = zipfile.ZipFile(wheel).namelist()
+    assert "quatspline/data/freiburg1_xyz-groundtruth.txt" in names
+    assert any(n.endswith("licenses/LICENSE") or n.endswith("/LICENSE") for n in names)
+    assert "quatspline/py.typed" in names and "quatspline/_core.pyi" in names
+
+
+def test_sdist_has_tests_license_and_data():
+    sdist = _one("quatspline-*.tar.gz")
+    with tarfile.open(sdist) as tar:
+        names = {n.split("/", 1)[1] for n in tar.getnames() if "/" in n}
+    for needed in (
+        "LICENSE",
+        "CHANGELOG.md",
+        "pyproject.toml",
+        "tests/test_package.py",
+        "tests_installed/test_installed_wheel.py",
+        "data/tum_rgbd_fr1_xyz/freiburg1_xyz-groundtruth.txt",
+        "python/quatspline/data/freiburg1_xyz-groundtruth.txt",
+        "crates/quatspline/Cargo.toml",
+        "docs/conf.py",
+        "examples/README.txt",
+    ):
+        assert needed in names, needed
+    assert not any(n.startswith("docs/_build") for n in names)
+
+
+def test_import_from_the_installed_wheel(env):
+    r = _run(env, str(env[0]), "-c", "import quatspline as qs; print(qs.__version__, qs.__file__)")
+    assert r.returncode == 0, r.stderr
+    version, path = r.stdout.split()
+    assert version == "0.1.0"
+    assert str(ROOT) not in path and "site-packages" in path
+
+
+def test_readme_quick_start(env):
+    blocks = re.findall(r"```python\n(.*?)```", (ROOT / "README.md").read_text(), flags=re.S)
+    assert blocks
+    for code in blocks:
+        r = _run(env, str(env[0]), "-c", code)
+        assert r.returncode == 0, r.stderr
+
+
+def test_cli_help(env):
+    r = _run(env, "quatspline", "--help")
+    assert r.returncode == 0, r.stderr
+    for cmd in ("sample", "compare", "plot", "demo"):
+        assert cmd in r.stdout
+
+
+def test_demo_without_matplotlib(env):
+    r = _run(env, str(env[0]), "-c", "import matplotlib")
+    assert r.returncode != 0, "the fresh venv should not have matplotlib"
+    out = env[2] / "demo-out"
+    r = _run(env, "quatspline", "demo", "-o", str(out))
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.splitlines()[-1] == (
+        "figures skipped: matplotlib is not installed (pip install 'quatspline[plot]')"
+    )
+    assert (out / "report.md").stat().st_size > 0
+    assert (out / "compare.json").stat().st_size > 0
+    assert len(list((out / "samples").glob("*.csv"))) == 9
+    assert sorted(p.name for p in out.parent.iterdir()) == ["demo-out"]
