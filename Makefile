@@ -26,7 +26,18 @@ test: build test-rust test-python lint
 test-rust:
 	cargo test --workspace --release
 
-test-python: build
+# The Khronos glTF validator (test-only), installed into the project, never used by the library.
+GLTF_VALIDATOR := .npm/node_modules/gltf-validator/package.json
+$(GLTF_VALIDATOR):
+	npm install --prefix .npm --no-audit --no-fund --silent gltf-validator@2.0.0-dev.3.10
+
+# Test-only peers and optional extras the tests exercise (not needed by `make demo`).
+TESTSTAMP := $(VENV)/.test-deps-stamp
+$(TESTSTAMP): $(STAMP)
+	$(VPY) -m pip install --quiet rosbags pygltflib pandas evo
+	touch $(TESTSTAMP)
+
+test-python: build $(TESTSTAMP) $(GLTF_VALIDATOR)
 	$(VPY) -m pytest
 
 lint: $(STAMP)

@@ -1,4 +1,5 @@
-"""Trajectory files: CSV, JSON, NPZ, TUM, EuRoC, RepoIMU and BVH, read and written.
+"""Trajectory files: CSV, JSON, NPZ, TUM, EuRoC, RepoIMU, BVH, KITTI, glTF/GLB and ROS bags
+(ROS 1, ROS 2, MCAP), read and written.
 
 ``read(path, format=None, **options)`` returns a :class:`Trajectory` (times, unit quaternions
 in (w, x, y, z) order, optional positions); ``write(path, trajectory, format=None)`` writes
@@ -11,7 +12,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from . import bvh, csv_format, euroc, json_format, npz_format, repoimu, tum
+from . import bvh, csv_format, euroc, gltf, json_format, kitti, npz_format, repoimu, rosbag, tum
 from ._common import Trajectory, TrajectoryError
 
 __all__ = ["FORMATS", "Trajectory", "TrajectoryError", "detect_format", "read", "write"]
@@ -24,6 +25,9 @@ FORMATS = {
     "euroc": euroc,
     "repoimu": repoimu,
     "bvh": bvh,
+    "kitti": kitti,
+    "gltf": gltf,
+    "rosbag": rosbag,
 }
 
 
@@ -31,6 +35,10 @@ def detect_format(path) -> str:
     """The format of ``path`` from its extension and, for .csv/.txt, its first line."""
     p = Path(path)
     ext = p.suffix.lower()
+    if rosbag.is_bag(p):
+        return "rosbag"
+    if ext in (".gltf", ".glb"):
+        return "gltf"
     if ext in (".json", ".npz", ".bvh"):
         return ext[1:]
     if ext == ".tum":
@@ -44,7 +52,7 @@ def detect_format(path) -> str:
     if first.startswith("Time (s);Vicon Orientation"):
         return "repoimu"
     if ext == ".txt":
-        return "tum"
+        return "kitti" if _kitti_like(p) else "tum"
     return "csv"
 
 
@@ -54,7 +62,7 @@ def read(path, format: str | None = None, **options) -> Trajectory:
     if fmt not in FORMATS:
         raise ValueError(f"format: unknown format {fmt!r}; valid: {', '.join(FORMATS)}")
     p = Path(path)
-    if not p.is_file():
+    if not (p.is_file() or (fmt == "rosbag" and p.is_dir())):
         raise ValueError(f"{path}: no such file")
     try:
         return FORMATS[fmt].read(p, **options)
@@ -74,6 +82,25 @@ def write(path, trajectory: Trajectory, format: str | None = None, **options) ->
 
 def detect_format_for_writing(path) -> str:
     ext = Path(path).suffix.lower()
+    more = {".glb": "gltf", ".gltf": "gltf", ".bag": "rosbag", ".mcap": "rosbag"}
+    if ext in more:
+        return more[ext]
     return {".json": "json", ".npz": "npz", ".bvh": "bvh", ".txt": "tum", ".tum": "tum"}.get(
         ext, "csv"
     )
+
+
+def _kitti_like(p: Path) -> bool:
+    """A .txt whose first data line has 12 numbers (KITTI) rather than 8 (TUM)."""
+    try:
+        with open(p, encoding="utf-8-sig", errors="replace") as f:
+            for _ in range(64):
+                line = f.readline(1 << 16)
+                if not line:
+                    return False
+                s = line.strip()
+                if s and not s.startswith("#"):
+                    return len(s.split()) == 12
+    except OSError:
+        return False
+    return False
