@@ -14,8 +14,21 @@ from pathlib import Path
 
 from . import bvh, csv_format, euroc, gltf, json_format, kitti, npz_format, repoimu, rosbag, tum
 from ._common import Trajectory, TrajectoryError
+from .evo_bridge import from_evo, to_evo
+from .pandas_bridge import from_dataframe, to_dataframe
 
-__all__ = ["FORMATS", "Trajectory", "TrajectoryError", "detect_format", "read", "write"]
+__all__ = [
+    "FORMATS",
+    "Trajectory",
+    "TrajectoryError",
+    "detect_format",
+    "from_dataframe",
+    "from_evo",
+    "read",
+    "to_dataframe",
+    "to_evo",
+    "write",
+]
 
 FORMATS = {
     "csv": csv_format,
