@@ -98,7 +98,7 @@ def run(out: Path, recording: Path | None = None) -> int:
     c3 = make_spline("c3", traj.quats[short], t_rel[short])
     plot.save(
         plot.rates(
-            c3, key_times=t_rel[short], title="C³ spline on TUM RGB-D fr1/xyz (keys every 0.1 s)"
+            c3, key_times=t_rel[short], title=f"C³ spline on {rec.name} (every 10th frame a key)"
         ),
         out / "rates.png",
     )
@@ -110,7 +110,7 @@ def run(out: Path, recording: Path | None = None) -> int:
             pose.rotation,
             positions=pose.position,
             snapshots=10,
-            title="TUM RGB-D fr1/xyz: the camera as a rigid body (C³ pose spline)",
+            title=f"{rec.name}: the body along the motion (C³ pose spline)",
         ),
         out / "body.png",
     )

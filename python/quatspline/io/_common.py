@@ -54,7 +54,9 @@ class Trajectory:
 
     def resample(self, times, method: str = "c3", extrapolate: str = "raise", **params):
         """This trajectory's spline sampled at ``times`` (absolute, in this trajectory's time
-        unit; another :class:`Trajectory` gives its times). See :func:`quatspline.resampling.resample`."""
+        unit; another :class:`Trajectory` gives its times).
+
+        See :func:`quatspline.resampling.resample`."""
         from ..resampling import resample
 
         return resample(self, times, method=method, extrapolate=extrapolate, **params)
