@@ -36,8 +36,19 @@ test: build $(DEV) test-rust test-python lint typecheck docs test-wheel
 test-rust:
 	cargo test --workspace --release
 
+# The Khronos glTF validator (test-only), installed into the project, never used by the library.
+GLTF_VALIDATOR := .npm/node_modules/gltf-validator/package.json
+$(GLTF_VALIDATOR):
+	npm install --prefix .npm --no-audit --no-fund --silent gltf-validator@2.0.0-dev.3.10
+
+# Test-only peers and optional extras the tests exercise (not needed by `make demo`).
+TESTSTAMP := $(VENV)/.test-deps-stamp
+$(TESTSTAMP): $(DEV)
+	$(VPY) -m pip install --quiet rosbags pygltflib pandas evo
+	touch $(TESTSTAMP)
+
 # Unit and property tests, and every docstring example as a doctest.
-test-python: build $(DEV)
+test-python: build $(DEV) $(TESTSTAMP) $(GLTF_VALIDATOR)
 	$(VPY) -m pytest
 
 lint: $(BASE) $(DEV)

@@ -1,4 +1,5 @@
-"""Trajectory files: CSV, JSON, NPZ, TUM, EuRoC, RepoIMU and BVH, read and written.
+"""Trajectory files: CSV, JSON, NPZ, TUM, EuRoC, RepoIMU, BVH, KITTI, glTF/GLB and ROS bags
+(ROS 1, ROS 2, MCAP), read and written.
 
 ``read(path, format=None, **options)`` returns a :class:`Trajectory` (times, unit quaternions
 in (w, x, y, z) order, optional positions); ``write(path, trajectory, format=None)`` writes
@@ -12,10 +13,23 @@ from __future__ import annotations
 import inspect
 from pathlib import Path
 
-from . import bvh, csv_format, euroc, json_format, npz_format, repoimu, tum
+from . import bvh, csv_format, euroc, gltf, json_format, kitti, npz_format, repoimu, rosbag, tum
 from ._common import MAX_SNIFF_LINE, Trajectory, TrajectoryError, check_regular_input
+from .evo_bridge import from_evo, to_evo
+from .pandas_bridge import from_dataframe, to_dataframe
 
-__all__ = ["FORMATS", "Trajectory", "TrajectoryError", "detect_format", "read", "write"]
+__all__ = [
+    "FORMATS",
+    "Trajectory",
+    "TrajectoryError",
+    "detect_format",
+    "from_dataframe",
+    "from_evo",
+    "read",
+    "to_dataframe",
+    "to_evo",
+    "write",
+]
 
 FORMATS = {
     "csv": csv_format,
@@ -25,6 +39,9 @@ FORMATS = {
     "euroc": euroc,
     "repoimu": repoimu,
     "bvh": bvh,
+    "kitti": kitti,
+    "gltf": gltf,
+    "rosbag": rosbag,
 }
 
 
@@ -32,6 +49,10 @@ def detect_format(path) -> str:
     """The format of ``path`` from its extension and, for .csv/.txt, its first line."""
     p = Path(path)
     ext = p.suffix.lower()
+    if rosbag.is_bag(p):
+        return "rosbag"
+    if ext in (".gltf", ".glb"):
+        return "gltf"
     if ext in (".json", ".npz", ".bvh"):
         return ext[1:]
     if ext == ".tum":
@@ -46,7 +67,7 @@ def detect_format(path) -> str:
     if first.startswith("Time (s);Vicon Orientation"):
         return "repoimu"
     if ext == ".txt":
-        return "tum"
+        return "kitti" if _kitti_like(p) else "tum"
     return "csv"
 
 
@@ -70,7 +91,8 @@ def read(path, format: str | None = None, **options) -> Trajectory:
     p = Path(path)
     if not p.exists():
         raise ValueError(f"{path}: no such file")
-    check_regular_input(p)
+    if not (p.is_dir() and rosbag.is_bag(p)):  # a ROS 2 bag is a directory
+        check_regular_input(p)
     fmt = format or detect_format(path)
     _check_options(fmt, FORMATS[fmt].read, options)
     try:
@@ -107,6 +129,10 @@ WRITE_EXTENSIONS = {
     ".bvh": "bvh",
     ".txt": "tum",
     ".tum": "tum",
+    ".glb": "gltf",
+    ".gltf": "gltf",
+    ".bag": "rosbag",
+    ".mcap": "rosbag",
 }
 
 
@@ -121,3 +147,19 @@ def detect_format_for_writing(path) -> str:
             f"or choose a format ({', '.join(FORMATS)})"
         )
     return WRITE_EXTENSIONS[ext]
+
+
+def _kitti_like(p: Path) -> bool:
+    """A .txt whose first data line has 12 numbers (KITTI) rather than 8 (TUM)."""
+    try:
+        with open(p, encoding="utf-8-sig", errors="replace") as f:
+            for _ in range(64):
+                line = f.readline(1 << 16)
+                if not line:
+                    return False
+                s = line.strip()
+                if s and not s.startswith("#"):
+                    return len(s.split()) == 12
+    except OSError:
+        return False
+    return False

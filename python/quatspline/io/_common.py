@@ -19,13 +19,19 @@ class TrajectoryError(ValueError):
 @dataclass
 class Trajectory:
     """Times (N,), unit quaternions (N, 4) in (w, x, y, z) order, optional positions (N, 3),
-    and optional extra columns (name → (N,) or (N, k) arrays, e.g. angular velocity)."""
+    and optional extra columns (name → (N,) or (N, k) arrays, e.g. angular velocity).
+
+    ``stamps_ns`` (optional, int64 (N,)) keeps integer nanosecond stamps exactly (EuRoC, ROS
+    bags), so a round trip does not pass them through float64 seconds; ``times`` is then
+    ``stamps_ns / 1e9``.
+    """
 
     times: np.ndarray
     quats: np.ndarray
     positions: np.ndarray | None = None
     extra: dict[str, np.ndarray] = field(default_factory=dict)
     name: str = ""
+    stamps_ns: np.ndarray | None = None
 
     def __post_init__(self):
         self.times = np.asarray(self.times, dtype=float).reshape(-1)
@@ -41,8 +47,37 @@ class Trajectory:
                 f"trajectory: {len(self.times)} times but {len(self.positions)} positions"
             )
 
+        if self.stamps_ns is not None:
+            self.stamps_ns = np.asarray(self.stamps_ns, dtype=np.int64).reshape(-1)
+            if len(self.stamps_ns) != len(self.times):
+                raise ValueError(
+                    f"trajectory: {len(self.times)} times but {len(self.stamps_ns)} stamps_ns"
+                )
+
     def __len__(self) -> int:
         return len(self.times)
+
+    def resample(self, times, method: str = "c3", extrapolate: str = "raise", **params):
+        """This trajectory's spline sampled at ``times`` (absolute, in this trajectory's time
+        unit; another :class:`Trajectory` gives its times).
+
+        See :func:`quatspline.resampling.resample`."""
+        from ..resampling import resample
+
+        return resample(self, times, method=method, extrapolate=extrapolate, **params)
+
+    def to_dataframe(self):
+        """A pandas DataFrame: columns t, qw, qx, qy, qz (x, y, z; t_ns; extra columns)."""
+        from .pandas_bridge import to_dataframe
+
+        return to_dataframe(self)
+
+    @classmethod
+    def from_dataframe(cls, df, name: str = ""):
+        """The inverse of :meth:`to_dataframe` (column names as in the CSV reader)."""
+        from .pandas_bridge import from_dataframe
+
+        return from_dataframe(df, name=name)
 
 
 def finish(
@@ -54,6 +89,7 @@ def finish(
     sort: bool = False,
     dedupe: bool = False,
     name: str = "",
+    stamps_ns=None,
 ) -> Trajectory:
     """Validates what a reader parsed: finite values, non-zero quaternions (normalised),
     strictly increasing times (or sorted / de-duplicated on request). ``lines`` gives the file
@@ -62,6 +98,7 @@ def finish(
     quats = np.asarray(quats, dtype=float).reshape(-1, 4)
     pos = None if positions is None else np.asarray(positions, dtype=float).reshape(-1, 3)
     lines = np.arange(1, len(times) + 1) if lines is None else np.asarray(lines)
+    ns = None if stamps_ns is None else np.asarray(stamps_ns, dtype=np.int64)
     if len(times) == 0:
         raise TrajectoryError(f"{path}: no data rows")
     bad = ~np.isfinite(times) | ~np.all(np.isfinite(quats), axis=1)
@@ -79,10 +116,12 @@ def finish(
         order = np.argsort(times, kind="stable")
         times, quats, lines = times[order], quats[order], lines[order]
         pos = None if pos is None else pos[order]
+        ns = None if ns is None else ns[order]
     if dedupe:
         keep = np.concatenate([[True], np.diff(times) != 0])
         times, quats, lines = times[keep], quats[keep], lines[keep]
         pos = None if pos is None else pos[keep]
+        ns = None if ns is None else ns[keep]
     dt = np.diff(times)
     if np.any(dt <= 0):
         k = int(np.argmax(dt <= 0)) + 1
@@ -91,7 +130,7 @@ def finish(
             f"{path}:{lines[k]}: {what} timestamp {times[k]!r} after {times[k - 1]!r} "
             "(use --sort / --dedupe, or sort=True / dedupe=True)"
         )
-    return Trajectory(times, quats, pos, name=name)
+    return Trajectory(times, quats, pos, name=name, stamps_ns=ns)
 
 
 def _kind(mode: int) -> str:

@@ -1,0 +1,55 @@
+"""evo's ``PoseTrajectory3D`` ↔ trajectories (``pip install 'quatspline[evo]'``).
+
+evo keeps quaternions scalar first (w, x, y, z), as quatspline does, so nothing is reordered.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._common import Trajectory, finish
+
+HINT = "the evo bridge needs evo: pip install 'quatspline[evo]'"
+
+
+def _trajectory_module():
+    try:
+        from evo.core import trajectory
+    except ImportError as e:
+        raise ImportError(HINT) from e
+    return trajectory
+
+
+def to_evo(traj: Trajectory):
+    """An ``evo.core.trajectory.PoseTrajectory3D`` (positions 0 when the trajectory has none,
+    which evo's rotation-only metrics accept)."""
+    if not isinstance(traj, Trajectory):
+        raise TypeError(f"traj: expected a quatspline.io.Trajectory, got {type(traj).__name__}")
+    tm = _trajectory_module()
+    pos = traj.positions if traj.positions is not None else np.zeros((len(traj), 3))
+    return tm.PoseTrajectory3D(
+        positions_xyz=np.array(pos, dtype=float),
+        orientations_quat_wxyz=np.array(traj.quats, dtype=float),
+        timestamps=np.array(traj.times, dtype=float),
+    )
+
+
+def from_evo(pose_trajectory, name: str = "", sort: bool = False, dedupe: bool = False):
+    """A trajectory from an evo ``PoseTrajectory3D`` (times, orientations, positions)."""
+    tm = _trajectory_module()
+    if not isinstance(pose_trajectory, tm.PoseTrajectory3D):
+        raise TypeError(
+            "pose_trajectory: expected an evo PoseTrajectory3D, got "
+            f"{type(pose_trajectory).__name__}"
+        )
+    pt = pose_trajectory
+    return finish(
+        "evo trajectory",
+        np.asarray(pt.timestamps, dtype=float),
+        np.asarray(pt.orientations_quat_wxyz, dtype=float),
+        np.asarray(pt.positions_xyz, dtype=float),
+        None,
+        sort,
+        dedupe,
+        name=name,
+    )
