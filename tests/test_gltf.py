@@ -114,7 +114,7 @@ def wavy_pose(n=12, seed=0):
     q = random_walk(n, seed, step=0.5)
     t = np.cumsum(np.r_[0.0, np.random.default_rng(seed).uniform(0.5, 1.5, n - 1)])
     p = np.random.default_rng(seed + 1).normal(size=(n, 3))
-    return qs.PoseSpline(t, q, p, rotation="c3")
+    return qs.PoseSpline(q, t, p, rotation="c3")
 
 
 @pytest.mark.parametrize("interpolation", ["linear", "cubicspline"])
@@ -154,7 +154,7 @@ def test_real_recording_export(tmp_path):
     rep = to_gltf(traj, path, max_error="0.05deg", max_position_error="1mm")
     (v,) = validate(path)
     assert v["numErrors"] == 0, v["messages"]
-    ps = qs.PoseSpline(traj.times, traj.quats, traj.positions, rotation="c3")
+    ps = qs.PoseSpline(traj.quats, traj.times, traj.positions, rotation="c3")
     e_rot, e_pos, _ = measured_errors(path, ps, traj.times[0])
     assert e_rot.max() <= rep.rotation_bound * (1 + 1e-3)
     assert e_pos.max() <= rep.translation_bound * (1 + 1e-3)
