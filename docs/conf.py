@@ -124,11 +124,32 @@ def write_api_reference() -> None:
             for n in names:
                 lines += [f".. autodata:: {n}", "   :annotation:", ""]
             continue
-        template = "module.rst" if section == "Modules" else None
-        lines += [".. autosummary::", "   :toctree: generated", "   :nosignatures:"]
-        if template:
-            lines.append(f"   :template: {template}")
-        lines.append("")
+        if section == "Modules":
+            # one page per public submodule, written here (autosummary resolves a module
+            # named like a stdlib one, e.g. ``io``, to the wrong module)
+            gen = HERE / "api" / "generated"
+            gen.mkdir(parents=True, exist_ok=True)
+            lines += [".. toctree::", "   :maxdepth: 1", ""]
+            for n in sorted(names):
+                full = f"quatspline.{n}"
+                page = "\n".join(
+                    [
+                        full,
+                        "=" * len(full),
+                        "",
+                        f".. automodule:: {full}",
+                        "   :members:",
+                        "   :imported-members:",
+                        "",
+                    ]
+                )
+                path = gen / f"{full}.rst"
+                if not path.exists() or path.read_text() != page:
+                    path.write_text(page)
+                lines.append(f"   generated/{full}")
+            lines.append("")
+            continue
+        lines += [".. autosummary::", "   :toctree: generated", "   :nosignatures:", ""]
         lines += [f"   {n}" for n in sorted(names, key=lambda s: (not s[0].isupper(), s))]
         lines.append("")
     text = "\n".join(lines)

@@ -13,7 +13,6 @@ import re
 from pathlib import Path
 
 import pytest
-
 import quatspline
 
 BUILD = Path(os.environ.get("QUATSPLINE_DOCS_BUILD", Path(__file__).parent / "_build" / "html"))

@@ -26,7 +26,7 @@ __all__ = [
 
 
 def normalize(q) -> np.ndarray:
-    """q / |q|. Zero (or denormal) quaternions raise ValueError."""
+    """``q / |q|``. Zero (or denormal) quaternions raise ValueError."""
     return unary(_core.normalize, q, "q", 4, 4)
 
 
@@ -42,17 +42,17 @@ def conjugate(q) -> np.ndarray:
 
 
 def inverse(q) -> np.ndarray:
-    """q⁻¹ = q* / |q|²; a zero quaternion raises ValueError."""
+    """``q⁻¹ = q* / |q|²``; a zero quaternion raises ValueError."""
     return unary(_core.inverse, q, "q", 4, 4)
 
 
 def exp(q) -> np.ndarray:
-    """exp(w + v) = e^w (cos|v|, sin|v| v/|v|)."""
+    """``exp(w + v) = e^w (cos|v|, sin|v| v/|v|)``."""
     return unary(_core.exp, q, "q", 4, 4)
 
 
 def log(q) -> np.ndarray:
-    """Principal log (ln|q|, θ v/|v|), θ = atan2(|v|, w) ∈ [0, π]."""
+    """Principal log ``(ln|q|, θ v/|v|)``, ``θ = atan2(|v|, w)`` ∈ [0, π]."""
     return unary(_core.log, q, "q", 4, 4)
 
 

@@ -24,9 +24,10 @@ class JointContinuity:
     index: int
     time: float
     jump_abs: np.ndarray
-    """|R_m − L_m| for m = 0 … 3 (time derivatives)."""
+    """``|R_m − L_m|`` for m = 0 … 3 (time derivatives)."""
     jump_rel: np.ndarray
-    """Jumps relative to max(|L_m|, |R_m|, 1e-4 × the largest |q^(m)| at joints and midpoints)."""
+    """Jumps relative to ``max(|L_m|, |R_m|, 1e-4 × the largest |q^(m)|)`` at joints and
+    midpoints."""
     order: int
     """Parametric order C^k reached (−1 if even the positions differ)."""
     g1_xi: float
@@ -34,13 +35,13 @@ class JointContinuity:
     g2_delta: float
     g2_residual: float
     beta_g1_residual: float | None = None
-    """BetaSpline: |sᵢ'(0) − β_{i,1} s_{i−1}'(1)| (local parameter)."""
+    """BetaSpline: ``|sᵢ'(0) − β_{i,1} s_{i−1}'(1)|`` (local parameter)."""
     beta_g2_residual: float | None = None
-    """BetaSpline: |sᵢ''(0) − β_{i,1}² s_{i−1}''(1) − β_{i,2} s_{i−1}'(1)|."""
+    """BetaSpline: ``|sᵢ''(0) − β_{i,1}² s_{i−1}''(1) − β_{i,2} s_{i−1}'(1)|``."""
     theorem2_residual: float | None = None
     """BetaSpline: residual of the corrected Theorem-2 condition (G² residual = 6/γᵢ × this)."""
     second_derivative: float | None = None
-    """BetaSpline: |sᵢ''(0)|, the size the G² residual compares with."""
+    """BetaSpline: ``|sᵢ''(0)|``, the size the G² residual compares with."""
 
 
 def continuity(spline: Spline, order: int = 3, tol: float = 1e-9) -> list[JointContinuity]:

@@ -8,6 +8,8 @@ to scalar-last storage (scipy, ROS, Eigen's coefficients).
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from . import _core
@@ -96,7 +98,7 @@ def from_scipy(rotation) -> np.ndarray:
     return from_xyzw(rotation.as_quat())
 
 
-def to_scipy(q):
+def to_scipy(q) -> Any:
     """A ``scipy.spatial.transform.Rotation`` of quaternions (..., 4). Needs scipy."""
     try:
         from scipy.spatial.transform import Rotation

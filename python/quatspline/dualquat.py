@@ -44,7 +44,7 @@ def dq_to_pose(dq) -> tuple[np.ndarray, np.ndarray]:
 
 
 def dq_normalize(dq) -> np.ndarray:
-    """q̂ / ‖q̂‖ with ‖q̂‖ = |r| + ε (r·d)/|r|: unit real part, r·d = 0."""
+    """``q̂ / ‖q̂‖`` with ``‖q̂‖ = |r| + ε (r·d)/|r|``: unit real part, r·d = 0."""
     return unary(_core.dq_normalize, dq, "dq", 8, 8)
 
 
@@ -74,7 +74,7 @@ def dq_transform_point(dq, points) -> np.ndarray:
 def dq_screw(dq) -> dict[str, np.ndarray]:
     """Screw parameters: axis (..., 3), angle, displacement (signed, along the axis), moment.
 
-    A pure translation has angle 0, axis t/|t| and zero moment.
+    A pure translation has angle 0, axis ``t/|t|`` and zero moment.
     """
     a = _dq(dq, "dq")
     out = _core.dq_screw(a.reshape(-1, 8)).reshape((*a.shape[:-1], 8))

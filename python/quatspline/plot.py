@@ -60,7 +60,7 @@ def thin(n: int, max_markers: int = MAX_MARKERS) -> np.ndarray:
 
     Examples
     --------
-    >>> thin(5).tolist(), len(thin(10_000)), thin(10_000)[-1]
+    >>> thin(5).tolist(), len(thin(10_000)), int(thin(10_000)[-1])
     ([0, 1, 2, 3, 4], 40, 9999)
     """
     if n <= max_markers:
