@@ -114,7 +114,7 @@ def wavy_pose(n=12, seed=0):
     q = random_walk(n, seed, step=0.5)
     t = np.cumsum(np.r_[0.0, np.random.default_rng(seed).uniform(0.5, 1.5, n - 1)])
     p = np.random.default_rng(seed + 1).normal(size=(n, 3))
-    return qs.PoseSpline(t, q, p, rotation="c3")
+    return qs.PoseSpline(q, t, p, rotation="c3")
 
 
 @pytest.mark.parametrize("interpolation", ["linear", "cubicspline"])

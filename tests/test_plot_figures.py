@@ -62,7 +62,7 @@ def test_3d_plots_into_given_axes(tmp_path, kind):
     if kind == "sphere":
         out = plot.sphere(s, key_times=t, ax=ax, name="walk")
     elif kind == "body":
-        ps = qs.PoseSpline(t, s.params["quats"], np.cumsum(np.ones((len(t), 3)), 0) * 0.01)
+        ps = qs.PoseSpline(s.params["quats"], t, np.cumsum(np.ones((len(t), 3)), 0) * 0.01)
         out = plot.body(s, positions=ps.position, ax=ax, name="walk", t0=100.0)
         texts = [x.get_text() for x in ax.texts]
         assert texts[0] == "100 s" and texts[-1].endswith(" s")

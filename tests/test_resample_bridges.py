@@ -28,7 +28,7 @@ def test_resample_onto_another_trajectory():
     out = e.resample(gt, method="natural")
     s = qs.NaturalSpline(e.quats, e.times - e.times[0])
     np.testing.assert_allclose(out.quats, s(gt.times - e.times[0]), atol=1e-15)
-    ps = qs.PoseSpline(e.times - e.times[0], e.quats, e.positions, rotation="natural")
+    ps = qs.PoseSpline(e.quats, e.times - e.times[0], e.positions, rotation="natural")
     np.testing.assert_allclose(out.positions, ps.position(gt.times - e.times[0]), atol=1e-12)
     np.testing.assert_array_equal(out.times, gt.times)
 

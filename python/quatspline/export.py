@@ -106,7 +106,7 @@ class _Motion:
             self.name = motion.name
             t = motion.times
             if motion.positions is not None:
-                motion = PoseSpline(t, motion.quats, motion.positions, rotation=method, **params)
+                motion = PoseSpline(motion.quats, t, motion.positions, rotation=method, **params)
             else:
                 motion = make_spline(method, motion.quats, t, **params)
         if isinstance(motion, PoseSpline):

@@ -118,7 +118,7 @@ def resample(traj, times, method: str = "c3", extrapolate: str = "raise", **para
     t0 = a
     rel = t - t0
     if traj.positions is not None:
-        motion = PoseSpline(traj.times - t0, traj.quats, traj.positions, rotation=method, **params)
+        motion = PoseSpline(traj.quats, traj.times - t0, traj.positions, rotation=method, **params)
         motion.extrapolate = extrapolate
         rot = motion.rotation
     else:
