@@ -68,7 +68,7 @@ typecheck: build $(DEV)
 # The documentation site (Sphinx + numpydoc + sphinx-gallery); warnings are errors.
 docs: build $(DEV)
 	$(VPY) -m sphinx -W --keep-going -q -b html docs docs/_build/html
-	$(VPY) docs/check_api.py docs/_build/html
+	$(VPY) -m pytest docs/test_api_reference.py -q -p no:cacheprovider
 
 # An abi3 wheel (CPython >= 3.9) for manylinux2014 (glibc 2.17), linked with zig, and an sdist.
 wheel: $(BASE)

@@ -10,6 +10,8 @@ import numpy as np
 if TYPE_CHECKING:
     from .io import Trajectory
 
+__all__ = ["BETA_EXAMPLE1_VERTICES", "BETA_EXAMPLE2_VERTICES", "RECORDING", "load_recording"]
+
 #: File name of the bundled recording (inside the package's ``data`` folder).
 RECORDING = "freiburg1_xyz-groundtruth.txt"
 

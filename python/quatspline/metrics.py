@@ -20,9 +20,9 @@ def angle_between(a, b, degrees: bool = False) -> np.ndarray:
     same quantity as scipy's ``(r1.inv() * r2).magnitude()``. q and −q are the same rotation,
     so the result does not depend on the signs of ``a`` and ``b``.
 
-    It is computed as θ = 4 · atan2(|a − s b|, |a + s b|) with s = sign(a · b) on the
-    normalised quaternions: for unit a, b with a · b = cos(θ/2) ≥ 0, |a − b| = 2 sin(θ/4) and
-    |a + b| = 2 cos(θ/4). Unlike 2 acos(|a · b|) this keeps full relative accuracy near 0
+    It is computed as ``θ = 4 atan2(|a − s b|, |a + s b|)`` with ``s = sign(a · b)`` on the
+    normalised quaternions: for unit a, b with a · b = cos(θ/2) ≥ 0, ``|a − b| = 2 sin(θ/4)`` and
+    ``|a + b| = 2 cos(θ/4)``. Unlike ``2 acos(|a · b|)`` this keeps full relative accuracy near 0
     (1e-12 rad is returned to ~1e-4 relative error, the limit set by rounding a and b) and
     is exact up to rounding near π.
 

@@ -9,6 +9,7 @@ interpolation (C⁰), with exact velocity and acceleration.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from . import _core
 from ._arrays import as_times, pose_key_order, with_width
@@ -19,13 +20,67 @@ __all__ = ["PoseSpline"]
 
 
 class PoseSpline:
-    """Orientation and position through pose keys."""
+    """Orientation and position through pose keys.
+
+    Orientation and angular rates come from any registered rotation method (exact
+    derivatives); positions from a natural cubic spline (C², zero acceleration at the ends)
+    or piecewise-linear interpolation (C⁰), with exact velocity and acceleration.
+
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Key orientations (w, x, y, z) or a scipy ``Rotation`` of N rotations.
+    times : array_like, shape (N,)
+        Strictly increasing key times; pandas and numpy datetimes become seconds.
+    positions : array_like, shape (N, 3)
+        Key positions (any length unit).
+    rotation : str, default "c3"
+        A method name of :data:`quatspline.METHODS` (``"slerp"``, ``"natural"``, …).
+    translation : {"cubic", "linear"}, default "cubic"
+        Natural cubic spline or piecewise-linear positions.
+    extrapolate : {"raise", "clamp"}, default "raise"
+        Times outside the domain raise, or hold the end pose with zero rates.
+    **params
+        Parameters of the rotation method (e.g. ``alpha`` for ``"c3"``).
+
+    Attributes
+    ----------
+    rotation : Spline
+        The orientation spline.
+
+    Raises
+    ------
+    ValueError
+        If a shape is wrong, the times are not strictly increasing, a value is not finite,
+        or a method or parameter is unknown.
+
+    Notes
+    -----
+    The order ``(quats, times, positions)`` is that of every spline class. The old order
+    ``(times, quats, positions)`` still works with a ``DeprecationWarning`` until 0.3.
+
+    See Also
+    --------
+    ScrewSpline : orientation and position moved together along screws.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import quatspline as qs
+    >>> keys = qs.from_euler("xyz", [[0, 0, 0], [0, 0, 90], [0, 90, 90]], degrees=True)
+    >>> pose = qs.PoseSpline(keys, [0.0, 1.0, 2.0], [[0, 0, 0], [1, 0, 0], [1, 1, 0]])
+    >>> q, x = pose([0.0, 0.5, 2.0])
+    >>> q.shape, x.shape
+    ((3, 4), (3, 3))
+    >>> pose.transform_points(1.0, [[0.0, 0.0, 1.0]]).round(12)  # (M, P, 3)
+    array([[[1., 0., 1.]]])
+    """
 
     def __init__(
         self,
-        quats,
-        times,
-        positions,
+        quats: ArrayLike,
+        times: ArrayLike,
+        positions: ArrayLike,
         rotation: str = "c3",
         translation: str = "cubic",
         extrapolate: str = "raise",
@@ -50,6 +105,7 @@ class PoseSpline:
 
     @property
     def domain(self) -> tuple[float, float]:
+        """(first key time, last key time)."""
         return float(self._times[0]), float(self._times[-1])
 
     def _pos(self, t):
@@ -67,33 +123,209 @@ class PoseSpline:
         out[outside, 3:] = 0.0
         return ta.shape, out
 
-    def orientation(self, t) -> np.ndarray:
+    def orientation(self, t: ArrayLike) -> NDArray[np.float64]:
+        """Orientations at times ``t``.
+
+        Parameters
+        ----------
+        t : array_like, any shape
+            Times.
+
+        Returns
+        -------
+        numpy.ndarray, shape t.shape + (4,)
+
+        Raises
+        ------
+        ValueError
+            If a time is not finite or outside the domain (with ``extrapolate="raise"``).
+
+        Examples
+        --------
+        >>> import quatspline as qs
+        >>> keys = qs.from_euler("xyz", [[0, 0, 0], [0, 0, 90], [0, 0, 180]], degrees=True)
+        >>> pose = qs.PoseSpline(keys, [0, 1, 2], [[0, 0, 0], [1, 0, 0], [2, 0, 0]])
+        >>> pose.orientation(2.0).round(12)
+        array([0., 0., 0., 1.])
+        """
         return self.rotation(t)
 
-    def position(self, t) -> np.ndarray:
+    def position(self, t: ArrayLike) -> NDArray[np.float64]:
+        """Positions at times ``t``.
+
+        Parameters
+        ----------
+        t : array_like, any shape
+            Times.
+
+        Returns
+        -------
+        numpy.ndarray, shape t.shape + (3,)
+
+        Raises
+        ------
+        ValueError
+            If a time is not finite or outside the domain (with ``extrapolate="raise"``).
+
+        Examples
+        --------
+        >>> import quatspline as qs
+        >>> keys = qs.from_euler("xyz", [[0, 0, 0], [0, 0, 90], [0, 0, 180]], degrees=True)
+        >>> pose = qs.PoseSpline(keys, [0, 1, 2], [[0, 0, 0], [1, 0, 0], [2, 0, 0]])
+        >>> pose.position([0.5, 1.5]).round(12)
+        array([[0.5, 0. , 0. ],
+               [1.5, 0. , 0. ]])
+        """
         shape, out = self._pos(t)
         return out[:, 0:3].reshape((*shape, 3))
 
-    def linear_velocity(self, t) -> np.ndarray:
+    def linear_velocity(self, t: ArrayLike) -> NDArray[np.float64]:
+        """Linear velocities (length unit per time unit), exact.
+
+        Parameters
+        ----------
+        t : array_like, any shape
+            Times.
+
+        Returns
+        -------
+        numpy.ndarray, shape t.shape + (3,)
+
+        Raises
+        ------
+        ValueError
+            If a time is not finite or outside the domain (with ``extrapolate="raise"``).
+
+        Examples
+        --------
+        >>> import quatspline as qs
+        >>> keys = qs.from_euler("xyz", [[0, 0, 0], [0, 0, 90], [0, 0, 180]], degrees=True)
+        >>> pose = qs.PoseSpline(keys, [0, 1, 2], [[0, 0, 0], [1, 0, 0], [2, 0, 0]])
+        >>> pose.linear_velocity(1.0).round(12)
+        array([1., 0., 0.])
+        """
         shape, out = self._pos(t)
         return out[:, 3:6].reshape((*shape, 3))
 
-    def linear_acceleration(self, t) -> np.ndarray:
+    def linear_acceleration(self, t: ArrayLike) -> NDArray[np.float64]:
+        """Linear accelerations, exact (zero at the ends for the natural cubic).
+
+        Parameters
+        ----------
+        t : array_like, any shape
+            Times.
+
+        Returns
+        -------
+        numpy.ndarray, shape t.shape + (3,)
+
+        Raises
+        ------
+        ValueError
+            If a time is not finite or outside the domain (with ``extrapolate="raise"``).
+
+        Examples
+        --------
+        >>> import quatspline as qs
+        >>> keys = qs.from_euler("xyz", [[0, 0, 0], [0, 0, 90], [0, 0, 180]], degrees=True)
+        >>> pose = qs.PoseSpline(keys, [0, 1, 2], [[0, 0, 0], [1, 0, 0], [2, 0, 0]])
+        >>> pose.linear_acceleration(0.0).round(12)
+        array([0., 0., 0.])
+        """
         shape, out = self._pos(t)
         return out[:, 6:9].reshape((*shape, 3))
 
-    def angular_velocity(self, t, frame: str = "world") -> np.ndarray:
+    def angular_velocity(self, t: ArrayLike, frame: str = "world") -> NDArray[np.float64]:
+        """Angular velocities (rad per time unit) of the orientation spline.
+
+        Parameters
+        ----------
+        t : array_like, any shape
+            Times.
+        frame : {"world", "body"}, default "world"
+            World or body frame; scipy's ``RotationSpline`` gives the body frame.
+
+        Returns
+        -------
+        numpy.ndarray, shape t.shape + (3,)
+
+        Raises
+        ------
+        ValueError
+            If a time is not finite or outside the domain (with ``extrapolate="raise"``).
+
+        Examples
+        --------
+        >>> import quatspline as qs
+        >>> keys = qs.from_euler("xyz", [[0, 0, 0], [0, 0, 90], [0, 0, 180]], degrees=True)
+        >>> pose = qs.PoseSpline(keys, [0, 1, 2], [[0, 0, 0], [1, 0, 0], [2, 0, 0]])
+        >>> pose.angular_velocity(1.0, frame="body").shape
+        (3,)
+        """
         return self.rotation.angular_velocity(t, frame)
 
-    def angular_acceleration(self, t, frame: str = "world") -> np.ndarray:
+    def angular_acceleration(self, t: ArrayLike, frame: str = "world") -> NDArray[np.float64]:
+        """Angular accelerations (rad per time unit squared) of the orientation spline.
+
+        Parameters
+        ----------
+        t : array_like, any shape
+            Times.
+        frame : {"world", "body"}, default "world"
+            World or body frame; scipy's ``RotationSpline`` gives the body frame.
+
+        Returns
+        -------
+        numpy.ndarray, shape t.shape + (3,)
+
+        Raises
+        ------
+        ValueError
+            If a time is not finite or outside the domain (with ``extrapolate="raise"``).
+
+        Examples
+        --------
+        >>> import quatspline as qs
+        >>> keys = qs.from_euler("xyz", [[0, 0, 0], [0, 0, 90], [0, 0, 180]], degrees=True)
+        >>> pose = qs.PoseSpline(keys, [0, 1, 2], [[0, 0, 0], [1, 0, 0], [2, 0, 0]])
+        >>> pose.angular_acceleration([0.5, 1.5]).shape
+        (2, 3)
+        """
         return self.rotation.angular_acceleration(t, frame)
 
-    def __call__(self, t):
-        """(orientations, positions) at t."""
+    def __call__(self, t: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(orientations, positions) at times ``t``: shapes t.shape + (4,) and t.shape + (3,)."""
         return self.orientation(t), self.position(t)
 
-    def transform_points(self, t, points) -> np.ndarray:
-        """World coordinates R(t) p + x(t) of body points (P, 3) at times (M,): (M, P, 3)."""
+    def transform_points(self, t: ArrayLike, points: ArrayLike) -> NDArray[np.float64]:
+        """World coordinates ``R(t) p + x(t)`` of points fixed in the body.
+
+        Parameters
+        ----------
+        t : array_like, shape (M,) or scalar
+            Times.
+        points : array_like, shape (P, 3)
+            Points in body coordinates.
+
+        Returns
+        -------
+        numpy.ndarray, shape (M, P, 3)
+
+        Raises
+        ------
+        ValueError
+            If a time is outside the domain or ``points`` is not of shape (P, 3).
+
+        Examples
+        --------
+        >>> import quatspline as qs
+        >>> keys = qs.from_euler("xyz", [[0, 0, 0], [0, 0, 90]], degrees=True)
+        >>> pose = qs.PoseSpline(keys, [0, 1], [[0, 0, 0], [0, 0, 1]], rotation="slerp")
+        >>> pose.transform_points([0.0, 1.0], [[1.0, 0.0, 0.0]]).round(12)
+        array([[[1., 0., 0.]],
+        <BLANKLINE>
+               [[0., 1., 1.]]])
+        """
         q = np.atleast_2d(self.orientation(np.atleast_1d(t)))
         x = np.atleast_2d(self.position(np.atleast_1d(t)))
         v = with_width(points, "points", 3).reshape(-1, 3)

@@ -16,6 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import spline as sp
 
@@ -81,6 +82,8 @@ def _build(name, q, times, p):
     raise AssertionError(name)
 
 
+#: Every method by name: ``Method`` records with the class, whether it interpolates, and its
+#: parameters (type, default, help), shared by :func:`spline` and the command line.
 METHODS: dict[str, Method] = {
     m.name: m
     for m in [
@@ -144,12 +147,64 @@ METHODS: dict[str, Method] = {
 
 
 def interpolating_methods() -> list[str]:
+    """Names of the methods that pass through their keys, in registry order.
+
+    Examples
+    --------
+    >>> from quatspline.registry import interpolating_methods
+    >>> "c3" in interpolating_methods(), "bspline" in interpolating_methods()
+    (True, False)
+    """
     return [m.name for m in METHODS.values() if m.interpolating]
 
 
-def spline(method: str, quats, times=None, **params) -> sp.Spline:
-    """Builds ``method`` through ``quats`` at ``times``; unknown names and parameters raise a
-    ValueError that lists the valid ones."""
+def spline(
+    method: str, quats: ArrayLike, times: ArrayLike | None = None, **params: object
+) -> sp.Spline:
+    """Any method by name, through keys at times.
+
+    Parameters
+    ----------
+    method : str
+        A name of :data:`METHODS`: ``slerp``, ``nlerp``, ``lin_euler``, ``lin_mat``,
+        ``squad``, ``catmull_rom``, ``natural``, ``c3`` (interpolating), or ``bezier``,
+        ``cumulative_bezier``, ``bspline``, ``beta`` (approximating; fitted to keys at times
+        as the module documentation describes).
+    quats : array_like, shape (N, 4)
+        Keys (w, x, y, z) or a scipy ``Rotation``.
+    times : array_like, shape (N,), optional
+        Strictly increasing key times (default 0 … N−1); pandas/numpy datetimes become
+        seconds.
+    **params
+        The method's parameters (e.g. ``alpha``, ``beta`` for ``c3``; ``ends`` for
+        ``natural``), converted to their declared types.
+
+    Returns
+    -------
+    Spline
+
+    Raises
+    ------
+    ValueError
+        If the method or a parameter is unknown (the message lists the valid ones), a
+        parameter has the wrong type, or the keys or times are invalid.
+
+    See Also
+    --------
+    METHODS : the table of methods and parameters.
+
+    Examples
+    --------
+    >>> import quatspline as qs
+    >>> keys = qs.from_euler("xyz", [[0, 0, 0], [0, 0, 90], [0, 90, 90]], degrees=True)
+    >>> s = qs.spline("c3", keys, [0.0, 1.0, 3.0], alpha=0.5)
+    >>> type(s).__name__, s.domain
+    ('C3Spline', (0.0, 3.0))
+    >>> qs.spline("cubic", keys)
+    Traceback (most recent call last):
+    ...
+    ValueError: method: unknown method 'cubic'; valid: slerp, nlerp, ...
+    """
     if method not in METHODS:
         raise ValueError(f"method: unknown method {method!r}; valid: {', '.join(METHODS)}")
     m = METHODS[method]

@@ -1,4 +1,4 @@
-"""Screw-motion trajectories on dual quaternions (seed 001; MATH.md §3).
+"""Screw-motion trajectories on dual quaternions (Kavan et al. 2008 for ScLerp).
 
 ``ScrewSpline(quats, times, positions)`` interpolates pose keys as unit dual quaternions
 Q̂ₖ = rₖ + ε ½ (0, tₖ) rₖ (consecutive keys sign-aligned):
@@ -10,7 +10,8 @@ Q̂ₖ = rₖ + ε ½ (0, tₖ) rₖ (consecutive keys sign-aligned):
   Q̂(τ) = P̂ᵢ₋₁ Ŵᵢ^{C̃₁} Ŵᵢ₊₁^{C̃₂} Ŵᵢ₊₂^{C̃₃} with Ŵₖ = P̂ₖ₋₁* P̂ₖ (P̂ the keys with the ends
   doubled) and the knot-variant weights C̃ⱼ of ``C3Spline`` (α, β per key): interpolating
   and C³ in time for position and orientation together by construction (the powers are smooth
-  screw motions and the weights are C³; the argument of MATH.md §8 holds in any Lie group).
+  screw motions and the weights are C³; the argument for the C³ spline holds in any Lie
+  group).
   What the tests check: interpolation, and velocity continuity at keys by one-sided differences
   (no analytic derivatives are offered for ScrewSpline).
 """
@@ -18,6 +19,7 @@ Q̂ₖ = rₖ + ε ½ (0, tₖ) rₖ (consecutive keys sign-aligned):
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from . import _core
 from ._arrays import as_times, pose_key_order, with_width
@@ -27,7 +29,59 @@ __all__ = ["ScrewSpline"]
 
 
 class ScrewSpline:
-    def __init__(self, quats, times, positions, smooth: bool = False, alpha=5 / 16, beta=0.0):
+    """Poses interpolated as unit dual quaternions: rotation and translation move together.
+
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Key orientations (w, x, y, z) or a scipy ``Rotation``; N ≥ 2.
+    times : array_like, shape (N,)
+        Strictly increasing key times; pandas and numpy datetimes become seconds.
+    positions : array_like, shape (N, 3)
+        Key positions.
+    smooth : bool, default False
+        ``False``: piecewise ScLerp, one constant screw motion per segment (C⁰ at the keys;
+        with two keys it *is* ScLerp). ``True``: the C³ spline's cumulative blending on dual
+        quaternions (interpolating, C³ in time for rotation and translation together).
+    alpha, beta : float or array_like, default 5/16 and 0.0
+        Shape parameters of the smooth form, per key (see :class:`C3Spline`).
+
+    Raises
+    ------
+    ValueError
+        If the shapes are not (N, 4), (N,), (N, 3), N < 2, or the times are not finite and
+        strictly increasing.
+
+    Notes
+    -----
+    No analytic derivatives are offered. The old argument order ``(times, quats,
+    positions)`` still works with a ``DeprecationWarning`` until 0.3.
+
+    See Also
+    --------
+    PoseSpline : orientation and position from separate splines, with exact derivatives.
+    quatspline.sclerp : two poses.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import quatspline as qs
+    >>> keys = qs.from_euler("xyz", [[0, 0, 0], [0, 0, 90]], degrees=True)
+    >>> s = qs.ScrewSpline(keys, [0.0, 1.0], [[0, 0, 0], [0, 0, 1]])
+    >>> q, x = s(0.5)  # a quarter turn about z while rising: the midpoint of the screw
+    >>> x.round(12)
+    array([[0. , 0. , 0.5]])
+    """
+
+    def __init__(
+        self,
+        quats: ArrayLike,
+        times: ArrayLike,
+        positions: ArrayLike,
+        smooth: bool = False,
+        alpha: ArrayLike = 5 / 16,
+        beta: ArrayLike = 0.0,
+    ):
         quats, times = pose_key_order(quats, times, "ScrewSpline")
         t = np.ascontiguousarray(as_times(times, "times"), dtype=float)
         q = with_width(quats, "quats", 4)
@@ -67,10 +121,34 @@ class ScrewSpline:
 
     @property
     def domain(self) -> tuple[float, float]:
+        """(first key time, last key time)."""
         return float(self.times[0]), float(self.times[-1])
 
-    def dual_quaternions(self, t) -> np.ndarray:
-        """The pose as unit dual quaternions (M, 8) at times t (inside the domain)."""
+    def dual_quaternions(self, t: ArrayLike) -> NDArray[np.float64]:
+        """The poses as unit dual quaternions.
+
+        Parameters
+        ----------
+        t : array_like, shape (M,) or scalar
+            Times inside the domain.
+
+        Returns
+        -------
+        numpy.ndarray, shape (M, 8)
+
+        Raises
+        ------
+        ValueError
+            If a time is not finite or outside the domain.
+
+        Examples
+        --------
+        >>> import quatspline as qs
+        >>> s = qs.ScrewSpline([[1, 0, 0, 0], [1, 0, 0, 0]], [0, 2], [[0, 0, 0], [2, 0, 0]])
+        >>> s.dual_quaternions([0.0, 1.0])
+        array([[1. , 0. , 0. , 0. , 0. , 0. , 0. , 0. ],
+               [1. , 0. , 0. , 0. , 0. , 0.5, 0. , 0. ]])
+        """
         x = np.atleast_1d(as_times(t, "t")).astype(float)
         a, b = self.domain
         if not np.all(np.isfinite(x)) or np.any((x < a) | (x > b)):
@@ -86,12 +164,36 @@ class ScrewSpline:
             out = dq_multiply(out, dq_power(self._rel[seg + j], w))
         return out
 
-    def __call__(self, t):
-        """(orientations (M, 4), positions (M, 3)) at t."""
+    def __call__(self, t: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(orientations (M, 4), positions (M, 3)) at times ``t``."""
         return dq_to_pose(self.dual_quaternions(t))
 
-    def transform_points(self, t, points) -> np.ndarray:
-        """World coordinates of body points (P, 3) at times (M,): (M, P, 3)."""
+    def transform_points(self, t: ArrayLike, points: ArrayLike) -> NDArray[np.float64]:
+        """World coordinates of points fixed in the body.
+
+        Parameters
+        ----------
+        t : array_like, shape (M,) or scalar
+            Times inside the domain.
+        points : array_like, shape (P, 3)
+            Points in body coordinates.
+
+        Returns
+        -------
+        numpy.ndarray, shape (M, P, 3)
+
+        Raises
+        ------
+        ValueError
+            If a time is outside the domain or ``points`` is not of shape (P, 3).
+
+        Examples
+        --------
+        >>> import quatspline as qs
+        >>> s = qs.ScrewSpline([[1, 0, 0, 0], [1, 0, 0, 0]], [0, 2], [[0, 0, 0], [2, 0, 0]])
+        >>> s.transform_points(1.0, [[0.0, 1.0, 0.0]])
+        array([[[1., 1., 0.]]])
+        """
         d = self.dual_quaternions(t)
         v = with_width(points, "points", 3).reshape(-1, 3)
         return dq_transform_point(d[:, None, :], v[None, :, :])

@@ -4,23 +4,31 @@ Every spline maps time to unit quaternions (w, x, y, z) and gives exact time der
 q', q'', q''' and the angular velocity, acceleration and jerk in the world or body frame — by
 Taylor-mode differentiation of the same formula in the Rust core (never finite differences).
 
-| class | interpolates | continuity | source |
-|---|---|---|---|
-| ``PiecewiseSlerp`` | yes | C⁰ | seeds 001/003 |
-| ``PiecewiseNlerp``, ``…LinEuler``, ``…LinMat`` | yes | C⁰ | baselines, seeds 001/002 |
-| ``SphericalBezier`` | end points | C^∞ (one curve) | Shoemake 1985 (de Casteljau) |
-| ``CumulativeBezier`` | end points | C^∞ (one curve) | Kim, Kim & Shin 1995 |
-| ``Squad`` | yes | C¹ | Shoemake 1987, seed 003 |
-| ``CatmullRom`` | yes | C¹ | Gortler ch. 9, seed 002 |
-| ``CumulativeBSpline`` | no | C^(k−2) (C² cubic) | Kim et al. 1995, Sommer et al. 2020 |
-| ``NaturalSpline`` | yes | C² (global) | seed 002 §9.4; scipy ``RotationSpline`` |
-| ``BetaSpline`` | no | G¹ (not G² in general) | seed 000 (Beta quaternion spline) |
-| ``C3Spline`` | yes | C³ | seed 004 (patent) |
+================================ ============ ================== ================================
+class                            interpolates continuity         source
+================================ ============ ================== ================================
+``PiecewiseSlerp``               yes          C⁰                 Shoemake 1985
+``PiecewiseNlerp``               yes          C⁰                 baseline
+``PiecewiseLinEuler``            yes          C⁰                 baseline
+``PiecewiseLinMat``              yes          C⁰                 baseline
+``SphericalBezier``              end points   C^∞ (one curve)    Shoemake 1985 (de Casteljau)
+``CumulativeBezier``             end points   C^∞ (one curve)    Kim, Kim & Shin 1995
+``Squad``                        yes          C¹                 Shoemake 1987
+``CatmullRom``                   yes          C¹                 Gortler 2012, ch. 9
+``CumulativeBSpline``            no           C^(k−2), C² cubic  Kim et al. 1995; Sommer et al.
+                                                                 2020
+``NaturalSpline``                yes          C² (global)        scipy ``RotationSpline``
+``BetaSpline``                   no           G¹ (not G²)        He et al. 2022
+``C3Spline``                     yes          C³                 Wang & Zhou 2023 (patent)
+================================ ============ ================== ================================
+
+The documentation's mathematics pages give every formula, with references and errata.
 """
 
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from . import _core
 from ._arrays import as_real, as_times, with_width
@@ -73,10 +81,49 @@ def _times(times, n: int):
 class Spline:
     """One interface for every curve: call it for orientations, ask it for derivatives.
 
-    ``s(t)`` → (M, 4) for an array of times (any shape: the result has shape t.shape + (4,)),
-    (4,) for a scalar. Times outside ``s.domain`` raise ``ValueError`` unless the spline was
-    made with ``extrapolate="clamp"``, which holds the end orientation (zero derivatives).
-    Times need not be sorted.
+    Do not make a ``Spline`` directly: use one of the method classes (:class:`C3Spline`,
+    :class:`NaturalSpline`, …) or :func:`quatspline.spline` with a method name.
+
+    ``s(t)`` gives orientations of shape ``t.shape + (4,)`` — (4,) for a scalar time. Times
+    outside ``s.domain`` raise ``ValueError`` unless the spline was made with
+    ``extrapolate="clamp"``, which holds the end orientation (zero derivatives). Times need
+    not be sorted (sorted times are fastest). Derivatives are exact: they come from the same
+    formula as the orientation by Taylor-mode arithmetic, never by finite differences. Rates
+    are in radians per unit of time.
+
+    Parameters
+    ----------
+    core : quatspline._core.Spline
+        The compiled curve (made by a method class).
+    extrapolate : {"raise", "clamp"}, default "raise"
+        What to do with times outside the domain.
+    **params
+        The construction parameters, kept in ``params`` (used by :func:`reparameterize`).
+
+    Attributes
+    ----------
+    extrapolate : str
+        ``"raise"`` or ``"clamp"``; may be changed after construction.
+    params : dict
+        The construction parameters.
+
+    See Also
+    --------
+    quatspline.spline : make any method by name.
+    quatspline.continuity : the continuity certificate of every joint.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import quatspline as qs
+    >>> keys = qs.from_euler("xyz", [[0, 0, 0], [0, 0, 90], [0, 0, 180]], degrees=True)
+    >>> s = qs.C3Spline(keys, [0.0, 1.0, 2.0])
+    >>> s
+    C3Spline(segments=2, domain=[0, 2])
+    >>> s(np.linspace(0, 2, 5)).shape, s(1.0).shape
+    ((5, 4), (4,))
+    >>> s.method, s.continuity, s.interpolates
+    ('c3', 3, True)
     """
 
     def __init__(self, core: _core.Spline, extrapolate: str = "raise", **params):
@@ -124,9 +171,44 @@ class Spline:
         out = self._core.evaluate(flat, order, self.extrapolate == "clamp")
         return ta.shape, out
 
-    def __call__(self, t, out: np.ndarray | None = None) -> np.ndarray:
-        """Orientations at t; with ``out`` (float64, C-contiguous, shape t.shape + (4,)) the
-        result is written there (no allocation) and ``out`` is returned."""
+    def __call__(self, t: ArrayLike, out: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
+        """Orientations at times ``t``.
+
+        Parameters
+        ----------
+        t : array_like, any shape
+            Times (also ``datetime64``/``timedelta64`` and pandas times, in seconds).
+        out : numpy.ndarray, optional
+            A float64, C-contiguous, writeable array of shape ``t.shape + (4,)``: the result
+            is written there (no allocation) and ``out`` is returned. Not scipy's derivative
+            order: ``s(t, 1)`` raises a ``TypeError`` that names
+            ``s.angular_velocity(t, frame="body")``, the equivalent of scipy's
+            ``RotationSpline(t, 1)``.
+
+        Returns
+        -------
+        numpy.ndarray, shape t.shape + (4,)
+            Unit quaternions (w, x, y, z).
+
+        Raises
+        ------
+        ValueError
+            If a time is not finite or outside the domain (with ``extrapolate="raise"``), or
+            ``out`` has the wrong dtype, shape or layout.
+        TypeError
+            If ``out`` is an integer (scipy's ``order``).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import quatspline as qs
+        >>> s = qs.PiecewiseSlerp(qs.from_euler("xyz", [[0, 0, 0], [90, 0, 0]], degrees=True))
+        >>> float(np.degrees(qs.as_rotvec(s(0.5)))[0].round(10))
+        45.0
+        >>> buf = np.empty((3, 4))
+        >>> s([0.0, 0.5, 1.0], buf) is buf
+        True
+        """
         if out is None:
             shape, res = self._eval(t, 0)
             return res.reshape((*shape, 4))
@@ -146,15 +228,71 @@ class Spline:
         self._core.evaluate_out(flat, 0, self.extrapolate == "clamp", out.reshape(-1, 4))
         return out
 
-    def derivative(self, t, order: int = 1) -> np.ndarray:
-        """The order-th time derivative of q (order 0…3) as quaternions, shape t.shape + (4,)."""
+    def derivative(self, t: ArrayLike, order: int = 1) -> NDArray[np.float64]:
+        """The ``order``-th time derivative of q, as quaternions.
+
+        Parameters
+        ----------
+        t : array_like, any shape
+            Times.
+        order : {0, 1, 2, 3}, default 1
+            Derivative order.
+
+        Returns
+        -------
+        numpy.ndarray, shape t.shape + (4,)
+            q, q', q'' or q''' (per time unit to the power ``order``). At a joint the
+            right-hand segment is used.
+
+        Raises
+        ------
+        ValueError
+            If ``order`` is not 0–3, or a time is not finite or outside the domain.
+
+        See Also
+        --------
+        angular_velocity : the rotation rate as a 3-vector.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import quatspline as qs
+        >>> s = qs.PiecewiseSlerp([[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]], [0.0, 2.0])
+        >>> dq = s.derivative(1.0)  # |q'| = half the angular speed: (π/2 rad/s) / 2
+        >>> bool(np.isclose(np.linalg.norm(dq), np.pi / 4))
+        True
+        """
         if order not in (0, 1, 2, 3):
             raise ValueError(f"order: expected 0, 1, 2 or 3, got {order!r}")
         shape, out = self._eval(t, order)
         return out[:, 4 * order :].reshape((*shape, 4))
 
-    def derivatives(self, t, order: int = 3) -> np.ndarray:
-        """q, q', …, q^(order) stacked: shape t.shape + (order + 1, 4)."""
+    def derivatives(self, t: ArrayLike, order: int = 3) -> NDArray[np.float64]:
+        """q, q', …, q^(order) together, from one evaluation.
+
+        Parameters
+        ----------
+        t : array_like, any shape
+            Times.
+        order : {0, 1, 2, 3}, default 3
+            Highest derivative order.
+
+        Returns
+        -------
+        numpy.ndarray, shape t.shape + (order + 1, 4)
+
+        Raises
+        ------
+        ValueError
+            If ``order`` is not 0–3, or a time is not finite or outside the domain.
+
+        Examples
+        --------
+        >>> import quatspline as qs
+        >>> s = qs.C3Spline(qs.from_euler("xyz", [[0, 0, 0], [90, 0, 0], [45, 0, 0]], degrees=True))
+        >>> s.derivatives([0.5, 1.5]).shape
+        (2, 4, 4)
+        """
         if order not in (0, 1, 2, 3):
             raise ValueError(f"order: expected 0, 1, 2 or 3, got {order!r}")
         shape, out = self._eval(t, order)
@@ -168,26 +306,189 @@ class Spline:
         out = self._core.angular(flat, order, frame == "body", self.extrapolate == "clamp")
         return out.reshape((*ta.shape, 3))
 
-    def angular_velocity(self, t, frame: str = "world") -> np.ndarray:
-        """ω (rad per time unit): world 2 q' q*, body 2 q* q' (vector parts)."""
+    def angular_velocity(self, t: ArrayLike, frame: str = "world") -> NDArray[np.float64]:
+        """Angular velocity ω, exact, in radians per time unit.
+
+        Parameters
+        ----------
+        t : array_like, any shape
+            Times.
+        frame : {"world", "body"}, default "world"
+            ``"world"``: the rate seen from the fixed frame, ``2 vec(q' q*)``. ``"body"``:
+            the rate in the body's own axes, ``2 vec(q* q')``, what a gyroscope measures.
+            scipy's ``RotationSpline(t, 1)`` / ``(t, 2)`` return the body frame;
+            pytransform3d's ``quaternion_gradient`` the world frame. The norms are equal.
+
+        Returns
+        -------
+        numpy.ndarray, shape t.shape + (3,)
+
+        Raises
+        ------
+        ValueError
+            If ``frame`` is not "world" or "body", or a time is not finite or outside the
+            domain.
+
+        See Also
+        --------
+        angular_acceleration, jerk
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import quatspline as qs
+        >>> keys = qs.from_euler("xyz", [[0, 0, 0], [0, 0, 90]], degrees=True)
+        >>> s = qs.PiecewiseSlerp(keys, [0.0, 2.0])
+        >>> s.angular_velocity(1.0).round(12)  # 90° in 2 s about z
+        array([0.        , 0.        , 0.78539816])
+        >>> s.angular_velocity(1.0, frame="body").round(12)  # the same: the axis is fixed
+        array([0.        , 0.        , 0.78539816])
+        """
         return self._angular(t, 1, frame)
 
-    def angular_acceleration(self, t, frame: str = "world") -> np.ndarray:
-        """dω/dt: world 2 vec(q'' q*), body 2 vec(q* q'')."""
+    def angular_acceleration(self, t: ArrayLike, frame: str = "world") -> NDArray[np.float64]:
+        """Angular acceleration dω/dt, exact, in radians per time unit squared.
+
+        World frame ``2 vec(q'' q*)``, body frame ``2 vec(q* q'')``.
+
+        Parameters
+        ----------
+        t : array_like, any shape
+            Times.
+        frame : {"world", "body"}, default "world"
+            ``"world"``: the rate seen from the fixed frame, ``2 vec(q' q*)``. ``"body"``:
+            the rate in the body's own axes, ``2 vec(q* q')``, what a gyroscope measures.
+            scipy's ``RotationSpline(t, 1)`` / ``(t, 2)`` return the body frame;
+            pytransform3d's ``quaternion_gradient`` the world frame. The norms are equal.
+
+        Returns
+        -------
+        numpy.ndarray, shape t.shape + (3,)
+
+        Raises
+        ------
+        ValueError
+            If ``frame`` is not "world" or "body", or a time is not finite or outside the
+            domain.
+
+        See Also
+        --------
+        angular_velocity, jerk
+
+        Examples
+        --------
+        >>> import quatspline as qs
+        >>> s = qs.PiecewiseSlerp(qs.from_euler("xyz", [[0, 0, 0], [0, 0, 90]], degrees=True))
+        >>> s.angular_acceleration(0.5)  # constant speed
+        array([0., 0., 0.])
+        """
         return self._angular(t, 2, frame)
 
-    def jerk(self, t, frame: str = "world") -> np.ndarray:
-        """d²ω/dt²: world 2 vec(q''' q* + q'' q'*), body 2 vec(q'* q'' + q* q''')."""
+    def jerk(self, t: ArrayLike, frame: str = "world") -> NDArray[np.float64]:
+        """Angular jerk d²ω/dt², exact, in radians per time unit cubed.
+
+        World frame ``2 vec(q''' q* + q'' q'*)``, body frame ``2 vec(q'* q'' + q* q''')``.
+
+        Parameters
+        ----------
+        t : array_like, any shape
+            Times.
+        frame : {"world", "body"}, default "world"
+            ``"world"``: the rate seen from the fixed frame, ``2 vec(q' q*)``. ``"body"``:
+            the rate in the body's own axes, ``2 vec(q* q')``, what a gyroscope measures.
+            scipy's ``RotationSpline(t, 1)`` / ``(t, 2)`` return the body frame;
+            pytransform3d's ``quaternion_gradient`` the world frame. The norms are equal.
+
+        Returns
+        -------
+        numpy.ndarray, shape t.shape + (3,)
+
+        Raises
+        ------
+        ValueError
+            If ``frame`` is not "world" or "body", or a time is not finite or outside the
+            domain.
+
+        See Also
+        --------
+        angular_velocity, angular_acceleration
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import quatspline as qs
+        >>> s = qs.C3Spline(qs.from_euler("xyz", [[0, 0, 0], [90, 0, 0], [45, 0, 0]], degrees=True))
+        >>> left, right = s.jerk([1.0 - 1e-9, 1.0])
+        >>> bool(np.allclose(left, right, atol=1e-6))  # C³: the jerk is continuous
+        True
+        """
         return self._angular(t, 3, frame)
 
-    def segment_derivatives(self, segment: int, t: float) -> np.ndarray:
-        """(4, 4): q, q', q'', q''' of one segment's formula at t (one-sided limits at joints)."""
+    def segment_derivatives(self, segment: int, t: float) -> NDArray[np.float64]:
+        """q, q', q'', q''' of one segment's formula at time ``t``.
+
+        Gives one-sided limits at joints (each segment's own formula, also just outside it).
+
+        Parameters
+        ----------
+        segment : int
+            Segment index, 0 … ``len(s.joints) − 2``.
+        t : float
+            Time.
+
+        Returns
+        -------
+        numpy.ndarray, shape (4, 4)
+            Rows q, q', q'', q'''.
+
+        Raises
+        ------
+        ValueError
+            If ``segment`` is out of range or ``t`` is not finite.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import quatspline as qs
+        >>> keys = qs.from_euler("xyz", [[0, 0, 0], [90, 0, 0], [0, 0, 0]], degrees=True)
+        >>> s = qs.PiecewiseSlerp(keys)
+        >>> left, right = s.segment_derivatives(0, 1.0), s.segment_derivatives(1, 1.0)
+        >>> bool(np.allclose(left[0], right[0])), bool(np.allclose(left[1], right[1]))
+        (True, False)
+        """
         return self._core.segment_derivatives(int(segment), float(t))
 
-    def sample(self, n: int | None = None, rate: float | None = None):
-        """Evenly spaced samples over the domain: ``n`` samples or ``rate`` per time unit.
+    def sample(
+        self, n: int | None = None, rate: float | None = None
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Evenly spaced samples over the whole domain.
 
-        Returns (times (M,), quats (M, 4)).
+        Parameters
+        ----------
+        n : int, optional
+            Number of samples, both ends included.
+        rate : float, optional
+            Samples per time unit, starting at the domain's start. Give exactly one of ``n``
+            and ``rate``.
+
+        Returns
+        -------
+        times : numpy.ndarray, shape (M,)
+        quats : numpy.ndarray, shape (M, 4)
+
+        Raises
+        ------
+        ValueError
+            If neither or both of ``n`` and ``rate`` are given, or either is not positive.
+
+        Examples
+        --------
+        >>> import quatspline as qs
+        >>> keys = qs.from_euler("xyz", [[0, 0, 0], [90, 0, 0], [45, 0, 0]], degrees=True)
+        >>> s = qs.C3Spline(keys, [0, 1, 3])
+        >>> t, q = s.sample(rate=100)
+        >>> t.shape, q.shape, float(t[-1])
+        ((301,), (301, 4), 3.0)
         """
         a, b = self.domain
         if (n is None) == (rate is None):
@@ -204,7 +505,39 @@ class Spline:
 
 
 class PiecewiseNlerp(Spline):
-    """Baseline: normalised lerp between consecutive keys (C⁰, non-constant speed)."""
+    """Baseline: normalised lerp between consecutive keys (C⁰, speed varies).
+
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Keys (w, x, y, z), or a scipy ``Rotation`` holding N rotations; normalised.
+    times : array_like, shape (N,), optional
+        Strictly increasing key times (any unit; rates are per that unit); pandas
+        ``DatetimeIndex`` and ``datetime64``/``timedelta64`` arrays become seconds. Default
+        0, 1, …, N−1.
+    extrapolate : {"raise", "clamp"}, default "raise"
+        Times outside the domain raise ``ValueError``, or are clamped to it (the end
+        orientation held, zero derivatives).
+
+    Raises
+    ------
+    ValueError
+        If a shape is wrong, there are too few keys, a key is zero or not finite, the times
+        are not finite and strictly increasing, or a parameter is out of range (the message
+        names the argument and the index).
+
+    See Also
+    --------
+    PiecewiseSlerp : the same path at constant speed.
+
+    Examples
+    --------
+    >>> import quatspline as qs
+    >>> keys = qs.from_euler("xyz", [[0, 0, 0], [90, 0, 0], [45, 0, 0]], degrees=True)
+    >>> s = qs.PiecewiseNlerp(keys)
+    >>> s.continuity, s.domain
+    (0, (0.0, 2.0))
+    """
 
     def __init__(self, quats, times=None, extrapolate: str = "raise"):
         q = _keys(quats, "quats")
@@ -213,7 +546,41 @@ class PiecewiseNlerp(Spline):
 
 
 class PiecewiseLinEuler(Spline):
-    """Baseline: Euler angles (sequence ``seq``) lerped between keys (C⁰)."""
+    """Baseline: Euler angles interpolated linearly between keys (C⁰).
+
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Keys (w, x, y, z), or a scipy ``Rotation`` holding N rotations; normalised.
+    times : array_like, shape (N,), optional
+        Strictly increasing key times (any unit; rates are per that unit); pandas
+        ``DatetimeIndex`` and ``datetime64``/``timedelta64`` arrays become seconds. Default
+        0, 1, …, N−1.
+    seq : str, default "xyz"
+        Euler sequence, scipy's convention (see :func:`quatspline.from_euler`).
+    extrapolate : {"raise", "clamp"}, default "raise"
+        Times outside the domain raise ``ValueError``, or are clamped to it (the end
+        orientation held, zero derivatives).
+
+    Raises
+    ------
+    ValueError
+        If a shape is wrong, there are too few keys, a key is zero or not finite, the times
+        are not finite and strictly increasing, or a parameter is out of range (the message
+        names the argument and the index).
+
+    See Also
+    --------
+    PiecewiseSlerp
+
+    Examples
+    --------
+    >>> import quatspline as qs
+    >>> keys = qs.from_euler("xyz", [[0.0, 0.0, 0.0], [0.0, 0.0, 80.0]], degrees=True)
+    >>> s = qs.PiecewiseLinEuler(keys, seq="xyz")
+    >>> qs.as_euler(s(0.25), "xyz", degrees=True).round(10)
+    array([ 0.,  0., 20.])
+    """
 
     def __init__(self, quats, times=None, seq: str = "xyz", extrapolate: str = "raise"):
         q = _keys(quats, "quats")
@@ -224,7 +591,38 @@ class PiecewiseLinEuler(Spline):
 
 
 class PiecewiseLinMat(Spline):
-    """Baseline: rotation matrices lerped and projected back to SO(3) (C⁰)."""
+    """Baseline: rotation matrices interpolated entrywise, projected back to rotations (C⁰).
+
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Keys (w, x, y, z), or a scipy ``Rotation`` holding N rotations; normalised.
+    times : array_like, shape (N,), optional
+        Strictly increasing key times (any unit; rates are per that unit); pandas
+        ``DatetimeIndex`` and ``datetime64``/``timedelta64`` arrays become seconds. Default
+        0, 1, …, N−1.
+    extrapolate : {"raise", "clamp"}, default "raise"
+        Times outside the domain raise ``ValueError``, or are clamped to it (the end
+        orientation held, zero derivatives).
+
+    Raises
+    ------
+    ValueError
+        If a shape is wrong, there are too few keys, a key is zero or not finite, the times
+        are not finite and strictly increasing, or a parameter is out of range (the message
+        names the argument and the index).
+
+    See Also
+    --------
+    PiecewiseSlerp
+
+    Examples
+    --------
+    >>> import quatspline as qs
+    >>> s = qs.PiecewiseLinMat(qs.from_euler("xyz", [[0, 0, 0], [90, 0, 0]], degrees=True))
+    >>> s(0.5).shape
+    (4,)
+    """
 
     def __init__(self, quats, times=None, extrapolate: str = "raise"):
         q = _keys(quats, "quats")
@@ -233,7 +631,44 @@ class PiecewiseLinMat(Spline):
 
 
 class PiecewiseSlerp(Spline):
-    """Slerp between consecutive keys: C⁰, constant speed within each segment."""
+    """Slerp between consecutive keys: C⁰, constant angular speed within each segment.
+
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Keys (w, x, y, z), or a scipy ``Rotation`` holding N rotations; normalised.
+    times : array_like, shape (N,), optional
+        Strictly increasing key times (any unit; rates are per that unit); pandas
+        ``DatetimeIndex`` and ``datetime64``/``timedelta64`` arrays become seconds. Default
+        0, 1, …, N−1.
+    canonicalize : bool, default True
+        Flip each key to the hemisphere of the previous one, so that consecutive keys are
+        joined the short way.
+    extrapolate : {"raise", "clamp"}, default "raise"
+        Times outside the domain raise ``ValueError``, or are clamped to it (the end
+        orientation held, zero derivatives).
+
+    Raises
+    ------
+    ValueError
+        If a shape is wrong, there are too few keys, a key is zero or not finite, the times
+        are not finite and strictly increasing, or a parameter is out of range (the message
+        names the argument and the index).
+
+    See Also
+    --------
+    quatspline.slerp : two keys.
+    reparameterize : even out the speed across segments.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import quatspline as qs
+    >>> keys = qs.from_euler("xyz", [[0, 0, 0], [0, 0, 90], [0, 0, 90]], degrees=True)
+    >>> s = qs.PiecewiseSlerp(keys, [0.0, 1.0, 3.0])
+    >>> np.linalg.norm(s.angular_velocity([0.5, 2.0]), axis=1).round(12)  # π/2 rad/s, then 0
+    array([1.57079633, 0.        ])
+    """
 
     def __init__(self, quats, times=None, canonicalize: bool = True, extrapolate: str = "raise"):
         q = _keys(quats, "quats")
@@ -248,8 +683,45 @@ class PiecewiseSlerp(Spline):
 
 
 class SphericalBezier(Spline):
-    """One spherical Bézier curve (de Casteljau with slerp) of any degree, on ``domain``
-    (default [0, 1])."""
+    """One spherical Bézier curve of any degree: de Casteljau's algorithm with slerp.
+
+    Shoemake (1985). The end tangents are ``q'(0) = n b₀ log(b₀* b₁)`` and
+    ``q'(1) = n bₙ log(bₙ₋₁* bₙ)`` (per unit of the local parameter).
+
+    Parameters
+    ----------
+    control_points : array_like, shape (n + 1, 4)
+        Control quaternions b₀ … bₙ (or a scipy ``Rotation``); the curve starts at b₀ and
+        ends at bₙ.
+    domain : tuple of float, default (0.0, 1.0)
+        The time interval the curve is mapped to.
+    canonicalize : bool, default True
+        Flip each key to the hemisphere of the previous one, so that consecutive keys are
+        joined the short way.
+    extrapolate : {"raise", "clamp"}, default "raise"
+        Times outside the domain raise ``ValueError``, or are clamped to it (the end
+        orientation held, zero derivatives).
+
+    Raises
+    ------
+    ValueError
+        If a shape is wrong, there are too few keys, a key is zero or not finite, the times
+        are not finite and strictly increasing, or a parameter is out of range (the message
+        names the argument and the index).
+
+    See Also
+    --------
+    CumulativeBezier : the same end points and tangents, another curve.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import quatspline as qs
+    >>> cp = qs.from_euler("xyz", [[0, 0, 0], [30, 0, 0], [60, 0, 0], [90, 0, 0]], degrees=True)
+    >>> s = qs.SphericalBezier(cp, domain=(0.0, 2.0))
+    >>> bool(np.allclose(s([0.0, 2.0]), cp[[0, -1]]))
+    True
+    """
 
     def __init__(
         self,
@@ -264,8 +736,45 @@ class SphericalBezier(Spline):
 
 
 class CumulativeBezier(Spline):
-    """One cumulative spherical Bézier curve (Kim–Kim–Shin) on [0, 1]; same end tangents as
-    ``SphericalBezier`` with the same control points, a different curve in between."""
+    """One cumulative spherical Bézier curve (Kim, Kim & Shin 1995).
+
+    ``q(t) = b₀ Π_j (b_{j−1}* b_j)^{B̃_j(t)}`` with the cumulative Bernstein polynomials
+    ``B̃_j``. It has the end points and end tangents of :class:`SphericalBezier` with the
+    same control points, and is a different curve in between.
+
+    Parameters
+    ----------
+    control_points : array_like, shape (n + 1, 4)
+        Control quaternions b₀ … bₙ (or a scipy ``Rotation``).
+    domain : tuple of float, default (0.0, 1.0)
+        The time interval the curve is mapped to.
+    canonicalize : bool, default True
+        Flip each key to the hemisphere of the previous one, so that consecutive keys are
+        joined the short way.
+    extrapolate : {"raise", "clamp"}, default "raise"
+        Times outside the domain raise ``ValueError``, or are clamped to it (the end
+        orientation held, zero derivatives).
+
+    Raises
+    ------
+    ValueError
+        If a shape is wrong, there are too few keys, a key is zero or not finite, the times
+        are not finite and strictly increasing, or a parameter is out of range (the message
+        names the argument and the index).
+
+    See Also
+    --------
+    SphericalBezier
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import quatspline as qs
+    >>> cp = qs.from_euler("xyz", [[0, 0, 0], [30, 0, 0], [60, 0, 0], [90, 0, 0]], degrees=True)
+    >>> s, b = qs.CumulativeBezier(cp), qs.SphericalBezier(cp)
+    >>> bool(np.allclose(s.derivative(0.0), b.derivative(0.0)))  # same end tangent
+    True
+    """
 
     def __init__(
         self,
@@ -280,7 +789,47 @@ class CumulativeBezier(Spline):
 
 
 class Squad(Spline):
-    """Shoemake's Squad; non-uniform times get incoming/outgoing control points: C¹ in time."""
+    """Shoemake's Squad (spherical quadrangle interpolation): interpolating, C¹ in time.
+
+    Shoemake (1987). For non-uniform times each key gets an incoming and an outgoing inner
+    point, chosen so that both sides have the same velocity in time; with uniform times
+    both are Shoemake's. Squad is C¹, not C².
+
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Keys (w, x, y, z), or a scipy ``Rotation`` holding N rotations; normalised.
+    times : array_like, shape (N,), optional
+        Strictly increasing key times (any unit; rates are per that unit); pandas
+        ``DatetimeIndex`` and ``datetime64``/``timedelta64`` arrays become seconds. Default
+        0, 1, …, N−1.
+    canonicalize : bool, default True
+        Flip each key to the hemisphere of the previous one, so that consecutive keys are
+        joined the short way.
+    extrapolate : {"raise", "clamp"}, default "raise"
+        Times outside the domain raise ``ValueError``, or are clamped to it (the end
+        orientation held, zero derivatives).
+
+    Raises
+    ------
+    ValueError
+        If a shape is wrong, there are too few keys, a key is zero or not finite, the times
+        are not finite and strictly increasing, or a parameter is out of range (the message
+        names the argument and the index).
+
+    See Also
+    --------
+    CatmullRom : also C¹, Gortler's construction.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import quatspline as qs
+    >>> keys = qs.from_euler("xyz", [[0, 0, 0], [90, 0, 0], [90, 45, 0], [0, 45, 30]], degrees=True)
+    >>> s = qs.Squad(keys, [0.0, 1.0, 3.0, 3.5])
+    >>> bool(np.allclose(s([0.0, 1.0, 3.0, 3.5]), keys)), [j.order for j in qs.continuity(s)]
+    (True, [1, 1])
+    """
 
     def __init__(self, quats, times=None, canonicalize: bool = True, extrapolate: str = "raise"):
         q = _keys(quats, "quats")
@@ -295,10 +844,49 @@ class Squad(Spline):
 
 
 class CatmullRom(Spline):
-    """Catmull–Rom with spherical Bézier segments (Gortler): C¹ in time, also non-uniform.
+    """Catmull–Rom through the keys with spherical Bézier segments: C¹ in time.
 
-    ``ends="reflect"`` (default) mirrors the missing end neighbours (two keys give slerp);
-    ``ends="duplicate"`` repeats the end keys as in MATH.md §4.
+    Gortler (2012, ch. 9): segment i has inner control points ``exp(hᵢ Wᵢ/3) cᵢ`` and
+    ``exp(−hᵢ Wᵢ₊₁/3) cᵢ₊₁`` with the key tangent ``Wᵢ = log(cᵢ₊₁ cᵢ₋₁⁻¹)/(hᵢ₋₁ + hᵢ)``;
+    for uniform times this is exactly Gortler's construction.
+
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Keys (w, x, y, z), or a scipy ``Rotation`` holding N rotations; normalised.
+    times : array_like, shape (N,), optional
+        Strictly increasing key times (any unit; rates are per that unit); pandas
+        ``DatetimeIndex`` and ``datetime64``/``timedelta64`` arrays become seconds. Default
+        0, 1, …, N−1.
+    ends : {"reflect", "duplicate"}, default "reflect"
+        How the missing neighbours of the end keys are made: mirrored (two keys then give
+        slerp) or the end keys repeated.
+    canonicalize : bool, default True
+        Flip each key to the hemisphere of the previous one, so that consecutive keys are
+        joined the short way.
+    extrapolate : {"raise", "clamp"}, default "raise"
+        Times outside the domain raise ``ValueError``, or are clamped to it (the end
+        orientation held, zero derivatives).
+
+    Raises
+    ------
+    ValueError
+        If a shape is wrong, there are too few keys, a key is zero or not finite, the times
+        are not finite and strictly increasing, or a parameter is out of range (the message
+        names the argument and the index).
+
+    See Also
+    --------
+    Squad
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import quatspline as qs
+    >>> keys = qs.from_euler("xyz", [[0, 0, 0], [90, 0, 0], [90, 45, 0], [0, 45, 30]], degrees=True)
+    >>> s = qs.CatmullRom(keys, [0.0, 1.0, 3.0, 3.5])
+    >>> [j.order for j in qs.continuity(s)]
+    [1, 1]
     """
 
     def __init__(
@@ -324,8 +912,47 @@ class CatmullRom(Spline):
 class CumulativeBSpline(Spline):
     """Uniform cumulative B-spline of order k (cubic by default): C^(k−2), approximating.
 
-    Segment i spans [t0 + i·dt, t0 + (i+1)·dt] with control rotations i … i+k−1, so the
-    domain is [t0, t0 + (n − k + 1)·dt].
+    Kim, Kim & Shin (1995); the form used in visual-inertial estimation (Sommer et al.
+    2020). Segment i spans ``[t0 + i·dt, t0 + (i+1)·dt]`` and uses control rotations
+    i … i+k−1, so the domain is ``[t0, t0 + (n − k + 1)·dt]``.
+
+    Parameters
+    ----------
+    control_quats : array_like, shape (n, 4)
+        Control rotations (or a scipy ``Rotation``); at least ``order`` of them. The curve
+        does not pass through them.
+    dt : float, default 1.0
+        Knot spacing (time per segment), > 0.
+    t0 : float, default 0.0
+        Start time.
+    order : int, default 4
+        B-spline order k (degree k − 1), 2 … 8.
+    canonicalize : bool, default True
+        Flip each key to the hemisphere of the previous one, so that consecutive keys are
+        joined the short way.
+    extrapolate : {"raise", "clamp"}, default "raise"
+        Times outside the domain raise ``ValueError``, or are clamped to it (the end
+        orientation held, zero derivatives).
+
+    Raises
+    ------
+    ValueError
+        If a shape is wrong, there are too few keys, a key is zero or not finite, the times
+        are not finite and strictly increasing, or a parameter is out of range (the message
+        names the argument and the index).
+
+    See Also
+    --------
+    BetaSpline : shape parameters, G¹.
+
+    Examples
+    --------
+    >>> import quatspline as qs
+    >>> angles = [[0, 0, 0], [30, 0, 0], [60, 0, 0], [90, 0, 0], [60, 0, 0]]
+    >>> cp = qs.from_euler("xyz", angles, degrees=True)
+    >>> s = qs.CumulativeBSpline(cp, dt=0.5)
+    >>> s.domain, s.continuity, s.interpolates
+    ((0.0, 1.0), 2, False)
     """
 
     def __init__(
@@ -345,11 +972,56 @@ class CumulativeBSpline(Spline):
 
 
 class NaturalSpline(Spline):
-    """The global interpolating C² spline (scipy ``RotationSpline``'s construction).
+    """The global interpolating C² spline (the construction of scipy's ``RotationSpline``).
 
-    ``ends="natural"``: zero angular acceleration at both ends. ``ends="clamped"``: body
-    angular velocities ``start_rate``/``end_rate`` at the ends, by default the end segments'
-    chord rates — which is exactly what scipy's ``RotationSpline`` does.
+    Every key moves every segment (global support). Segment i is
+    ``qᵢ exp(½ rᵢ(τ − τᵢ))`` with a cubic rotation vector ``rᵢ``; the key rates follow from
+    continuity of angular velocity and acceleration, a non-linear system solved by
+    iterating a block-tridiagonal solve.
+
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Keys (w, x, y, z), or a scipy ``Rotation`` holding N rotations; normalised.
+    times : array_like, shape (N,), optional
+        Strictly increasing key times (any unit; rates are per that unit); pandas
+        ``DatetimeIndex`` and ``datetime64``/``timedelta64`` arrays become seconds. Default
+        0, 1, …, N−1.
+    ends : {"natural", "clamped"}, default "natural"
+        ``"natural"``: zero angular acceleration at both ends. ``"clamped"``: the body
+        angular velocities ``start_rate`` and ``end_rate`` at the ends.
+    start_rate, end_rate : array_like, shape (3,), optional
+        Body-frame end rates for ``ends="clamped"`` (rad per time unit); by default the end
+        segments' chord rates, which is exactly what scipy's ``RotationSpline`` does.
+    canonicalize : bool, default True
+        Flip each key to the hemisphere of the previous one, so that consecutive keys are
+        joined the short way.
+    extrapolate : {"raise", "clamp"}, default "raise"
+        Times outside the domain raise ``ValueError``, or are clamped to it (the end
+        orientation held, zero derivatives).
+
+    Raises
+    ------
+    ValueError
+        If a shape is wrong, there are too few keys, a key is zero or not finite, the times
+        are not finite and strictly increasing, or a parameter is out of range (the message
+        names the argument and the index).
+
+    See Also
+    --------
+    C3Spline : local support, C³.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from scipy.spatial.transform import Rotation, RotationSpline
+    >>> import quatspline as qs
+    >>> keys, times = Rotation.random(5, random_state=0), [0.0, 1.0, 1.5, 3.0, 4.0]
+    >>> s = qs.NaturalSpline(keys, times, ends="clamped")
+    >>> t = np.linspace(0, 4, 9)
+    >>> bool(np.allclose(s.angular_velocity(t, frame="body"), RotationSpline(times, keys)(t, 1),
+    ...                  rtol=1e-5, atol=1e-6))
+    True
     """
 
     def __init__(
@@ -386,8 +1058,31 @@ class NaturalSpline(Spline):
 
 
 def path_length(spline: Spline, per_segment: int = 8) -> float:
-    """Total rotation angle ∫|ω| dt over the domain (radians), by Gauss–Legendre quadrature
-    (8 nodes on each of ``per_segment`` pieces of every segment)."""
+    """Total rotation angle ``∫|ω| dt`` over the domain, in radians.
+
+    Computed by Gauss–Legendre quadrature with 8 nodes on each of ``per_segment`` pieces of
+    every segment.
+
+    Parameters
+    ----------
+    spline : Spline
+        Any spline.
+    per_segment : int, default 8
+        Pieces per segment.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import quatspline as qs
+    >>> keys = qs.from_euler("xyz", [[0, 0, 0], [0, 0, 90], [0, 0, 0]], degrees=True)
+    >>> s = qs.PiecewiseSlerp(keys)
+    >>> round(float(np.degrees(qs.path_length(s))), 9)
+    180.0
+    """
     x, w = np.polynomial.legendre.leggauss(8)
     j = spline.joints
     edges = np.concatenate(
@@ -400,12 +1095,37 @@ def path_length(spline: Spline, per_segment: int = 8) -> float:
 
 
 def reparameterize(spline: Spline, kind: str = "angle") -> Spline:
-    """The same method through the same keys, with key times re-spaced so each segment's
-    duration is proportional to its rotation angle (seed 003), keeping the start and end
-    times: angular speed becomes (near) constant across segments.
+    """The same method through the same keys, re-timed for an even angular speed.
 
-    Works for the interpolating methods made from keys and times (``PiecewiseSlerp``,
-    ``Squad``, ``CatmullRom``, ``NaturalSpline``).
+    Each segment's duration becomes proportional to its rotation angle, keeping the start
+    and end times, so the angular speed is (near) constant across segments.
+
+    Parameters
+    ----------
+    spline : Spline
+        An interpolating spline made from keys and times (``PiecewiseSlerp``, ``Squad``,
+        ``CatmullRom``, ``NaturalSpline``, ``C3Spline``, the baselines).
+    kind : {"angle"}, default "angle"
+        Re-timing rule.
+
+    Returns
+    -------
+    Spline
+        A new spline of the same class (the input itself if every key is the same).
+
+    Raises
+    ------
+    ValueError
+        If ``kind`` is unknown or the spline is not built from keys at times.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import quatspline as qs
+    >>> keys = qs.from_euler("xyz", [[0, 0, 0], [0, 0, 10], [0, 0, 100]], degrees=True)
+    >>> s = qs.reparameterize(qs.PiecewiseSlerp(keys, [0.0, 1.0, 2.0]))
+    >>> s.joints.round(6)
+    array([0. , 0.2, 2. ])
     """
     if kind != "angle":
         raise ValueError(f"kind: expected 'angle', got {kind!r}")
@@ -439,12 +1159,53 @@ def _per(v, name: str) -> np.ndarray:
 
 
 class BetaSpline(Spline):
-    """The Beta quaternion spline (seed 000, MATH.md §7): G¹ exactly, not G² in general.
+    """The Beta quaternion spline (He et al. 2022): G¹ exactly, not G² in general.
 
-    ``vertices`` are the auxiliary control vertices p₀ … p_{l+2} (at least 4); ``beta1`` (> 0)
-    and ``beta2`` are scalars or one value per vertex. The curve has l segments, mapped to
-    ``times`` (l+1 joint times, default 0 … l). β₁ = 1, β₂ = 0 is the uniform cubic B-spline.
-    With ``canonicalize=False`` the paper's Example 1 is reproduced.
+    β₁ = 1, β₂ = 0 gives the Bézier points of the uniform cubic B-spline. The paper's claim
+    of G² is false in general; :func:`quatspline.continuity` reports the G² residual and the
+    residual of the corrected Theorem 2 condition instead.
+
+    Parameters
+    ----------
+    vertices : array_like, shape (l + 3, 4)
+        Auxiliary control vertices p₀ … p_{l+2} (at least 4), or a scipy ``Rotation``. The
+        curve does not pass through them.
+    beta1 : float or array_like, shape (l + 3,), default 1.0
+        Bias β₁ > 0, one value or one per vertex.
+    beta2 : float or array_like, shape (l + 3,), default 0.0
+        Tension β₂, one value or one per vertex.
+    times : array_like, shape (l + 1,), optional
+        Joint times of the l segments; default 0 … l.
+    canonicalize : bool, default True
+        Flip each key to the hemisphere of the previous one, so that consecutive keys are
+        joined the short way.
+        The paper's Example 1 is reproduced only with ``canonicalize=False``.
+    extrapolate : {"raise", "clamp"}, default "raise"
+        Times outside the domain raise ``ValueError``, or are clamped to it (the end
+        orientation held, zero derivatives).
+
+    Raises
+    ------
+    ValueError
+        If a shape is wrong, there are too few keys, a key is zero or not finite, the times
+        are not finite and strictly increasing, or a parameter is out of range (the message
+        names the argument and the index).
+
+    See Also
+    --------
+    quatspline.continuity : reports the G¹ and G² residuals.
+    CumulativeBSpline
+
+    Examples
+    --------
+    >>> import quatspline as qs
+    >>> s = qs.BetaSpline(qs.examples.BETA_EXAMPLE1_VERTICES, beta1=1.0, beta2=0.5,
+    ...                   canonicalize=False)
+    >>> s.control_points()[0, 0].round(4)  # the paper's q_{1,0}
+    array([-0.3796,  0.4589,  0.1106,  0.7956])
+    >>> (j,) = qs.continuity(s)
+    >>> j.beta_g1_residual < 1e-13, round(j.beta_g2_residual, 3)  # G¹ holds, G² does not
+    (True, 0.066)
     """
 
     def __init__(
@@ -463,19 +1224,71 @@ class BetaSpline(Spline):
             extrapolate,
         )
 
-    def control_points(self) -> np.ndarray:
-        """The Bézier points q_{i,0..3} of segments i = 1 … l, shape (l, 4, 4)."""
+    def control_points(self) -> NDArray[np.float64]:
+        """The Bézier points ``q_{i,0..3}`` of segments i = 1 … l.
+
+        Returns
+        -------
+        numpy.ndarray, shape (l, 4, 4)
+            Segment, point, quaternion (w, x, y, z).
+        """
         return np.array(self._core.control_points())
 
 
 class C3Spline(Spline):
-    """The patent's interpolating C³ spline with shape parameters α, β (seed 004, MATH.md §8).
+    """The interpolating C³ spline with shape parameters α and β (Wang & Zhou 2023).
 
-    ``variant="knot"`` (default): α, β per key (scalar or N values), C³ in time for any key
-    spacing and parameters. ``variant="patent"``: α, β per segment (scalar or N−1 values),
-    exactly the patent's blending functions (C³ in the local parameter for uniform times and
-    shared parameters; only G³ in time otherwise). (α, β) = (5/16, 0) is the quintic C³
-    scheme; α = β = 0 is slerp with degree-7 smoothstep timing.
+    The patent's formulas were published as images and are lost; this is a reconstruction
+    with every stated property (documented in the mathematics pages). (α, β) = (5/16, 0) is
+    the quintic C³ scheme (speed at a key 5/8 of the chord speed); α = β = 0 is slerp timed
+    by the degree-7 smoothstep (zero velocity at the keys).
+
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Keys (w, x, y, z), or a scipy ``Rotation`` holding N rotations; normalised.
+    times : array_like, shape (N,), optional
+        Strictly increasing key times (any unit; rates are per that unit); pandas
+        ``DatetimeIndex`` and ``datetime64``/``timedelta64`` arrays become seconds. Default
+        0, 1, …, N−1.
+    alpha : float or array_like, default 5/16
+        α: scales the key velocities and changes the first three derivatives at the keys.
+        One value, or one per key (``"knot"``, N values) or per segment (``"patent"``, N−1).
+    beta : float or array_like, default 0.0
+        β: changes only the third derivative at the keys; same sizes as ``alpha``.
+    variant : {"knot", "patent"}, default "knot"
+        ``"knot"``: parameters belong to keys and the curve is C³ in time for any key
+        spacing. ``"patent"``: the patent's blending functions exactly, C³ in the local
+        parameter (in time only for uniform times and shared parameters; G³ otherwise).
+    canonicalize : bool, default True
+        Flip each key to the hemisphere of the previous one, so that consecutive keys are
+        joined the short way.
+    extrapolate : {"raise", "clamp"}, default "raise"
+        Times outside the domain raise ``ValueError``, or are clamped to it (the end
+        orientation held, zero derivatives).
+
+    Raises
+    ------
+    ValueError
+        If a shape is wrong, there are too few keys, a key is zero or not finite, the times
+        are not finite and strictly increasing, or a parameter is out of range (the message
+        names the argument and the index).
+
+    See Also
+    --------
+    NaturalSpline : global C², closest to the data.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import quatspline as qs
+    >>> angles = [[0, 0, 0], [0, 0, 90], [45, 0, 90], [45, 30, 120]]
+    >>> keys = qs.from_euler("xyz", angles, degrees=True)
+    >>> s = qs.C3Spline(keys, [0.0, 1.0, 2.5, 3.0], alpha=5 / 16, beta=0.0)
+    >>> bool(np.allclose(s([0.0, 1.0, 2.5, 3.0]), keys))
+    True
+    >>> [j.order for j in qs.continuity(s)]
+    [3, 3]
     """
 
     def __init__(
