@@ -65,11 +65,49 @@ def from_axis_angle(axis, angle) -> np.ndarray:
 
 
 def from_euler(seq: str, angles, degrees: bool = False) -> np.ndarray:
-    """Quaternions of Euler angles (..., 3) in sequence ``seq`` (scipy's convention)."""
-    a = with_width(angles, "angles", 3)
+    """Quaternions of Euler angles in sequence ``seq`` (scipy's convention).
+
+    Parameters
+    ----------
+    seq : str
+        1 to 3 axes, all of ``xyz`` (extrinsic) or all of ``XYZ`` (intrinsic), no axis twice in
+        a row: ``"X"``, ``"zx"``, ``"xyz"``, ``"ZYZ"``… (as ``scipy``'s ``from_euler``).
+    angles : array_like
+        Shape (..., len(seq)). With one axis, a scalar or any array of angles (a trailing axis
+        of length 1 is accepted too).
+    degrees : bool
+        Angles in degrees.
+
+    Returns
+    -------
+    ndarray
+        Unit quaternions (..., 4).
+
+    Raises
+    ------
+    TypeError
+        ``seq`` is not a string.
+    ValueError
+        Unknown sequence, or ``angles`` of the wrong width.
+
+    Examples
+    --------
+    >>> import quatspline as qs
+    >>> qs.from_euler("zx", [90, 90], degrees=True).round(3)
+    array([ 0.5,  0.5, -0.5,  0.5])
+    """
+    if not isinstance(seq, str):
+        raise TypeError(f"seq: expected a string such as 'xyz', got {type(seq).__name__}")
+    k = len(seq)
+    _core.from_euler(seq, np.zeros((0, min(max(k, 1), 3))))  # the core names a bad ``seq``
+    a = as_real(angles, "angles")
+    if k == 1 and not (a.ndim >= 2 and a.shape[-1] == 1):
+        a = a[..., None]
+    if a.ndim == 0 or a.shape[-1] != k:
+        raise ValueError(f"angles: expected shape (..., {k}) for sequence {seq!r}, got {a.shape}")
     if degrees:
         a = np.deg2rad(a)
-    return _core.from_euler(str(seq), a.reshape(-1, 3)).reshape((*a.shape[:-1], 4))
+    return _core.from_euler(seq, a.reshape(-1, k)).reshape((*a.shape[:-1], 4))
 
 
 def as_euler(q, seq: str, degrees: bool = False) -> np.ndarray:

@@ -86,10 +86,24 @@ def dq_screw(dq) -> dict[str, np.ndarray]:
     }
 
 
-def dq_power(dq, t) -> np.ndarray:
-    """q̂^t on the screw: rotate t·θ about, and slide t·d along, the screw axis."""
+def dq_power(dq, t, long_path: bool = False) -> np.ndarray:
+    """q̂^t on the screw: rotate t·θ about, and slide t·d along, the screw axis.
+
+    q̂ and −q̂ are the same pose; by default the power follows the shortest screw (the
+    representative with rotation part w ≥ 0, θ ∈ [0, π]), so ``dq_power(-q̂, t)`` and
+    ``dq_power(q̂, t)`` are the same pose. ``long_path=True`` keeps the sign as given (θ up to
+    2π, the other way round the screw), as ``slerp``'s ``long_path`` does.
+
+    Examples
+    --------
+    >>> import numpy as np, quatspline as qs
+    >>> d = qs.dq_from_pose(qs.from_axis_angle([0, 0, 1], 3.0), [1.0, 0, 0])
+    >>> a, b = qs.dq_power(d, 0.5), qs.dq_power(-d, 0.5)
+    >>> bool(np.allclose(a, b) or np.allclose(a, -b))
+    True
+    """
     shape, (a, b) = broadcast((_dq(dq, "dq"), 8, "dq"), (as_real(t, "t"), 0, "t"))
-    return _core.dq_power(a, b).reshape((*shape, 8))
+    return _core.dq_power(a, b, bool(long_path)).reshape((*shape, 8))
 
 
 def sclerp(dq0, dq1, t) -> np.ndarray:

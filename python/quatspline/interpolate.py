@@ -45,6 +45,18 @@ def slerp(q0, q1, t, long_path: bool = False) -> np.ndarray:
     Shortest path by default (q₁ is replaced by −q₁ when q₀·q₁ < 0, so at t = 1 the result
     is that representative); ``long_path=True`` keeps q₁ as given. Exact at t = 0 and 1; stable
     for nearly equal keys (Taylor weights) and for nearly opposite ones.
+
+    Exactly opposite keys with ``long_path=True`` (q₁ = −q₀, a full turn with no axis of its
+    own) turn about q₀'s body x axis: ``slerp(q, -q, t, True) = q ⊗ (cos πt, sin πt, 0, 0)``,
+    a unit quaternion rotating by 2πt about the world axis R(q) eₓ.
+
+    Examples
+    --------
+    >>> import numpy as np, quatspline as qs
+    >>> q = np.array([0, 0, 1, 1]) / np.sqrt(2)
+    >>> m = qs.slerp(q, -q, 0.75, long_path=True)
+    >>> float(np.linalg.norm(m))
+    1.0
     """
     return _pair(_core.slerp, q0, q1, t, bool(long_path))
 
