@@ -50,7 +50,7 @@ def test_shapes_named_with_both_shapes():
 
 
 def test_unknown_euler_sequence_lists_valid_ones():
-    with pytest.raises(ValueError, match=r'unknown Euler sequence "xyy".*xyz.*ZYZ'):
+    with pytest.raises(ValueError, match=r'seq: unknown rotation sequence "xyy".*"xyz".*"ZYZ"'):
         qs.from_euler("xyy", [0.0, 0.0, 0.0])
     with pytest.raises(ValueError, match="unknown Euler sequence"):
         qs.as_euler(Q, "XyZ")

@@ -217,11 +217,11 @@ def from_euler(seq: str, angles: ArrayLike, degrees: bool = False) -> NDArray[np
     Parameters
     ----------
     seq : str
-        Three axes: lowercase (``"xyz"``) for extrinsic rotations (about the fixed world
-        axes), uppercase (``"XYZ"``) for intrinsic ones (about the rotating body axes); all
-        12 sequences of each kind.
-    angles : array_like, shape (..., 3)
-        The three angles, applied in the order of ``seq``.
+        1 to 3 axes, all of ``xyz`` (extrinsic) or all of ``XYZ`` (intrinsic), no axis twice in
+        a row: ``"X"``, ``"zx"``, ``"xyz"``, ``"ZYZ"``… (as ``scipy``'s ``from_euler``).
+    angles : array_like, shape (..., len(seq))
+        The angles, applied in the order of ``seq``. With one axis, a scalar or any array of angles (a trailing axis
+        of length 1 is accepted too).
     degrees : bool, default False
         Angles in degrees instead of radians.
 
@@ -232,9 +232,10 @@ def from_euler(seq: str, angles: ArrayLike, degrees: bool = False) -> NDArray[np
 
     Raises
     ------
+    TypeError
+        ``seq`` is not a string.
     ValueError
-        If ``seq`` is not a valid sequence, the shape is not (..., 3), or an angle is not
-        finite.
+        Unknown sequence, or ``angles`` of the wrong width.
 
     See Also
     --------
@@ -246,11 +247,21 @@ def from_euler(seq: str, angles: ArrayLike, degrees: bool = False) -> NDArray[np
     >>> q = qs.from_euler("xyz", [0.0, 0.0, 90.0], degrees=True)
     >>> q.round(12)
     array([0.70710678, 0.        , 0.        , 0.70710678])
+    >>> qs.from_euler("zx", [90, 90], degrees=True).round(3)
+    array([ 0.5,  0.5, -0.5,  0.5])
     """
-    a = with_width(angles, "angles", 3)
+    if not isinstance(seq, str):
+        raise TypeError(f"seq: expected a string such as 'xyz', got {type(seq).__name__}")
+    k = len(seq)
+    _core.from_euler(seq, np.zeros((0, min(max(k, 1), 3))))  # the core names a bad ``seq``
+    a = as_real(angles, "angles")
+    if k == 1 and not (a.ndim >= 2 and a.shape[-1] == 1):
+        a = a[..., None]
+    if a.ndim == 0 or a.shape[-1] != k:
+        raise ValueError(f"angles: expected shape (..., {k}) for sequence {seq!r}, got {a.shape}")
     if degrees:
         a = np.deg2rad(a)
-    return _core.from_euler(str(seq), a.reshape(-1, 3)).reshape((*a.shape[:-1], 4))
+    return _core.from_euler(seq, a.reshape(-1, k)).reshape((*a.shape[:-1], 4))
 
 
 def as_euler(q: ArrayLike, seq: str, degrees: bool = False) -> NDArray[np.float64]:

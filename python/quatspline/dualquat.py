@@ -268,8 +268,13 @@ def dq_screw(dq: ArrayLike) -> dict[str, NDArray[np.float64]]:
     }
 
 
-def dq_power(dq: ArrayLike, t: ArrayLike) -> NDArray[np.float64]:
+def dq_power(dq: ArrayLike, t: ArrayLike, long_path: bool = False) -> NDArray[np.float64]:
     """Powers ``q̂^t`` on the screw: rotate ``t θ`` about, and slide ``t d`` along, its axis.
+
+    q̂ and −q̂ are the same pose; by default the power follows the shortest screw (the
+    representative with rotation part w ≥ 0, θ ∈ [0, π]), so ``dq_power(-q̂, t)`` and
+    ``dq_power(q̂, t)`` are the same pose. ``long_path=True`` keeps the sign as given (θ up to
+    2π, the other way round the screw), as ``slerp``'s ``long_path`` does.
 
     Parameters
     ----------
@@ -277,6 +282,8 @@ def dq_power(dq: ArrayLike, t: ArrayLike) -> NDArray[np.float64]:
         Dual quaternions: real part (w, x, y, z), then dual part.
     t : array_like, shape (...)
         Exponents; broadcast with the batch shape of ``dq``.
+    long_path : bool, default False
+        Keep the sign of ``dq`` as given instead of following the shortest screw.
 
     Returns
     -------
@@ -293,9 +300,13 @@ def dq_power(dq: ArrayLike, t: ArrayLike) -> NDArray[np.float64]:
     >>> dq = qs.dq_from_pose([1.0, 0.0, 0.0, 0.0], [2.0, 0.0, 0.0])
     >>> qs.dq_to_pose(qs.dq_power(dq, 0.25))[1]
     array([0.5, 0. , 0. ])
+    >>> d = qs.dq_from_pose(qs.from_axis_angle([0, 0, 1], 3.0), [1.0, 0, 0])
+    >>> a, b = qs.dq_power(d, 0.5), qs.dq_power(-d, 0.5)
+    >>> bool(np.allclose(a, b) or np.allclose(a, -b))
+    True
     """
     shape, (a, b) = broadcast((_dq(dq, "dq"), 8, "dq"), (as_real(t, "t"), 0, "t"))
-    return _core.dq_power(a, b).reshape((*shape, 8))
+    return _core.dq_power(a, b, bool(long_path)).reshape((*shape, 8))
 
 
 def sclerp(dq0: ArrayLike, dq1: ArrayLike, t: ArrayLike) -> NDArray[np.float64]:

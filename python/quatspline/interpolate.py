@@ -123,6 +123,10 @@ def slerp(
     Exact at t = 0 and 1; stable for nearly equal keys (Taylor weights) and for nearly
     opposite ones (Shoemake 1985).
 
+    Exactly opposite keys with ``long_path=True`` (q₁ = −q₀, a full turn with no axis of its
+    own) turn about q₀'s body x axis: ``slerp(q, -q, t, True) = q ⊗ (cos πt, sin πt, 0, 0)``,
+    a unit quaternion rotating by 2πt about the world axis R(q) eₓ.
+
     Parameters
     ----------
     q0, q1 : array_like, shape (..., 4)
@@ -161,6 +165,9 @@ def slerp(
     (5, 4)
     >>> np.degrees(qs.as_rotvec(q)[:, 2]).round(6)
     array([ 0. , 22.5, 45. , 67.5, 90. ])
+    >>> q = np.array([0, 0, 1, 1]) / np.sqrt(2)
+    >>> float(np.linalg.norm(qs.slerp(q, -q, 0.75, long_path=True)))
+    1.0
     """
     return _pair(_core.slerp, q0, q1, t, bool(long_path))
 

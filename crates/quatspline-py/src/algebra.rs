@@ -124,11 +124,18 @@ fn parse_seq(seq: &str) -> PyResult<EulerSeq> {
     EulerSeq::parse(seq).map_err(to_py)
 }
 
+/// `seq` of 1, 2 or 3 axes (as scipy); `angles` (N, len(seq)).
 #[pyfunction]
 fn from_euler<'py>(py: Python<'py>, seq: &str, angles: Arr<'py>) -> Out<'py> {
-    let s = parse_seq(seq)?;
-    let a = Rows::new(&angles, "angles", 3)?;
-    fill(py, "from_euler", a.len(), |i| Ok(convert::from_euler(s, a.row::<3>(i)).to_wxyz()))
+    let (axes, extrinsic) = convert::parse_rotation_sequence(seq).map_err(to_py)?;
+    let a = Rows::new(&angles, "angles", axes.len())?;
+    fill(py, "from_euler", a.len(), |i| {
+        let mut g = [0.0; 3];
+        for (k, v) in g.iter_mut().enumerate().take(axes.len()) {
+            *v = a.view[[i, k]];
+        }
+        Ok(convert::from_rotation_sequence(&axes, extrinsic, &g[..axes.len()]).to_wxyz())
+    })
 }
 
 #[pyfunction]
@@ -256,11 +263,17 @@ fn dq_screw<'py>(py: Python<'py>, dq: Arr<'py>) -> Out<'py> {
     })
 }
 
+/// Shortest screw unless `long_path`: q̂ and −q̂ (the same pose) give the same power.
 #[pyfunction]
-fn dq_power<'py>(py: Python<'py>, dq: Arr<'py>, t: Arr<'py>) -> Out<'py> {
+#[pyo3(signature = (dq, t, long_path=false))]
+fn dq_power<'py>(py: Python<'py>, dq: Arr<'py>, t: Arr<'py>, long_path: bool) -> Out<'py> {
     let (d, t) = (Rows::new(&dq, "dq", 8)?, Rows::new(&t, "t", 1)?.parameters()?);
     let n = same_len(&[("dq", d.len()), ("t", t.len())])?;
-    fill(py, "dq_power", n, |i| Ok(unit_dq(&d, i)?.powf(t.scalar(i)).to_array()))
+    fill(py, "dq_power", n, |i| {
+        let q = unit_dq(&d, i)?;
+        let q = if !long_path && q.r.w < 0.0 { q.scale(-1.0) } else { q };
+        Ok(q.powf(t.scalar(i)).to_array())
+    })
 }
 
 #[pyfunction]

@@ -3,7 +3,7 @@
 
 use numpy::ndarray::ArrayView2;
 use numpy::{PyArray2, PyArrayMethods, PyReadonlyArray2};
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyMemoryError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use quatspline::{Error, Quat};
 use rayon::prelude::*;
@@ -72,6 +72,63 @@ pub fn guarded<T: Send>(
     }
 }
 
+/// An uninitialised C-contiguous float64 (rows, width) output, or a `MemoryError` naming its
+/// size: the size is checked for overflow first and the array comes from `numpy.empty`, whose
+/// failure is a Python exception (rust-numpy's `PyArray::new` panics on a failed allocation,
+/// and that panic reached Python as `PanicException`).
+pub fn alloc2<'py>(
+    py: Python<'py>,
+    rows: usize,
+    width: usize,
+    what: &str,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let too_big = || {
+        PyMemoryError::new_err(format!(
+            "{what}: cannot allocate the ({rows}, {width}) float64 output ({})",
+            human_bytes(rows as f64 * width as f64 * 8.0)
+        ))
+    };
+    match rows.checked_mul(width).and_then(|e| e.checked_mul(8)) {
+        Some(b) if b <= isize::MAX as usize => {}
+        _ => return Err(too_big()),
+    }
+    let empty = py.import("numpy")?.getattr("empty")?;
+    match empty.call1(((rows, width),)) {
+        Ok(a) => Ok(a.cast_into::<PyArray2<f64>>()?),
+        Err(e) if e.is_instance_of::<PyMemoryError>(py) => Err(too_big()),
+        Err(e) => Err(e),
+    }
+}
+
+/// A copy of `it` (exactly `len` items) in a Vec whose allocation failure is a `MemoryError`
+/// (a failed `Vec` allocation would abort the process).
+pub fn try_vec<T>(len: usize, it: impl Iterator<Item = T>, what: &str) -> PyResult<Vec<T>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(len).map_err(|_| {
+        PyMemoryError::new_err(format!(
+            "{what}: cannot allocate {} for {len} items",
+            human_bytes(len as f64 * std::mem::size_of::<T>() as f64)
+        ))
+    })?;
+    v.extend(it);
+    Ok(v)
+}
+
+fn human_bytes(b: f64) -> String {
+    let units = ["bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
+    let mut x = b;
+    let mut k = 0;
+    while x >= 1024.0 && k + 1 < units.len() {
+        x /= 1024.0;
+        k += 1;
+    }
+    if k == 0 {
+        format!("{b:.0} bytes")
+    } else {
+        format!("{x:.1} {}", units[k])
+    }
+}
+
 /// Read access to the rows of an (N, W) array with any strides (a slice when C-contiguous).
 pub struct Rows<'a> {
     pub view: ArrayView2<'a, f64>,
@@ -92,6 +149,11 @@ impl<'a> Rows<'a> {
         let flat = view.to_slice();
         let bad = match flat {
             Some(s) => s.iter().position(|v| !v.is_finite()),
+            // A broadcast input (row stride 0) repeats its first row: check that row once, so
+            // a huge broadcast is validated in O(width) and its output size is what bounds it.
+            None if view.nrows() > 0 && view.strides()[0] == 0 => {
+                view.row(0).iter().position(|v| !v.is_finite())
+            }
             None => view.iter().position(|v| !v.is_finite()),
         };
         if let Some(k) = bad {
@@ -107,7 +169,13 @@ impl<'a> Rows<'a> {
     /// Interpolation parameters: |t| ≤ 1e12 (beyond, t·θ carries no bits of the angle and
     /// sin/cos of an overflowing product would be NaN).
     pub fn parameters(self) -> PyResult<Self> {
-        if let Some(k) = self.view.iter().position(|v| v.abs() > 1e12) {
+        let v = &self.view;
+        let first = if v.nrows() > 0 && v.strides()[0] == 0 {
+            v.slice(numpy::ndarray::s![0..1, ..])
+        } else {
+            v.view()
+        };
+        if let Some(k) = first.iter().position(|v| v.abs() > 1e12) {
             return Err(PyValueError::new_err(format!(
                 "{}: element {k} is beyond the supported range |t| ≤ 1e12",
                 self.name
@@ -172,9 +240,8 @@ pub fn fill<'py, const W: usize>(
     n: usize,
     f: impl Fn(usize) -> Result<[f64; W], Error> + Sync,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    // SAFETY: every element is written below before the array is returned; on error the
-    // array is dropped unread.
-    let out = unsafe { PyArray2::<f64>::new(py, [n, W], false) };
+    // Every element is written below before the array is returned; on error it is dropped.
+    let out = alloc2(py, n, W, what)?;
     {
         let mut rw = out.readwrite();
         let slice = rw.as_slice_mut().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
@@ -211,7 +278,7 @@ pub fn fill_serial<'py, const W: usize>(
     n: usize,
     f: impl Fn(usize) -> Result<[f64; W], Error> + Sync,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let out = PyArray2::<f64>::zeros(py, [n, W], false);
+    let out = alloc2(py, n, W, what)?;
     {
         let mut rw = out.readwrite();
         let slice = rw.as_slice_mut().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;

@@ -50,8 +50,8 @@ impl PySpline {
         f: impl Fn(&dyn sp::Spline, &[f64], usize, &mut [f64]) -> Result<(), Error> + Sync,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let m = t.as_array().len();
-        // SAFETY: every element is written before the array is returned; on error it is dropped.
-        let out = unsafe { PyArray2::<f64>::new(py, [m, width], false) };
+        // Every element is written before the array is returned; on error it is dropped.
+        let out = crate::arrays::alloc2(py, m, width, what)?;
         self.batch_into(py, t, &out, width, what, f)?;
         Ok(out)
     }
@@ -71,7 +71,7 @@ impl PySpline {
         let ts: &[f64] = match tv.as_slice() {
             Some(s) => s,
             None => {
-                owned = tv.iter().copied().collect::<Vec<f64>>();
+                owned = crate::arrays::try_vec(tv.len(), tv.iter().copied(), "t")?;
                 &owned
             }
         };
@@ -187,7 +187,8 @@ impl PySpline {
         order: usize,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let s = Arc::clone(&self.inner);
-        let tv: Vec<f64> = t.as_array().iter().copied().collect();
+        let ta = t.as_array();
+        let tv = crate::arrays::try_vec(ta.len(), ta.iter().copied(), "t")?;
         crate::arrays::fill_serial::<16>(py, "Spline.evaluate_scalar", tv.len(), move |i| {
             let ti = tv[i];
             let seg = s.locate(ti);
@@ -372,7 +373,8 @@ fn position_eval<'py>(
         quatspline::translation::TranslationKind::Linear
     };
     let spline = quatspline::translation::PositionSpline::new(&tk, &pts, kind).map_err(to_py)?;
-    let tv: Vec<f64> = t.as_array().iter().copied().collect();
+    let ta = t.as_array();
+    let tv = crate::arrays::try_vec(ta.len(), ta.iter().copied(), "t")?;
     crate::arrays::fill(py, "position_eval", tv.len(), |i| {
         let ti = tv[i];
         let seg = tk.partition_point(|&x| x <= ti).saturating_sub(1).min(tk.len() - 2);

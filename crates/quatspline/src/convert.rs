@@ -106,10 +106,19 @@ pub fn to_rotvec(q: Quat) -> Vec3 {
 }
 
 /// The unit quaternion of a rotation vector r: (cos(|r|/2), sinc(|r|/2) r/2).
+///
+/// |r| is computed with scaling ([`vec3::norm_robust`]), so every finite r gives a finite unit
+/// quaternion (|r|² overflowed above |r| ≈ 1.3e154 and gave NaN); above |r| = 1 the vector part
+/// is sin(|r|/2) · r/|r|, the unit axis times the sine, so no ratio under- or overflows.
 pub fn from_rotvec(r: Vec3) -> Quat {
-    let half = 0.5 * vec3::norm(r);
-    let s = 0.5 * sinc(half);
-    Quat::new(half.cos(), s * r[0], s * r[1], s * r[2])
+    let n = vec3::norm_robust(r);
+    let half = 0.5 * n;
+    if n <= 1.0 {
+        let s = 0.5 * sinc(half);
+        return Quat::new(half.cos(), s * r[0], s * r[1], s * r[2]);
+    }
+    let (sh, ch) = half.sin_cos();
+    Quat::new(ch, sh * (r[0] / n), sh * (r[1] / n), sh * (r[2] / n))
 }
 
 /// The unit quaternion of a rotation by `angle` radians about `axis` (normalised here).
@@ -214,10 +223,56 @@ pub fn to_euler(seq: EulerSeq, q: Quat) -> (Vec3, bool) {
         ang[1] -= PI / 2.0;
     }
     ang[third] = a3;
+    // scipy's wrap (its Cython `_get_angles`): one shift by 2π, only strictly outside
+    // [−π, π], so an angle of exactly ±π keeps its sign (a middle angle of π stays +π).
     for v in ang.iter_mut() {
-        *v = (*v + PI).rem_euclid(2.0 * PI) - PI;
+        if *v < -PI {
+            *v += 2.0 * PI;
+        } else if *v > PI {
+            *v -= 2.0 * PI;
+        }
     }
     (ang, !case0)
+}
+
+/// Parses a rotation sequence of 1, 2 or 3 axes as scipy's `from_euler` accepts: all
+/// uppercase (intrinsic) or all lowercase (extrinsic), no axis repeated consecutively
+/// ("X", "zx", "xyz", "ZYZ", …). Returns the axes and whether the sequence is extrinsic.
+pub fn parse_rotation_sequence(seq: &str) -> Result<(Vec<usize>, bool)> {
+    let bad = || {
+        Error::invalid(
+            "seq",
+            format!(
+                "unknown rotation sequence {seq:?}: expected 1 to 3 axes, all of x, y, z (extrinsic) \
+                 or all of X, Y, Z (intrinsic), no axis twice in a row, e.g. \"x\", \"zx\", \"xyz\", \"ZYZ\""
+            ),
+        )
+    };
+    let n = seq.chars().count();
+    if !(1..=3).contains(&n) {
+        return Err(bad());
+    }
+    let extrinsic = seq.chars().all(|c| matches!(c, 'x' | 'y' | 'z'));
+    let intrinsic = seq.chars().all(|c| matches!(c, 'X' | 'Y' | 'Z'));
+    if !(extrinsic || intrinsic) {
+        return Err(bad());
+    }
+    let axes: Vec<usize> = seq.to_ascii_lowercase().bytes().map(|c| (c - b'x') as usize).collect();
+    if axes.windows(2).any(|w| w[0] == w[1]) {
+        return Err(bad());
+    }
+    Ok((axes, extrinsic))
+}
+
+/// The quaternion of 1 to 3 elementary rotations (radians) about `axes`: intrinsic
+/// q = q₀ q₁ q₂, extrinsic q = q₂ q₁ q₀ (scipy's `from_euler` with 1, 2 or 3 axes).
+pub fn from_rotation_sequence(axes: &[usize], extrinsic: bool, angles: &[f64]) -> Quat {
+    let mut q = Quat::IDENTITY;
+    for (&a, &g) in axes.iter().zip(angles) {
+        let e = elementary(a, g);
+        q = if extrinsic { e * q } else { q * e };
+    }
+    q
 }
 
 #[cfg(test)]
@@ -245,6 +300,24 @@ mod tests {
         }
     }
 
+    /// Regression (issue 2.1 item 15): |r|² overflowed above |r| ≈ 1.3e154 and gave NaN.
+    #[test]
+    fn huge_rotation_vectors_give_finite_unit_quaternions() {
+        for m in [1e154, 1.3e154, 1e200, 1e300, f64::MAX / 2.0] {
+            for r in [[m, 0.0, 0.0], [m, -m, m], [0.0, 1e-300, m]] {
+                let q = from_rotvec(r);
+                assert!(q.is_finite() && (q.norm() - 1.0).abs() < 1e-15, "{r:?}: {q:?}");
+                // The angle is |r| taken modulo 2π: cos(|r|/2) exactly as libm gives it.
+                let n = vec3::norm_robust(r);
+                assert_eq!(q.w, (0.5 * n).cos());
+            }
+        }
+        // Continuous across the branch at |r| = 1.
+        let a = from_rotvec([1.0, 0.0, 0.0]);
+        let b = from_rotvec([1.0 + 2e-16, 0.0, 0.0]);
+        assert!((a - b).norm() < 1e-15);
+    }
+
     #[test]
     fn half_turn_matrices_convert() {
         for axis in 0..3 {
@@ -253,6 +326,32 @@ mod tests {
             let q = Quat::new(0.0, v[0], v[1], v[2]);
             let back = try_from_matrix(&to_matrix(q)).unwrap();
             assert!((back.dot(q).abs() - 1.0).abs() < 1e-15);
+        }
+    }
+
+    /// Regression (issue 2.1 item 3): a middle angle of exactly 180° came out as −π where scipy
+    /// gives +π (rem_euclid mapped π to −π).
+    #[test]
+    fn as_euler_keeps_plus_pi_like_scipy() {
+        for s in ["zxz", "ZXZ", "xyx", "YZY"] {
+            let seq = EulerSeq::parse(s).unwrap();
+            let q = from_euler(seq, [0.3, PI, 0.0]);
+            let (a, lock) = to_euler(seq, q);
+            assert!(lock && a[1] == PI, "{s}: {a:?}");
+        }
+    }
+
+    /// Regression (issue 2.1 item 7): one- and two-axis sequences, as scipy accepts them.
+    #[test]
+    fn one_and_two_axis_sequences_are_accepted() {
+        let (axes, ext) = parse_rotation_sequence("X").unwrap();
+        assert_eq!((axes.as_slice(), ext), (&[0usize][..], false));
+        let (axes, ext) = parse_rotation_sequence("zx").unwrap();
+        let q = from_rotation_sequence(&axes, ext, &[0.4, 0.7]);
+        let want = elementary(0, 0.7) * elementary(2, 0.4);
+        assert!((q - want).norm() < 1e-16);
+        for bad in ["", "xx", "xY", "xyzx", "w"] {
+            assert!(parse_rotation_sequence(bad).is_err(), "{bad}");
         }
     }
 
