@@ -220,8 +220,8 @@ def from_euler(seq: str, angles: ArrayLike, degrees: bool = False) -> NDArray[np
         1 to 3 axes, all of ``xyz`` (extrinsic) or all of ``XYZ`` (intrinsic), no axis twice in
         a row: ``"X"``, ``"zx"``, ``"xyz"``, ``"ZYZ"``… (as ``scipy``'s ``from_euler``).
     angles : array_like, shape (..., len(seq))
-        The angles, applied in the order of ``seq``. With one axis, a scalar or any array of angles (a trailing axis
-        of length 1 is accepted too).
+        The angles, applied in the order of ``seq``. With one axis, a scalar or any array
+        of angles (a trailing axis of length 1 is accepted too).
     degrees : bool, default False
         Angles in degrees instead of radians.
 
