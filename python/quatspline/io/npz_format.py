@@ -14,7 +14,7 @@ import zipfile
 import numpy as np
 
 from .._atomic import atomic_write
-from ._common import Trajectory, TrajectoryError, finish
+from ._common import Trajectory, TrajectoryError, check_for_writing, finish
 
 #: Largest array read (declared size after decompression): 1 GiB, about 33 million keys.
 MAX_ARRAY_BYTES = 1 << 30
@@ -101,6 +101,10 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
 
 
 def write(path, traj: Trajectory) -> None:
+    check_for_writing(path, traj, reserved=ARRAYS)
+    for name in traj.extra:
+        if "/" in name or "\\" in name or name.startswith("."):
+            raise ValueError(f"{path}: extra array name {name!r} is not a valid member name")
     arrays = {"times": traj.times, "quats": traj.quats}
     if traj.positions is not None:
         arrays["positions"] = traj.positions
