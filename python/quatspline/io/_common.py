@@ -127,7 +127,8 @@ def finish(
         k = int(np.argmax(dt <= 0)) + 1
         what = "duplicate" if dt[k - 1] == 0 else "decreasing"
         raise TrajectoryError(
-            f"{path}:{lines[k]}: {what} timestamp {times[k]!r} after {times[k - 1]!r} "
+            f"{path}:{lines[k]}: {what} timestamp {float(times[k])!r} after "
+            f"{float(times[k - 1])!r} "
             "(use --sort / --dedupe, or sort=True / dedupe=True)"
         )
     return Trajectory(times, quats, pos, name=name, stamps_ns=ns)
