@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import contextlib
 import os
+import secrets
 import signal
 import stat
-import tempfile
 import threading
 from pathlib import Path
 
@@ -77,6 +77,23 @@ def _sigterm_unwinds():
         signal.signal(signal.SIGTERM, previous)
 
 
+def _create_temporary(target: Path, holder: list) -> int:
+    """Creates ``.NAME.XXXXXXXXXXXX.tmp`` beside ``target`` (mode 0600, O_EXCL) and returns its
+    descriptor. The name is put in ``holder`` *before* the file is created, so an interrupt
+    (SIGINT, SIGTERM) that lands at any point after the creation finds the name to remove;
+    tempfile.mkstemp only reveals it after returning (found by the SIGTERM test under load)."""
+    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0)
+    flags |= getattr(os, "O_BINARY", 0)
+    for _ in range(100):
+        name = target.parent / f".{target.name}.{secrets.token_hex(6)}.tmp"
+        holder.append(name)
+        try:
+            return os.open(name, flags, 0o600)
+        except FileExistsError:
+            holder.pop()  # someone else's file: never ours to remove
+    raise FileExistsError(f"{target}: cannot create a temporary file beside it")
+
+
 @contextlib.contextmanager
 def atomic_write(path, mode: str = "w", **kwargs):
     """Yields a file object; on success it replaces ``path`` atomically, on failure the
@@ -84,23 +101,26 @@ def atomic_write(path, mode: str = "w", **kwargs):
     target, old = resolve_output(path)
     target.parent.mkdir(parents=True, exist_ok=True)
     with _sigterm_unwinds():
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+        holder: list[Path] = []
         try:
-            if old is not None:
-                os.chmod(tmp, stat.S_IMODE(old.st_mode))
-                with contextlib.suppress(OSError):  # only root (or the owner, for the group)
-                    os.chown(tmp, old.st_uid, old.st_gid)
-                os.chmod(tmp, stat.S_IMODE(old.st_mode))  # chown may clear setuid bits
-            else:
-                umask = os.umask(0)
-                os.umask(umask)
-                os.chmod(tmp, 0o666 & ~umask)
+            fd = _create_temporary(target, holder)
+            tmp = holder[-1]
             with os.fdopen(fd, mode, **kwargs) as f:
+                if old is not None:
+                    os.chmod(tmp, stat.S_IMODE(old.st_mode))
+                    with contextlib.suppress(OSError):  # only root (or the owner, for the group)
+                        os.chown(tmp, old.st_uid, old.st_gid)
+                    os.chmod(tmp, stat.S_IMODE(old.st_mode))  # chown may clear setuid bits
+                else:
+                    umask = os.umask(0)
+                    os.umask(umask)
+                    os.chmod(tmp, 0o666 & ~umask)
                 yield f
                 f.flush()
                 os.fsync(f.fileno())
             os.replace(tmp, target)
         except BaseException:
-            with contextlib.suppress(FileNotFoundError):
-                os.unlink(tmp)
+            if holder:
+                with contextlib.suppress(FileNotFoundError):
+                    os.unlink(holder[-1])
             raise
