@@ -8,8 +8,11 @@ file cannot make the reader allocate gigabytes.
 
 from __future__ import annotations
 
+import lzma
+import struct
 import tokenize
 import zipfile
+import zlib
 
 import numpy as np
 
@@ -82,6 +85,10 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
     except (
         zipfile.BadZipFile,
         zipfile.LargeZipFile,
+        zlib.error,
+        lzma.LZMAError,
+        struct.error,
+        RuntimeError,  # zipfile: an encrypted member
         NotImplementedError,
         ValueError,
         EOFError,
