@@ -119,3 +119,13 @@ def test_unexpected_errors_are_one_line_and_debug_shows_the_traceback(
     assert main(args) == 1
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "KeyError" in err and "--debug" in err
+
+
+def test_usage_errors_from_the_option_parser_are_one_line(keys_csv, capsys):
+    """argparse printed the usage block and the error: two or more lines."""
+    with pytest.raises(SystemExit) as e:
+        main(["sample", str(keys_csv), "-o", "x.csv", "--count", "1e12"])
+    assert e.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1
+    assert err.startswith("quatspline sample: error: argument --count: invalid int value: '1e12'")

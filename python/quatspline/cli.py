@@ -23,6 +23,14 @@ class UsageError(Exception):
     """Bad usage: exit code 2."""
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (``quatspline sample: error: …; see --help``), exit 2."""
+
+    def error(self, message: str):
+        msg = " ".join(message.split())
+        self.exit(2, f"{self.prog}: error: {msg} (see {self.prog} --help)\n")
+
+
 # ---- shared helpers -------------------------------------------------------------------------
 def _params(pairs: list[str] | None) -> dict:
     out = {}
@@ -196,14 +204,14 @@ def _input_options(p):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    p = _Parser(
         prog="quatspline",
         description="Keyframe orientations and poses in, smooth rigid-body motion out.",
         epilog="methods: " + ", ".join(METHODS),
     )
     p.add_argument("--version", action="version", version=f"quatspline {__version__}")
     p.add_argument("--debug", action="store_true", help="show the traceback of an error")
-    sub = p.add_subparsers(dest="command", metavar="COMMAND")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
 
     s = sub.add_parser("sample", help="sample a spline through a recording's keys")
     _input_options(s)

@@ -17,10 +17,10 @@ from __future__ import annotations
 
 import math
 import numbers
-import sys
 
 import numpy as np
 
+from ._progress import progress as _progress_bar
 from .continuity import continuity
 from .io import Trajectory
 from .metrics import angle_between
@@ -264,16 +264,6 @@ def sample_trajectory(
     return Trajectory(t + t0, q, pos, extra=extra, name=traj.name)
 
 
-def _progress(iterable, desc: str, progress: bool):
-    if not progress:
-        return iterable
-    try:
-        from tqdm import tqdm
-    except ImportError:  # pragma: no cover
-        return iterable
-    return tqdm(iterable, desc=desc, disable=None, leave=False, file=sys.stderr)
-
-
 def compare(
     traj: Trajectory,
     methods: list[str] | None = None,
@@ -347,35 +337,43 @@ def compare(
         rest = np.setdiff1d(np.arange(idx[0], idx[-1] + 1), idx)
     else:
         idx = np.arange(len(t_all))
+        rest = None
     keys, kt = traj.quats[idx], t_all[idx]
     rows = []
-    for m in _progress(methods, "methods", progress):
-        s = _build(m, Trajectory(kt, keys), kt, {})
-        a, b = s.domain
-        n = int(min(max(samples_per_key * len(kt), 1000), 400_000))
-        t = np.linspace(a, b, n)
-        w = np.linalg.norm(s.angular_velocity(t), axis=1)
-        acc = np.linalg.norm(s.angular_acceleration(t), axis=1)
-        jerk = np.linalg.norm(s.jerk(t), axis=1)
-        orders = [j.order for j in continuity(s)] or [s.continuity]
-        row = {
-            "method": m,
-            "max_speed": float(w.max()),
-            "rms_speed": float(np.sqrt(np.mean(w**2))),
-            "rms_acceleration": float(np.sqrt(np.mean(acc**2))),
-            "rms_jerk": float(np.sqrt(np.mean(jerk**2))),
-            "path_length": float(path_length(s, per_segment=2)),
-            "continuity_order": int(min(orders)),
-        }
-        if holdout is not None:
-            err = angle_between(s(t_all[rest]), traj.quats[rest], degrees=True)
-            row.update(
-                holdout_median_deg=float(np.median(err)),
-                holdout_p95_deg=float(np.percentile(err, 95)),
-                holdout_max_deg=float(err.max()),
-            )
-        rows.append(row)
+    with _progress_bar(total=len(methods), desc="methods", enabled=bool(progress)) as bar:
+        for m in methods:
+            rows.append(_compare_one(m, traj, kt, keys, t_all, rest, holdout, samples_per_key))
+            bar.update()
     return rows
+
+
+def _compare_one(m, traj, kt, keys, t_all, rest, holdout, samples_per_key) -> dict:
+    """One row of :func:`compare` (see there)."""
+    s = _build(m, Trajectory(kt, keys), kt, {})
+    a, b = s.domain
+    n = int(min(max(samples_per_key * len(kt), 1000), 400_000))
+    t = np.linspace(a, b, n)
+    w = np.linalg.norm(s.angular_velocity(t), axis=1)
+    acc = np.linalg.norm(s.angular_acceleration(t), axis=1)
+    jerk = np.linalg.norm(s.jerk(t), axis=1)
+    orders = [j.order for j in continuity(s)] or [s.continuity]
+    row = {
+        "method": m,
+        "max_speed": float(w.max()),
+        "rms_speed": float(np.sqrt(np.mean(w**2))),
+        "rms_acceleration": float(np.sqrt(np.mean(acc**2))),
+        "rms_jerk": float(np.sqrt(np.mean(jerk**2))),
+        "path_length": float(path_length(s, per_segment=2)),
+        "continuity_order": int(min(orders)),
+    }
+    if holdout is not None:
+        err = angle_between(s(t_all[rest]), traj.quats[rest], degrees=True)
+        row.update(
+            holdout_median_deg=float(np.median(err)),
+            holdout_p95_deg=float(np.percentile(err, 95)),
+            holdout_max_deg=float(err.max()),
+        )
+    return row
 
 
 #: Columns of :func:`format_table`: key, header, format.
