@@ -10,7 +10,7 @@ import pytest
 import quatspline.io as qio
 import quatspline.metrics
 import quatspline.ops
-from quatspline.ops import ParameterError, compare, format_table
+from quatspline.ops import ParameterError, compare, format_table, sample_trajectory
 
 from .conftest import random_quats
 
@@ -78,3 +78,31 @@ def test_error_messages_have_no_numpy_reprs(tmp_path):
         qio.read(p)
     assert "duplicate timestamp 1.0 after 1.0" in str(e.value)
     assert "np." not in str(e.value)
+
+
+def test_sample_times_outside_the_recording_are_named_on_its_clock():
+    """The spline runs on times relative to the first key: main's message gave those."""
+    traj = _traj()  # times 100 … 103.9
+    with pytest.raises(
+        ValueError,
+        match=r"^times: times\[1\] = 99.0 is outside the recording's time range \[100.0, 103.9\]",
+    ):
+        sample_trajectory(traj, "slerp", times=[100.5, 99.0])
+    with pytest.raises(ValueError, match=r"^times: times\[0\] = nan"):
+        sample_trajectory(traj, "slerp", times=[np.nan])
+    out = sample_trajectory(traj, "slerp", times=[100.0, 101.25, 103.9])
+    np.testing.assert_array_equal(out.times, [100.0, 101.25, 103.9])
+
+
+def test_sample_trajectory_argument_kinds():
+    traj = _traj()
+    with pytest.raises(TypeError, match="^traj: expected a quatspline.io.Trajectory"):
+        sample_trajectory("file.csv", count=3)
+    with pytest.raises(ParameterError, match="^rate, count, times: give exactly one"):
+        sample_trajectory(traj, rate=2.0, count=3)
+    with pytest.raises(TypeError, match="^count: expected an integer"):
+        sample_trajectory(traj, count=2.7)
+    with pytest.raises(ParameterError, match="^method: unknown method 'nope'"):
+        sample_trajectory(traj, "nope", count=3)
+    with pytest.raises(ParameterError, match="^alpha: "):
+        sample_trajectory(traj, "c3", count=3, params={"alpha": "x"})

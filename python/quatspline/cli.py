@@ -236,7 +236,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=ops.DEFAULT_MAX_SAMPLES,
         metavar="N",
         help=f"refuse to write more than N samples (default: {ops.DEFAULT_MAX_SAMPLES:,}; "
-        "about 140 bytes each in memory with positions and derivatives)",
+        "about 300 bytes each at peak with positions and derivatives)",
     )
     s.add_argument("--force", action="store_true", help="allow overwriting the input file")
     s.set_defaults(func=cmd_sample)
