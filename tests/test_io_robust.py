@@ -188,3 +188,17 @@ def test_fifo_input_is_refused_not_blocking(tmp_path):
         r.stderr.strip()
         == f"quatspline: error: {fifo}: is a FIFO (named pipe); only regular files are read"
     )
+
+
+def test_npz_with_a_corrupt_deflate_stream_is_a_value_error(tmp_path):
+    """Found while probing the new NPZ reader: zlib.error escaped (main: the same via np.load)."""
+    b = io.BytesIO()
+    np.savez_compressed(b, times=np.arange(3.0), quats=np.tile([1.0, 0, 0, 0], (3, 1)))
+    bad = bytearray(b.getvalue())
+    i = bad.find(b"times.npy") + 30
+    bad[i : i + 20] = b"\xff" * 20
+    p = tmp_path / "corrupt.npz"
+    p.write_bytes(bytes(bad))
+    with pytest.raises(ValueError) as e:
+        qio.read(p)
+    assert "not a valid .npz file (error: " in _one_line(e.value, p)

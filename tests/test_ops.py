@@ -10,7 +10,7 @@ import pytest
 import quatspline.io as qio
 import quatspline.metrics
 import quatspline.ops
-from quatspline.ops import ParameterError, compare
+from quatspline.ops import ParameterError, compare, format_table, sample_trajectory
 
 from .conftest import random_quats
 
@@ -43,3 +43,66 @@ def test_compare_holdout_zero_is_an_error_not_no_holdout():
         compare(_traj(), ["slerp"], holdout=0)
     with pytest.raises(TypeError, match="^holdout"):
         compare(_traj(), ["slerp"], holdout=2.5)
+
+
+def _cells(line: str) -> list[str]:
+    """Cells of a GitHub-flavoured Markdown table row (``\\|`` is an escaped pipe)."""
+    import re
+
+    assert line.startswith("|") and line.endswith("|"), line
+    return re.split(r"(?<!\\)\|", line[1:-1])
+
+
+def test_markdown_tables_escape_pipes_so_renderers_show_a_table(tmp_path, capsys):
+    """main printed ``max |ω|`` in the header: every renderer saw a ragged table."""
+    from quatspline.cli import main
+
+    p = tmp_path / "k.csv"
+    qio.write(p, _traj())
+    assert main(["compare", str(p), "--methods", "slerp,c3", "--holdout", "3"]) == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    widths = {len(_cells(line)) for line in lines}
+    assert widths == {10}, lines[0]
+    assert set(_cells(lines[1])) <= {"---", "---:"}
+    assert "np." not in "\n".join(lines)
+    rows = [{"method": "odd|name\\", "max_speed": np.float64(2.5), "continuity_order": 3}]
+    table = format_table(rows).splitlines()
+    assert [len(_cells(line)) for line in table] == [3, 3, 3]
+    assert table[2] == "| odd\\|name\\\\ | 2.5 | 3 |"
+
+
+def test_error_messages_have_no_numpy_reprs(tmp_path):
+    p = tmp_path / "dup.csv"
+    p.write_text("t,qw,qx,qy,qz\n0,1,0,0,0\n1,1,0,0,0\n1,1,0,0,0\n")
+    with pytest.raises(ValueError) as e:
+        qio.read(p)
+    assert "duplicate timestamp 1.0 after 1.0" in str(e.value)
+    assert "np." not in str(e.value)
+
+
+def test_sample_times_outside_the_recording_are_named_on_its_clock():
+    """The spline runs on times relative to the first key: main's message gave those."""
+    traj = _traj()  # times 100 … 103.9
+    with pytest.raises(
+        ValueError,
+        match=r"^times: times\[1\] = 99.0 is outside the recording's time range \[100.0, 103.9\]",
+    ):
+        sample_trajectory(traj, "slerp", times=[100.5, 99.0])
+    with pytest.raises(ValueError, match=r"^times: times\[0\] = nan"):
+        sample_trajectory(traj, "slerp", times=[np.nan])
+    out = sample_trajectory(traj, "slerp", times=[100.0, 101.25, 103.9])
+    np.testing.assert_array_equal(out.times, [100.0, 101.25, 103.9])
+
+
+def test_sample_trajectory_argument_kinds():
+    traj = _traj()
+    with pytest.raises(TypeError, match="^traj: expected a quatspline.io.Trajectory"):
+        sample_trajectory("file.csv", count=3)
+    with pytest.raises(ParameterError, match="^rate, count, times: give exactly one"):
+        sample_trajectory(traj, rate=2.0, count=3)
+    with pytest.raises(TypeError, match="^count: expected an integer"):
+        sample_trajectory(traj, count=2.7)
+    with pytest.raises(ParameterError, match="^method: unknown method 'nope'"):
+        sample_trajectory(traj, "nope", count=3)
+    with pytest.raises(ParameterError, match="^alpha: "):
+        sample_trajectory(traj, "c3", count=3, params={"alpha": "x"})

@@ -23,6 +23,14 @@ class UsageError(Exception):
     """Bad usage: exit code 2."""
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (``quatspline sample: error: …; see --help``), exit 2."""
+
+    def error(self, message: str):
+        msg = " ".join(message.split())
+        self.exit(2, f"{self.prog}: error: {msg} (see {self.prog} --help)\n")
+
+
 # ---- shared helpers -------------------------------------------------------------------------
 def _params(pairs: list[str] | None) -> dict:
     out = {}
@@ -44,7 +52,37 @@ def _read(args) -> qio.Trajectory:
     return qio.read(args.input, format=fmt, **opts)
 
 
+def _check_output(args) -> None:
+    """Refuses a bad output before any work: unknown extension, a device/FIFO/directory."""
+    from ._atomic import resolve_output
+
+    if args.output == "-":
+        return
+    if getattr(args, "format", None) is None:
+        qio.detect_format_for_writing(args.output)
+    resolve_output(args.output)
+
+
+def _write_trajectory(args, traj: qio.Trajectory) -> None:
+    """Writes to ``-o FILE`` atomically, or to standard output for ``-o -``."""
+    if args.output != "-":
+        qio.write(args.output, traj, format=args.format)
+        return
+    import shutil
+    import tempfile
+
+    with tempfile.TemporaryDirectory(prefix="quatspline-") as d:
+        tmp = Path(d) / "stdout"
+        qio.write(tmp, traj, format=args.format or "csv")
+        with open(tmp, "rb") as f:
+            sys.stdout.flush()
+            shutil.copyfileobj(f, sys.stdout.buffer)
+            sys.stdout.buffer.flush()
+
+
 def _guard_output(out: Path, inputs: list[Path], force: bool) -> None:
+    if str(out) == "-":
+        return
     for i in inputs:
         if out.exists() and i.exists() and out.resolve() == i.resolve() and not force:
             raise UsageError(f"{out}: refusing to overwrite the input file (use --force)")
@@ -52,10 +90,15 @@ def _guard_output(out: Path, inputs: list[Path], force: bool) -> None:
 
 # ---- sample ---------------------------------------------------------------------------------
 def cmd_sample(args) -> int:
+    _check_output(args)
+    _guard_output(Path(args.output), [Path(args.input)], args.force)
     traj = _read(args)
     times = None
     if args.at is not None:
         at = Path(args.at)
+        from .io._common import check_regular_input
+
+        check_regular_input(at)
         try:
             times = np.loadtxt(at, ndmin=1, comments="#")
         except (OSError, ValueError) as e:
@@ -70,9 +113,12 @@ def cmd_sample(args) -> int:
         derivatives=args.derivatives,
         max_samples=args.max_samples,
     )
-    _guard_output(Path(args.output), [Path(args.input)], args.force)
-    qio.write(args.output, out, format=args.format)
-    print(f"wrote {args.output}: {len(out)} samples of {args.method} through {len(traj)} keys")
+    _write_trajectory(args, out)
+    print(
+        f"wrote {'standard output' if args.output == '-' else args.output}: {len(out)} samples "
+        f"of {args.method} through {len(traj)} keys",
+        file=sys.stderr if args.output == "-" else sys.stdout,
+    )
     return 0
 
 
@@ -103,6 +149,12 @@ def _family(args, traj):
 
 def cmd_plot(args) -> int:
     from . import plot
+    from ._atomic import resolve_output
+
+    if Path(args.output).suffix.lower() not in (".png", ".svg", ".pdf"):
+        raise UsageError(f"{args.output}: expected a .png, .svg or .pdf output")
+    resolve_output(args.output)
+    _guard_output(Path(args.output), [Path(args.input)], args.force)
 
     traj = _read(args)
     kt = traj.times - traj.times[0]
@@ -152,18 +204,24 @@ def _input_options(p):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    p = _Parser(
         prog="quatspline",
         description="Keyframe orientations and poses in, smooth rigid-body motion out.",
         epilog="methods: " + ", ".join(METHODS),
     )
     p.add_argument("--version", action="version", version=f"quatspline {__version__}")
     p.add_argument("--debug", action="store_true", help="show the traceback of an error")
-    sub = p.add_subparsers(dest="command", metavar="COMMAND")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
 
     s = sub.add_parser("sample", help="sample a spline through a recording's keys")
     _input_options(s)
-    s.add_argument("-o", "--output", required=True, help="output file (format from extension)")
+    s.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        help="output file (format from the extension: .csv .json .npz .txt/.tum .bvh), "
+        "or - for standard output (csv unless --format)",
+    )
     s.add_argument("--format", choices=sorted(qio.FORMATS), help="output format")
     s.add_argument("--method", default="c3", help="interpolation method (default: c3)")
     s.add_argument("--param", action="append", metavar="NAME=VALUE", help="method parameter")
@@ -178,7 +236,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=ops.DEFAULT_MAX_SAMPLES,
         metavar="N",
         help=f"refuse to write more than N samples (default: {ops.DEFAULT_MAX_SAMPLES:,}; "
-        "about 140 bytes each in memory with positions and derivatives)",
+        "about 300 bytes each at peak with positions and derivatives)",
     )
     s.add_argument("--force", action="store_true", help="allow overwriting the input file")
     s.set_defaults(func=cmd_sample)

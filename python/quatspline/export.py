@@ -85,10 +85,11 @@ def parse_length(value, name: str = "max_position_error") -> float:
 
 
 def angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Rotation angle (radians) between unit quaternions a and b (q ≡ −q):
-    4·atan2(|a − s b|, |a + s b|), s = sign(a·b); exact for small and large angles."""
-    s = np.where(np.sum(a * b, axis=-1) < 0, -1.0, 1.0)[..., None]
-    return 4 * np.arctan2(np.linalg.norm(a - s * b, axis=-1), np.linalg.norm(a + s * b, axis=-1))
+    """Rotation angle (radians) between quaternions a and b (q ≡ −q): the package's one
+    rotation distance, :func:`quatspline.angle_between`."""
+    from .metrics import angle_between
+
+    return angle_between(a, b)
 
 
 # ---- the motion to export -------------------------------------------------------------------

@@ -127,7 +127,8 @@ def finish(
         k = int(np.argmax(dt <= 0)) + 1
         what = "duplicate" if dt[k - 1] == 0 else "decreasing"
         raise TrajectoryError(
-            f"{path}:{lines[k]}: {what} timestamp {times[k]!r} after {times[k - 1]!r} "
+            f"{path}:{lines[k]}: {what} timestamp {float(times[k])!r} after "
+            f"{float(times[k - 1])!r} "
             "(use --sort / --dedupe, or sort=True / dedupe=True)"
         )
     return Trajectory(times, quats, pos, name=name, stamps_ns=ns)
@@ -165,6 +166,79 @@ def parse_float(path, line: int, col: int, name: str, cell: str) -> float:
         raise TrajectoryError(
             f"{path}:{line}: column {col} ({name!r}): not a number: {cell.strip()[:40]!r}"
         ) from None
+
+
+def check_for_writing(
+    path, traj: Trajectory, *, needs_positions: str | None = None, reserved=()
+) -> None:
+    """Refuses, before anything is written, a trajectory the format's reader would reject:
+    no rows, NaN or inf anywhere (times, quaternions, positions, extra columns), a quaternion
+    of zero norm, times not strictly increasing; for ``needs_positions`` (the format's name),
+    a trajectory without positions; extra columns named like ``reserved`` names or of the
+    wrong length. Every message is one line naming the file."""
+    if not isinstance(traj, Trajectory):
+        raise TypeError(
+            f"trajectory: expected a quatspline.io.Trajectory, got {type(traj).__name__}"
+        )
+    n = len(traj)
+    if n == 0:
+        raise ValueError(f"{path}: refusing to write a trajectory with no rows")
+    if needs_positions and traj.positions is None:
+        raise ValueError(
+            f"{path}: the {needs_positions} format needs positions and this trajectory has none "
+            "(write csv, json or npz instead)"
+        )
+    arrays = [("times", traj.times), ("quats", traj.quats)]
+    if traj.positions is not None:
+        arrays.append(("positions", traj.positions))
+    for name, v in traj.extra.items():
+        if not isinstance(name, str) or not name:
+            raise ValueError(f"{path}: extra column name {name!r} is not a non-empty string")
+        if name in reserved:
+            raise ValueError(
+                f"{path}: extra column {name!r} would collide with the format's own "
+                f"{name!r}; rename it"
+            )
+        try:
+            a = np.asarray(v, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"{path}: extra column {name!r} is not numeric") from None
+        if a.ndim == 0 or len(a) != n:
+            raise ValueError(
+                f"{path}: extra column {name!r} has shape {a.shape}, expected ({n}, …)"
+            )
+        arrays.append((name, a))
+    for name, a in arrays:
+        finite = np.isfinite(a).reshape(n, -1).all(axis=1)
+        if not finite.all():
+            k = int(np.argmax(~finite))
+            raise ValueError(f"{path}: refusing to write NaN or inf ({name}, row {k})")
+    norm = np.linalg.norm(traj.quats, axis=1)
+    if np.any(norm < 1e-150):
+        k = int(np.argmax(norm < 1e-150))
+        raise ValueError(f"{path}: refusing to write a quaternion of zero norm (row {k})")
+    dt = np.diff(traj.times)
+    if np.any(dt <= 0):
+        k = int(np.argmax(dt <= 0)) + 1
+        what = "duplicate" if dt[k - 1] == 0 else "decreasing"
+        raise ValueError(
+            f"{path}: refusing to write {what} time {float(traj.times[k])!r} at row {k} "
+            "(the reader needs strictly increasing times)"
+        )
+
+
+def refuse_extra(path, traj: Trajectory, fmt_name: str, positions: bool = True) -> None:
+    """A format without columns for extra data (or positions) refuses it rather than
+    dropping it silently."""
+    if traj.extra:
+        raise ValueError(
+            f"{path}: the {fmt_name} format has no columns for {', '.join(map(str, traj.extra))} "
+            "(write csv, json or npz)"
+        )
+    if not positions and traj.positions is not None:
+        raise ValueError(
+            f"{path}: the {fmt_name} format has no columns for positions (write csv, json or npz)"
+        )
 
 
 def fmt(x: float) -> str:

@@ -15,7 +15,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._atomic import atomic_write
-from ._common import Trajectory, TrajectoryError, finish, parse_float
+from ._common import (
+    Trajectory,
+    TrajectoryError,
+    check_for_writing,
+    finish,
+    parse_float,
+    refuse_extra,
+)
 
 AXES = {"Xrotation": "X", "Yrotation": "Y", "Zrotation": "Z"}
 POS = ("Xposition", "Yposition", "Zposition")
@@ -207,15 +214,29 @@ def _pose(joints, chain, target, frames, world):
 def write(path, traj: Trajectory, joint: str = "Root") -> None:
     from ..convert import as_euler
 
+    check_for_writing(path, traj)
+    refuse_extra(path, traj, "BVH")
+    name = traj.name or joint
+    if not isinstance(name, str) or not name.strip() or name != " ".join(name.split()):
+        raise ValueError(
+            f"{path}: joint name {name!r} cannot be written to BVH (one line of words separated "
+            "by single spaces)"
+        )
+    if name in ("{", "}") or not name.isprintable():
+        raise ValueError(f"{path}: joint name {name!r} cannot be written to BVH")
     dt = np.diff(traj.times)
     if len(traj) < 2 or np.any(np.abs(dt - dt[0]) > 1e-9 * max(1.0, abs(dt[0]))):
         raise ValueError(f"{path}: BVH needs uniformly spaced times (resample first)")
     angles = as_euler(traj.quats, "ZXY", degrees=True)
-    pos = traj.positions if traj.positions is not None else np.zeros((len(traj), 3))
+    pos = traj.positions
     with atomic_write(path) as f:
-        f.write(f"HIERARCHY\nROOT {traj.name or joint}\n{{\n  OFFSET 0 0 0\n")
-        f.write("  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n")
+        f.write(f"HIERARCHY\nROOT {name}\n{{\n  OFFSET 0 0 0\n")
+        if pos is None:  # no positions: rotation channels only (not zeros the reader would keep)
+            f.write("  CHANNELS 3 Zrotation Xrotation Yrotation\n")
+        else:
+            f.write("  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n")
         f.write("  End Site\n  {\n    OFFSET 0 0 0\n  }\n}\n")
         f.write(f"MOTION\nFrames: {len(traj)}\nFrame Time: {float(dt[0])!r}\n")
-        for p, a in zip(pos, angles):
-            f.write(" ".join(repr(float(v)) for v in (*p, *a)) + "\n")
+        for k, a in enumerate(angles):
+            vals = a if pos is None else (*pos[k], *a)
+            f.write(" ".join(repr(float(v)) for v in vals) + "\n")

@@ -20,7 +20,7 @@ import re
 import numpy as np
 
 from .._atomic import atomic_write
-from ._common import Trajectory, TrajectoryError, finish, fmt, parse_float
+from ._common import Trajectory, TrajectoryError, check_for_writing, finish, fmt, parse_float
 
 TIME = ("t", "time", "timestamp", "times", "sec", "seconds")
 QUATS = (("qw", "qx", "qy", "qz"), ("w", "x", "y", "z"), ("q_w", "q_x", "q_y", "q_z"))
@@ -115,7 +115,28 @@ def read(
     return finish(path, times, quats, pos if pi is not None else None, lines, sort, dedupe)
 
 
+#: Characters a written column name may not hold (delimiters, quotes, line ends, the unit
+#: brackets and comment mark the reader strips).
+BAD_NAME_CHARS = set(',;\t"\r\n[]#')
+RESERVED = {
+    n for g in (TIME, *QUATS, *EULER, *POSITIONS) for n in ((g,) if isinstance(g, str) else g)
+}
+
+
+def _column_names(path, name: str, width: int) -> list[str]:
+    bad = sorted(set(name) & BAD_NAME_CHARS)
+    if bad or name != name.strip() or not name.isprintable():
+        raise ValueError(
+            f"{path}: extra column name {name!r} cannot be written to CSV "
+            f"(no {', '.join(map(repr, bad)) or 'control characters or surrounding spaces'})"
+        )
+    if width == 1:
+        return [name]
+    return [f"{name}_{k}" for k in "xyz"] if width == 3 else [f"{name}_{k}" for k in range(width)]
+
+
 def write(path, traj: Trajectory) -> None:
+    check_for_writing(path, traj)
     cols = ["t", "qw", "qx", "qy", "qz"]
     blocks = [traj.times[:, None], traj.quats]
     if traj.positions is not None:
@@ -123,11 +144,18 @@ def write(path, traj: Trajectory) -> None:
         blocks.append(traj.positions)
     for name, arr in traj.extra.items():
         a = np.asarray(arr, dtype=float).reshape(len(traj), -1)
-        cols += [name] if a.shape[1] == 1 else [f"{name}_{k}" for k in "xyz"[: a.shape[1]]]
+        cols += _column_names(path, name, a.shape[1])
         blocks.append(a)
+    seen = set()
+    for c in cols[5 + 3 * (traj.positions is not None) :]:
+        key = _clean(c)
+        if key in RESERVED or key in seen:
+            raise ValueError(
+                f"{path}: extra column {c!r} would be read as (or collide with) a time, "
+                "quaternion, angle or position column; rename it"
+            )
+        seen.add(key)
     data = np.hstack(blocks)
-    if not np.all(np.isfinite(data)):
-        raise ValueError(f"{path}: refusing to write NaN or inf")
     with atomic_write(path, newline="") as f:
         f.write(",".join(cols) + "\n")
         for row in data:

@@ -7,7 +7,14 @@ from __future__ import annotations
 import numpy as np
 
 from .._atomic import atomic_write
-from ._common import Trajectory, TrajectoryError, finish, parse_float
+from ._common import (
+    Trajectory,
+    TrajectoryError,
+    check_for_writing,
+    finish,
+    parse_float,
+    refuse_extra,
+)
 
 NAMES = ("timestamp", "p_x", "p_y", "p_z", "q_w", "q_x", "q_y", "q_z")
 
@@ -49,12 +56,23 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
 
 
 def write(path, traj: Trajectory) -> None:
-    pos = traj.positions if traj.positions is not None else np.zeros((len(traj), 3))
+    check_for_writing(path, traj, needs_positions="EuRoC")
+    refuse_extra(path, traj, "EuRoC")
+    if np.max(np.abs(traj.times)) > 1e21:
+        raise ValueError(f"{path}: times beyond ±1e21 s cannot be written as integer nanoseconds")
+    ns = np.round(traj.times * 1e9)
+    if np.any(np.diff(ns) <= 0):
+        k = int(np.argmax(np.diff(ns) <= 0)) + 1
+        raise ValueError(
+            f"{path}: times at rows {k - 1} and {k} round to the same nanosecond; the EuRoC "
+            "format stores integer nanoseconds (resample or write csv)"
+        )
+    pos = traj.positions
     with atomic_write(path) as f:
         f.write(
             "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],"
             "q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []\n"
         )
-        for t, p, q in zip(traj.times, pos, traj.quats):
+        for t, p, q in zip(ns, pos, traj.quats):
             vals = [repr(float(v)) for v in (*p, *q)]
-            f.write(f"{int(round(t * 1e9))}," + ",".join(vals) + "\n")
+            f.write(f"{int(t)}," + ",".join(vals) + "\n")

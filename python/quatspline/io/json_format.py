@@ -9,7 +9,7 @@ import math
 import numpy as np
 
 from .._atomic import atomic_write
-from ._common import Trajectory, TrajectoryError, finish
+from ._common import Trajectory, TrajectoryError, check_for_writing, finish
 
 
 def _parse_int(s: str) -> float:
@@ -64,6 +64,7 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
 
 
 def write(path, traj: Trajectory) -> None:
+    check_for_writing(path, traj, reserved=("layout", "times", "quats", "positions"))
     doc = {"layout": "wxyz", "times": traj.times.tolist(), "quats": traj.quats.tolist()}
     if traj.positions is not None:
         doc["positions"] = traj.positions.tolist()

@@ -91,9 +91,11 @@ def from_rows(path, a: np.ndarray, lines, times, sort, dedupe) -> Trajectory:
 def write(path, traj: Trajectory, times_path=None) -> None:
     """Writes the poses (positions are required); ``times_path`` also writes the times."""
     from ..convert import as_matrix
+    from ._common import check_for_writing
 
     if traj.positions is None:
         raise ValueError(f"{path}: KITTI poses need positions; this trajectory has none")
+    check_for_writing(path, traj)  # NaN, no rows, repeated times: what the reader rejects
     m = np.concatenate([as_matrix(traj.quats), traj.positions[:, :, None]], axis=2)
     data = m.reshape(-1, 12)
     if not np.all(np.isfinite(data)):

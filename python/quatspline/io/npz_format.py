@@ -8,13 +8,16 @@ file cannot make the reader allocate gigabytes.
 
 from __future__ import annotations
 
+import lzma
+import struct
 import tokenize
 import zipfile
+import zlib
 
 import numpy as np
 
 from .._atomic import atomic_write
-from ._common import Trajectory, TrajectoryError, finish
+from ._common import Trajectory, TrajectoryError, check_for_writing, finish
 
 #: Largest array read (declared size after decompression): 1 GiB, about 33 million keys.
 MAX_ARRAY_BYTES = 1 << 30
@@ -82,6 +85,10 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
     except (
         zipfile.BadZipFile,
         zipfile.LargeZipFile,
+        zlib.error,
+        lzma.LZMAError,
+        struct.error,
+        RuntimeError,  # zipfile: an encrypted member
         NotImplementedError,
         ValueError,
         EOFError,
@@ -101,6 +108,10 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
 
 
 def write(path, traj: Trajectory) -> None:
+    check_for_writing(path, traj, reserved=ARRAYS)
+    for name in traj.extra:
+        if "/" in name or "\\" in name or name.startswith("."):
+            raise ValueError(f"{path}: extra array name {name!r} is not a valid member name")
     arrays = {"times": traj.times, "quats": traj.quats}
     if traj.positions is not None:
         arrays["positions"] = traj.positions

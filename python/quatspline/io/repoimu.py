@@ -6,7 +6,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._common import Trajectory, TrajectoryError, finish, parse_float
+from ._common import (
+    Trajectory,
+    TrajectoryError,
+    check_for_writing,
+    finish,
+    parse_float,
+    refuse_extra,
+)
 
 NAMES = ("time", "W", "X", "Y", "Z")
 
@@ -38,6 +45,8 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
 def write(path, traj: Trajectory) -> None:
     from .._atomic import atomic_write
 
+    check_for_writing(path, traj)
+    refuse_extra(path, traj, "RepoIMU", positions=False)
     with atomic_write(path) as f:
         f.write("Time (s);Vicon Orientation;;;\n;W;X;Y;Z\n")
         for t, q in zip(traj.times, traj.quats):

@@ -240,6 +240,9 @@ def write(
     Pose, PoseStamped = types["geometry_msgs/msg/Pose"], types["geometry_msgs/msg/PoseStamped"]
     Header, Time = types["std_msgs/msg/Header"], types["builtin_interfaces/msg/Time"]
     Point, Quat = types["geometry_msgs/msg/Point"], types["geometry_msgs/msg/Quaternion"]
+    from ._common import check_for_writing
+
+    check_for_writing(path, traj)  # NaN, no rows, repeated times: what the reader rejects
     stamps = _stamps(traj)
     pos = traj.positions if traj.positions is not None else np.zeros((len(traj), 3))
     if not (np.all(np.isfinite(traj.quats)) and np.all(np.isfinite(pos))):

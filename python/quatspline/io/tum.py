@@ -6,7 +6,15 @@ from __future__ import annotations
 import numpy as np
 
 from .._atomic import atomic_write
-from ._common import Trajectory, TrajectoryError, finish, fmt, parse_float
+from ._common import (
+    Trajectory,
+    TrajectoryError,
+    check_for_writing,
+    finish,
+    fmt,
+    parse_float,
+    refuse_extra,
+)
 
 NAMES = ("timestamp", "tx", "ty", "tz", "qx", "qy", "qz", "qw")
 
@@ -34,7 +42,9 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
 
 
 def write(path, traj: Trajectory) -> None:
-    pos = traj.positions if traj.positions is not None else np.zeros((len(traj), 3))
+    check_for_writing(path, traj, needs_positions="TUM")
+    refuse_extra(path, traj, "TUM")
+    pos = traj.positions
     with atomic_write(path) as f:
         f.write("# timestamp tx ty tz qx qy qz qw\n")
         for t, p, q in zip(traj.times, pos, traj.quats):
