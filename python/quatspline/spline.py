@@ -51,7 +51,7 @@ _ORDER_HINT = (
     "s.angular_acceleration(t, frame='body'), for the quaternion's derivative "
     "s.derivative(t, {order})"
 )
-_EXTRAPOLATE = ("raise", "clamp")
+_EXTRAPOLATE = ("raise", "clamp", "linear", "periodic")
 
 
 def _keys(q, name: str) -> np.ndarray:
@@ -74,9 +74,11 @@ class Spline:
     """One interface for every curve: call it for orientations, ask it for derivatives.
 
     ``s(t)`` → (M, 4) for an array of times (any shape: the result has shape t.shape + (4,)),
-    (4,) for a scalar. Times outside ``s.domain`` raise ``ValueError`` unless the spline was
-    made with ``extrapolate="clamp"``, which holds the end orientation (zero derivatives).
-    Times need not be sorted.
+    (4,) for a scalar. Times outside ``s.domain`` follow ``extrapolate``: ``"raise"``
+    (default, ``ValueError``), ``"clamp"`` (hold the end orientation, zero derivatives),
+    ``"linear"`` (constant angular velocity: the end's one-sided rate, zero acceleration) or
+    ``"periodic"`` (repeat the domain; smooth for ``ends="closed"`` splines, with a jump at
+    every period boundary otherwise). Times need not be sorted.
     """
 
     def __init__(self, core: _core.Spline, extrapolate: str = "raise", **params):
@@ -121,7 +123,7 @@ class Spline:
     def _eval(self, t, order: int):
         ta = as_times(t, "t")
         flat = np.ascontiguousarray(ta.reshape(-1))
-        out = self._core.evaluate(flat, order, self.extrapolate == "clamp")
+        out = self._core.evaluate(flat, order, self.extrapolate)
         return ta.shape, out
 
     def __call__(self, t, out: np.ndarray | None = None) -> np.ndarray:
@@ -143,7 +145,7 @@ class Spline:
         if not out.flags.c_contiguous or not out.flags.writeable:
             raise ValueError("out: expected a writeable C-contiguous array")
         flat = np.ascontiguousarray(ta.reshape(-1))
-        self._core.evaluate_out(flat, 0, self.extrapolate == "clamp", out.reshape(-1, 4))
+        self._core.evaluate_out(flat, 0, self.extrapolate, out.reshape(-1, 4))
         return out
 
     def derivative(self, t, order: int = 1) -> np.ndarray:
@@ -165,7 +167,7 @@ class Spline:
             raise ValueError(f"frame: expected one of {_FRAMES}, got {frame!r}")
         ta = as_times(t, "t")
         flat = np.ascontiguousarray(ta.reshape(-1))
-        out = self._core.angular(flat, order, frame == "body", self.extrapolate == "clamp")
+        out = self._core.angular(flat, order, frame == "body", self.extrapolate)
         return out.reshape((*ta.shape, 3))
 
     def angular_velocity(self, t, frame: str = "world") -> np.ndarray:
