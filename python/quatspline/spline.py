@@ -110,6 +110,11 @@ class Spline:
         return self._core.interpolates
 
     @property
+    def closed(self) -> bool:
+        """Whether the curve is a closed loop (``ends="closed"``): its end joins its start."""
+        return self._core.closed
+
+    @property
     def continuity(self) -> int | float:
         """The parametric continuity order in time guaranteed at interior joints."""
         c = self._core.continuity
@@ -300,7 +305,11 @@ class CatmullRom(Spline):
     """Catmull–Rom with spherical Bézier segments (Gortler): C¹ in time, also non-uniform.
 
     ``ends="reflect"`` (default) mirrors the missing end neighbours (two keys give slerp);
-    ``ends="duplicate"`` repeats the end keys as in MATH.md §4.
+    ``ends="duplicate"`` repeats the end keys as in MATH.md §4; ``ends="rest"`` stops at both
+    ends; ``ends="closed"`` makes a periodic loop (see ``quatspline.keyframe``). Without
+    ``times``, ``alpha`` (0 uniform, 0.5 centripetal, 1 chordal) spaces the keys by their
+    angles as the ``splines`` package does. ``holds`` (default True): consecutive equal keys
+    hold exactly still. This is ``KochanekBartels`` at tension = continuity = bias = 0.
     """
 
     def __init__(
@@ -310,16 +319,22 @@ class CatmullRom(Spline):
         ends: str = "reflect",
         canonicalize: bool = True,
         extrapolate: str = "raise",
+        alpha=None,
+        holds: bool = True,
     ):
+        from .keyframe import _alpha
+
         q = _keys(quats, "quats")
         t = _times(times, len(q))
         super().__init__(
-            _core.catmull_rom(q, t, str(ends), bool(canonicalize)),
+            _core.catmull_rom(q, t, str(ends), bool(canonicalize), _alpha(alpha), bool(holds)),
             extrapolate,
             quats=q,
             times=t,
             ends=ends,
             canonicalize=canonicalize,
+            alpha=alpha,
+            holds=holds,
         )
 
 

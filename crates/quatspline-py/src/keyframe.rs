@@ -1,6 +1,6 @@
 //! Bindings of keyframe control: Hermite keys, Kochanek–Bartels, closed/rest ends.
 
-use crate::arrays::Rows;
+use crate::arrays::{to_py, Rows};
 use crate::spline::{quats_of, times_of, wrap, PySpline};
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
@@ -57,7 +57,33 @@ fn hermite(
     wrap(sp::Hermite::new(&q, times_of(&times).as_deref(), &w, a.as_deref(), frame, ends, canonicalize))
 }
 
+#[pyfunction]
+#[pyo3(signature = (quats, times, alpha, tension, continuity, bias, ends, holds, canonicalize))]
+#[allow(clippy::too_many_arguments)]
+fn kochanek_bartels(
+    quats: PyReadonlyArray2<'_, f64>,
+    times: Option<PyReadonlyArray1<'_, f64>>,
+    alpha: Option<f64>,
+    tension: PyReadonlyArray1<'_, f64>,
+    continuity: PyReadonlyArray1<'_, f64>,
+    bias: PyReadonlyArray1<'_, f64>,
+    ends: &str,
+    holds: bool,
+    canonicalize: bool,
+) -> PyResult<PySpline> {
+    let q = quats_of(&quats, "quats")?;
+    let ends = sp::tcb_ends(ends, "kochanek_bartels").map_err(to_py)?;
+    let (t, c, b) = (vec_of(&tension), vec_of(&continuity), vec_of(&bias));
+    let tcb = sp::Tcb { tension: &t, continuity: &c, bias: &b };
+    wrap(sp::KochanekBartels::new(&q, times_of(&times).as_deref(), alpha, tcb, ends, holds, canonicalize))
+}
+
+fn vec_of(a: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
+    a.as_array().iter().copied().collect()
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(hermite, m)?)?;
+    m.add_function(wrap_pyfunction!(kochanek_bartels, m)?)?;
     Ok(())
 }

@@ -133,6 +133,12 @@ impl PySpline {
         self.inner.interpolates()
     }
 
+    /// Whether the curve is a closed loop (the certificate then includes the seam).
+    #[getter]
+    fn closed(&self) -> bool {
+        self.inner.closed()
+    }
+
     /// Guaranteed parametric continuity order at interior joints (255: a single C^∞ curve).
     #[getter]
     fn continuity(&self) -> u8 {
@@ -406,24 +412,18 @@ fn squad(
 }
 
 #[pyfunction]
-#[pyo3(signature = (quats, times, ends, canonicalize))]
+#[pyo3(signature = (quats, times, ends, canonicalize, alpha=None, holds=false))]
 fn catmull_rom(
     quats: PyReadonlyArray2<'_, f64>,
     times: Option<PyReadonlyArray1<'_, f64>>,
     ends: &str,
     canonicalize: bool,
+    alpha: Option<f64>,
+    holds: bool,
 ) -> PyResult<PySpline> {
     let q = quats_of(&quats, "quats")?;
-    let ends = match ends {
-        "reflect" => sp::CatmullRomEnds::Reflect,
-        "duplicate" => sp::CatmullRomEnds::Duplicate,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "ends: expected \"reflect\" or \"duplicate\", got {other:?}"
-            )))
-        }
-    };
-    wrap(sp::CatmullRom::new(&q, times_of(&times).as_deref(), ends, canonicalize))
+    let ends = sp::tcb_ends(ends, "catmull_rom").map_err(to_py)?;
+    wrap(sp::CatmullRom::with_keyframes(&q, times_of(&times).as_deref(), alpha, ends, holds, canonicalize))
 }
 
 #[pyfunction]
@@ -455,9 +455,11 @@ fn natural_spline(
         "clamped" => sp::NaturalEnds::Clamped { start: start_rate, end: end_rate },
         "rest" => sp::NaturalEnds::Rest,
         "closed" => sp::NaturalEnds::Closed,
-        other => return Err(PyValueError::new_err(format!(
+        other => {
+            return Err(PyValueError::new_err(format!(
             "ends: the natural spline does not support {other:?}; supported: natural, clamped, rest, closed"
-        ))),
+        )))
+        }
     };
     wrap(sp::NaturalSpline::with_keyframes(&q, times_of(&times).as_deref(), ends, holds, canonicalize))
 }
