@@ -143,7 +143,7 @@ def test_pose_spline_extrapolates_positions_linearly_and_periodically():
     p = np.array([[0, 0, 0], [1, 2, 0], [2, 2, 1], [4, 0, 1.0]])
     for translation in ("cubic", "linear"):
         ps = qs.PoseSpline(
-            t, q, p, rotation="natural", translation=translation, extrapolate="linear"
+            q, t, p, rotation="natural", translation=translation, extrapolate="linear"
         )
         v_end = ps.linear_velocity(3.0)
         v_start = ps.linear_velocity(0.0)
