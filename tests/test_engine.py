@@ -47,7 +47,7 @@ def test_engine_equals_scalar_path(name):
     s = SPLINES[name]
     for kind, t in sample_sets(s).items():
         for order in (0, 1, 2, 3):
-            fast = s._core.evaluate(np.ascontiguousarray(t), order, False)
+            fast = s._core.evaluate(np.ascontiguousarray(t), order, "raise")
             ref = s._core.evaluate_scalar(np.ascontiguousarray(t), order)[:, : 4 * (order + 1)]
             assert fast.shape == ref.shape
             if len(t):

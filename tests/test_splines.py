@@ -32,6 +32,21 @@ METHODS = {
         None,
         True,
     ),
+    "hermite": (
+        lambda q, t: qs.Hermite(q, t, np.sin(np.outer(np.arange(len(q)), [1.0, 2.0, 3.0]))),
+        1,
+        True,
+    ),
+    "hermite_quintic": (
+        lambda q, t: qs.Hermite(
+            q, t, np.cos(np.outer(np.arange(len(q)), [1.0, 2.0, 3.0])), np.ones((len(q), 3))
+        ),
+        2,
+        True,
+    ),
+    "kochanek_bartels": (lambda q, t: qs.KochanekBartels(q, t, tension=0.3, bias=-0.2), 1, True),
+    "catmull_rom_rest": (lambda q, t: qs.CatmullRom(q, t, ends="rest"), 1, True),
+    "natural_rest": (lambda q, t: qs.NaturalSpline(q, t, ends="rest"), 2, True),
 }
 TIMES = ["uniform", "nonuniform"]
 

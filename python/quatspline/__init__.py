@@ -37,6 +37,7 @@ from .dualquat import (
     sclerp,
 )
 from .interpolate import lerp, lin_euler, lin_mat, nlerp, slerp
+from .keyframe import Hermite, KochanekBartels
 from .metrics import angle_between
 from .pose import PoseSpline
 from .registry import METHODS, spline
@@ -86,6 +87,8 @@ __all__ = [
     "Squad",
     "path_length",
     "reparameterize",
+    "Hermite",
+    "KochanekBartels",
     "as_euler",
     "as_matrix",
     "as_rotvec",

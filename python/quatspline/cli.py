@@ -112,6 +112,7 @@ def cmd_sample(args) -> int:
         params=_params(args.param),
         derivatives=args.derivatives,
         max_samples=args.max_samples,
+        extrapolate=args.extrapolate,
     )
     _write_trajectory(args, out)
     print(
@@ -237,6 +238,13 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="N",
         help=f"refuse to write more than N samples (default: {ops.DEFAULT_MAX_SAMPLES:,}; "
         "about 300 bytes each at peak with positions and derivatives)",
+    )
+    s.add_argument(
+        "--extrapolate",
+        choices=("raise", "clamp", "linear", "periodic"),
+        default="raise",
+        help="times outside the keys (--at): raise (default), clamp, linear (constant angular "
+        "and linear velocity) or periodic",
     )
     s.add_argument("--force", action="store_true", help="allow overwriting the input file")
     s.set_defaults(func=cmd_sample)

@@ -173,6 +173,7 @@ def sample_trajectory(
     params: dict | None = None,
     derivatives: bool = False,
     max_samples: int = DEFAULT_MAX_SAMPLES,
+    extrapolate: str = "raise",
 ) -> Trajectory:
     """Samples a spline of ``method`` through the keys of a recorded trajectory.
 
@@ -197,6 +198,9 @@ def sample_trajectory(
         ``omega``, ``alpha`` and ``jerk``.
     max_samples : int, default DEFAULT_MAX_SAMPLES
         Refuse to produce more samples than this (checked before allocating).
+    extrapolate : {"raise", "clamp", "linear", "periodic"}, default "raise"
+        Times outside the keys: an error, the end pose held, constant angular and linear
+        velocity from the ends, or the key range repeated (orientation and position alike).
 
     Returns
     -------
@@ -234,6 +238,11 @@ def sample_trajectory(
         raise TypeError(f"derivatives: expected a bool, got {type(derivatives).__name__}")
     t0 = float(traj.times[0])
     s = _build(method, traj, traj.times - t0, dict(params or {}))
+    from .spline import _EXTRAPOLATE
+
+    if extrapolate not in _EXTRAPOLATE:
+        raise ParameterError(f"extrapolate: expected one of {_EXTRAPOLATE}, got {extrapolate!r}")
+    s.extrapolate = extrapolate
     given = sum(x is not None for x in (rate, count, times))
     if given != 1:
         raise ParameterError("rate, count, times: give exactly one of them")
@@ -269,7 +278,13 @@ def sample_trajectory(
     if traj.positions is not None:
         from .pose import PoseSpline
 
-        pos = PoseSpline(traj.quats, traj.times - t0, traj.positions, rotation="slerp").position(t)
+        pos = PoseSpline(
+            traj.quats,
+            traj.times - t0,
+            traj.positions,
+            rotation="slerp",
+            extrapolate="clamp" if extrapolate == "raise" else extrapolate,
+        ).position(t)
     return Trajectory(t + t0, q, pos, extra=extra, name=traj.name)
 
 

@@ -3,7 +3,9 @@
 ``PoseSpline(quats, times, positions, rotation="c3", translation="cubic", **params)``:
 orientation and angular rates come from the rotation spline (exact derivatives), positions
 from a natural cubic spline (C², zero acceleration at the ends) or piecewise-linear
-interpolation (C⁰), with exact velocity and acceleration.
+interpolation (C⁰), with exact velocity and acceleration. Outside the key times both follow
+``extrapolate``: "raise", "clamp" (hold the end pose), "linear" (constant angular and linear
+velocity from the ends) or "periodic" (repeat).
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _core
+from . import spline as sp
 from ._arrays import as_times, pose_key_order, with_width
 from .algebra import rotate
 from .registry import spline as make_spline
@@ -93,6 +96,8 @@ class PoseSpline:
         p = with_width(positions, "positions", 3)
         if p.ndim != 2 or len(p) != len(t):
             raise ValueError(f"positions: expected shape ({len(t)}, 3), got {p.shape}")
+        if extrapolate not in sp._EXTRAPOLATE:
+            raise ValueError(f"extrapolate: expected one of {sp._EXTRAPOLATE}, got {extrapolate!r}")
         self.rotation = make_spline(rotation, quats, t, **params)
         self.rotation.extrapolate = extrapolate
         self.extrapolate = extrapolate
@@ -119,8 +124,17 @@ class PoseSpline:
         if np.any(outside) and self.extrapolate == "raise":
             k = int(np.argmax(outside))
             raise ValueError(f"t: t[{k}] = {flat[k]} is outside the domain [{a}, {b}]")
+        if self.extrapolate == "periodic":
+            inside = np.clip(a + np.mod(flat - a, b - a), a, b)
+            return ta.shape, _core.position_eval(self._times, self._points, self._cubic, inside)
         out = _core.position_eval(self._times, self._points, self._cubic, np.clip(flat, a, b))
-        out[outside, 3:] = 0.0
+        if self.extrapolate == "linear":
+            # Constant velocity beyond the ends: p(e) + v(e) (t − e), zero acceleration.
+            dt = flat - np.clip(flat, a, b)
+            out[outside, 0:3] += out[outside, 3:6] * dt[outside, None]
+            out[outside, 6:9] = 0.0
+        else:
+            out[outside, 3:] = 0.0
         return ta.shape, out
 
     def orientation(self, t: ArrayLike) -> NDArray[np.float64]:

@@ -9,6 +9,10 @@ approximating methods are adapted to keys at times as follows (documented choice
   last key doubled so the curve spans [t₀, t_last]; it treats the key times as uniform;
 - ``beta``: the Beta spline with the keys as vertices, the first and last doubled, one segment
   per key interval (joints at the key times).
+
+Closed loops (``ends="closed"``) from N keys at N times: if the last key equals the first it
+is the closing key (dropped, its time closes the loop); otherwise the loop closes one mean key
+spacing, (t_last − t_first)/(N − 1), after the last key.
 """
 
 from __future__ import annotations
@@ -48,7 +52,71 @@ def _times_or_default(times, n):
     return np.arange(n, dtype=float) if times is None else np.asarray(times, dtype=float)
 
 
+def float_or_none(v):
+    """A float, or None for None / "none" (an optional parameter)."""
+    if v is None or (isinstance(v, str) and v.strip().lower() == "none"):
+        return None
+    return float(v)
+
+
+def flag(v) -> bool:
+    """A bool from a bool or "true"/"false"/"1"/"0" (CLI strings)."""
+    if isinstance(v, str):
+        low = v.strip().lower()
+        if low in ("true", "1", "yes"):
+            return True
+        if low in ("false", "0", "no"):
+            return False
+        raise ValueError(v)
+    return bool(v)
+
+
+def rates_spec(v):
+    """Hermite key rates: "bessel" (estimated from the keys), "zero", a file of N×3 values
+    (text or .npy) or an (N, 3) array."""
+    if isinstance(v, str):
+        if v in ("bessel", "zero"):
+            return v
+        if v.endswith(".npy"):
+            return np.load(v, allow_pickle=False)
+        try:
+            return np.loadtxt(v, ndmin=2, comments="#", delimiter=None)
+        except OSError as e:
+            raise ValueError(f"cannot read {v!r} ({e})") from None
+    return np.asarray(v, dtype=float)
+
+
+def _hermite(q, times, p):
+    from . import keyframe as kf
+
+    r = p["rates"]
+    if isinstance(r, str):
+        q = np.asarray(q, dtype=float)
+        r = kf.bessel_rates(q, times) if r == "bessel" else np.zeros((len(q), 3))
+        frame = "body"
+    else:
+        frame = p["frame"]
+    return kf.Hermite(q, times, angular_velocity=r, frame=frame, ends=p["ends"])
+
+
+def _loop_times(q, times, p):
+    """Times for a closed loop from N keys at N times (see the module doc)."""
+    if times is None or p.get("ends") != "closed":
+        return times
+    t = np.asarray(times, dtype=float)
+    q = np.asarray(q, dtype=float)
+    if t.ndim != 1 or len(t) != len(q) or len(t) < 2:
+        return times
+    from .algebra import conjugate, multiply, normalize
+
+    d = multiply(conjugate(normalize(q[0])), normalize(q[-1]))
+    if 2 * np.arctan2(np.linalg.norm(d[1:]), abs(d[0])) <= 1e-12:
+        return times
+    return np.r_[t, t[-1] + (t[-1] - t[0]) / (len(t) - 1)]
+
+
 def _build(name, q, times, p):
+    times = _loop_times(q, times, p)
     if name == "slerp":
         return sp.PiecewiseSlerp(q, times)
     if name == "nlerp":
@@ -60,7 +128,22 @@ def _build(name, q, times, p):
     if name == "squad":
         return sp.Squad(q, times)
     if name == "catmull_rom":
-        return sp.CatmullRom(q, times, ends=p["ends"])
+        return sp.CatmullRom(q, times, ends=p["ends"], alpha=p["alpha"], holds=p["holds"])
+    if name == "hermite":
+        return _hermite(q, times, p)
+    if name == "kochanek_bartels":
+        from .keyframe import KochanekBartels
+
+        return KochanekBartels(
+            q,
+            times,
+            tension=p["tension"],
+            continuity=p["continuity"],
+            bias=p["bias"],
+            alpha=p["alpha"],
+            ends=p["ends"],
+            holds=p["holds"],
+        )
     if name == "natural":
         return sp.NaturalSpline(q, times, ends=p["ends"])
     if name == "c3":
@@ -103,7 +186,13 @@ METHODS: dict[str, Method] = {
             "Catmull–Rom (Gortler), C¹ in time",
             True,
             "C1",
-            {"ends": Param(str, "reflect", "reflect | duplicate")},
+            {
+                "ends": Param(str, "reflect", "reflect | duplicate | rest | closed"),
+                "alpha": Param(
+                    float_or_none, None, "key spacing θ^α without times: 0, 0.5 centripetal, 1"
+                ),
+                "holds": Param(flag, True, "equal consecutive keys hold still"),
+            },
         ),
         Method(
             "natural",
@@ -121,6 +210,33 @@ METHODS: dict[str, Method] = {
                 "alpha": Param(float, 5 / 16, "shape parameter α (q', q'', q''' at keys)"),
                 "beta": Param(float, 0.0, "shape parameter β (q''' at keys)"),
                 "variant": Param(str, "knot", "knot | patent"),
+            },
+        ),
+        Method(
+            "hermite",
+            "keys with angular velocities (cubic Hermite on SO(3)), C¹",
+            True,
+            "C1",
+            {
+                "rates": Param(rates_spec, "bessel", "bessel | zero | FILE of N×3 rates"),
+                "frame": Param(str, "body", "frame of rates from a file: world | body"),
+                "ends": Param(str, "open", "open | closed"),
+            },
+        ),
+        Method(
+            "kochanek_bartels",
+            "Kochanek–Bartels (tension, continuity, bias), C¹ (C⁰ if continuity ≠ 0)",
+            True,
+            "C1",
+            {
+                "tension": Param(float, 0.0, "tension T (1: stop at keys)"),
+                "continuity": Param(float, 0.0, "continuity C (≠ 0: a corner at keys)"),
+                "bias": Param(float, 0.0, "bias B (−1 … 1: towards the next / previous key)"),
+                "alpha": Param(
+                    float_or_none, None, "key spacing θ^α without times: 0, 0.5 centripetal, 1"
+                ),
+                "ends": Param(str, "reflect", "reflect | duplicate | rest | closed"),
+                "holds": Param(flag, True, "equal consecutive keys hold still"),
             },
         ),
         Method("bezier", "one spherical Bézier curve over all keys", False, "C∞ (one curve)", {}),

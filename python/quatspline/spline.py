@@ -59,7 +59,7 @@ _ORDER_HINT = (
     "s.angular_acceleration(t, frame='body'), for the quaternion's derivative "
     "s.derivative(t, {order})"
 )
-_EXTRAPOLATE = ("raise", "clamp")
+_EXTRAPOLATE = ("raise", "clamp", "linear", "periodic")
 
 
 def _keys(q, name: str) -> np.ndarray:
@@ -85,17 +85,19 @@ class Spline:
     :class:`NaturalSpline`, …) or :func:`quatspline.spline` with a method name.
 
     ``s(t)`` gives orientations of shape ``t.shape + (4,)`` — (4,) for a scalar time. Times
-    outside ``s.domain`` raise ``ValueError`` unless the spline was made with
-    ``extrapolate="clamp"``, which holds the end orientation (zero derivatives). Times need
-    not be sorted (sorted times are fastest). Derivatives are exact: they come from the same
-    formula as the orientation by Taylor-mode arithmetic, never by finite differences. Rates
-    are in radians per unit of time.
+    outside ``s.domain`` follow ``extrapolate``: ``"raise"`` (default, ``ValueError``),
+    ``"clamp"`` (hold the end orientation, zero derivatives), ``"linear"`` (constant angular
+    velocity: the end's one-sided rate, zero acceleration) or ``"periodic"`` (repeat the
+    domain; smooth for ``ends="closed"`` splines, with a jump at every period boundary
+    otherwise). Times need not be sorted (sorted times are fastest). Derivatives are exact:
+    they come from the same formula as the orientation by Taylor-mode arithmetic, never by
+    finite differences. Rates are in radians per unit of time.
 
     Parameters
     ----------
     core : quatspline._core.Spline
         The compiled curve (made by a method class).
-    extrapolate : {"raise", "clamp"}, default "raise"
+    extrapolate : {"raise", "clamp", "linear", "periodic"}, default "raise"
         What to do with times outside the domain.
     **params
         The construction parameters, kept in ``params`` (used by :func:`reparameterize`).
@@ -103,7 +105,8 @@ class Spline:
     Attributes
     ----------
     extrapolate : str
-        ``"raise"`` or ``"clamp"``; may be changed after construction.
+        ``"raise"``, ``"clamp"``, ``"linear"`` or ``"periodic"``; may be changed after
+        construction.
     params : dict
         The construction parameters.
 
@@ -155,6 +158,11 @@ class Spline:
         return self._core.interpolates
 
     @property
+    def closed(self) -> bool:
+        """Whether the curve is a closed loop (``ends="closed"``): its end joins its start."""
+        return self._core.closed
+
+    @property
     def continuity(self) -> int | float:
         """The parametric continuity order in time guaranteed at interior joints."""
         c = self._core.continuity
@@ -168,7 +176,7 @@ class Spline:
     def _eval(self, t, order: int):
         ta = as_times(t, "t")
         flat = np.ascontiguousarray(ta.reshape(-1))
-        out = self._core.evaluate(flat, order, self.extrapolate == "clamp")
+        out = self._core.evaluate(flat, order, self.extrapolate)
         return ta.shape, out
 
     def __call__(self, t: ArrayLike, out: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
@@ -225,7 +233,7 @@ class Spline:
         if not out.flags.c_contiguous or not out.flags.writeable:
             raise ValueError("out: expected a writeable C-contiguous array")
         flat = np.ascontiguousarray(ta.reshape(-1))
-        self._core.evaluate_out(flat, 0, self.extrapolate == "clamp", out.reshape(-1, 4))
+        self._core.evaluate_out(flat, 0, self.extrapolate, out.reshape(-1, 4))
         return out
 
     def derivative(self, t: ArrayLike, order: int = 1) -> NDArray[np.float64]:
@@ -303,7 +311,7 @@ class Spline:
             raise ValueError(f"frame: expected one of {_FRAMES}, got {frame!r}")
         ta = as_times(t, "t")
         flat = np.ascontiguousarray(ta.reshape(-1))
-        out = self._core.angular(flat, order, frame == "body", self.extrapolate == "clamp")
+        out = self._core.angular(flat, order, frame == "body", self.extrapolate)
         return out.reshape((*ta.shape, 3))
 
     def angular_velocity(self, t: ArrayLike, frame: str = "world") -> NDArray[np.float64]:
@@ -850,6 +858,13 @@ class CatmullRom(Spline):
     ``exp(−hᵢ Wᵢ₊₁/3) cᵢ₊₁`` with the key tangent ``Wᵢ = log(cᵢ₊₁ cᵢ₋₁⁻¹)/(hᵢ₋₁ + hᵢ)``;
     for uniform times this is exactly Gortler's construction.
 
+    ``ends="reflect"`` (default) mirrors the missing end neighbours (two keys give slerp);
+    ``ends="duplicate"`` repeats the end keys; ``ends="rest"`` stops at both ends;
+    ``ends="closed"`` makes a periodic loop (see ``quatspline.keyframe``). Without ``times``,
+    ``alpha`` (0 uniform, 0.5 centripetal, 1 chordal) spaces the keys by their angles as the
+    ``splines`` package does. ``holds`` (default True): consecutive equal keys hold exactly
+    still. This is ``KochanekBartels`` at tension = continuity = bias = 0.
+
     Parameters
     ----------
     quats : array_like, shape (N, 4)
@@ -858,15 +873,21 @@ class CatmullRom(Spline):
         Strictly increasing key times (any unit; rates are per that unit); pandas
         ``DatetimeIndex`` and ``datetime64``/``timedelta64`` arrays become seconds. Default
         0, 1, …, N−1.
-    ends : {"reflect", "duplicate"}, default "reflect"
+    ends : {"reflect", "duplicate", "rest", "closed"}, default "reflect"
         How the missing neighbours of the end keys are made: mirrored (two keys then give
-        slerp) or the end keys repeated.
+        slerp), the end keys repeated, zero rate at both ends, or a closed loop.
     canonicalize : bool, default True
         Flip each key to the hemisphere of the previous one, so that consecutive keys are
         joined the short way.
-    extrapolate : {"raise", "clamp"}, default "raise"
-        Times outside the domain raise ``ValueError``, or are clamped to it (the end
-        orientation held, zero derivatives).
+    extrapolate : {"raise", "clamp", "linear", "periodic"}, default "raise"
+        Times outside the domain raise ``ValueError``, are clamped to it (the end
+        orientation held, zero derivatives), continue at the end's angular velocity, or
+        repeat the domain.
+    alpha : float in [0, 1], optional
+        Without ``times``: key spacing by angle to the power ``alpha`` (0 uniform, 0.5
+        centripetal, 1 chordal). With ``times``, the times rule.
+    holds : bool, default True
+        Consecutive equal keys (q and −q count as equal) hold the orientation exactly.
 
     Raises
     ------
@@ -896,16 +917,22 @@ class CatmullRom(Spline):
         ends: str = "reflect",
         canonicalize: bool = True,
         extrapolate: str = "raise",
+        alpha=None,
+        holds: bool = True,
     ):
+        from .keyframe import _alpha
+
         q = _keys(quats, "quats")
         t = _times(times, len(q))
         super().__init__(
-            _core.catmull_rom(q, t, str(ends), bool(canonicalize)),
+            _core.catmull_rom(q, t, str(ends), bool(canonicalize), _alpha(alpha), bool(holds)),
             extrapolate,
             quats=q,
             times=t,
             ends=ends,
             canonicalize=canonicalize,
+            alpha=alpha,
+            holds=holds,
         )
 
 

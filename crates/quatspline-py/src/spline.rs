@@ -18,25 +18,21 @@ pub struct PySpline {
     inner: Arc<dyn sp::Spline>,
 }
 
-fn quats_of(q: &PyReadonlyArray2<'_, f64>, name: &'static str) -> PyResult<Vec<Quat>> {
+pub(crate) fn quats_of(q: &PyReadonlyArray2<'_, f64>, name: &'static str) -> PyResult<Vec<Quat>> {
     let rows = Rows::new(q, name, 4)?;
     Ok((0..rows.len()).map(|i| rows.quat(i)).collect())
 }
 
-fn times_of(t: &Option<PyReadonlyArray1<'_, f64>>) -> Option<Vec<f64>> {
+pub(crate) fn times_of(t: &Option<PyReadonlyArray1<'_, f64>>) -> Option<Vec<f64>> {
     t.as_ref().map(|a| a.as_array().iter().copied().collect())
 }
 
-fn wrap(r: Result<impl sp::Spline + 'static, Error>) -> PyResult<PySpline> {
+pub(crate) fn wrap(r: Result<impl sp::Spline + 'static, Error>) -> PyResult<PySpline> {
     r.map(|s| PySpline { inner: Arc::new(s) }).map_err(to_py)
 }
 
-fn extrapolate(clamp: bool) -> Extrapolate {
-    if clamp {
-        Extrapolate::Clamp
-    } else {
-        Extrapolate::Raise
-    }
+fn extrapolate(rule: &str) -> PyResult<Extrapolate> {
+    Extrapolate::parse(rule).map_err(to_py)
 }
 
 impl PySpline {
@@ -137,6 +133,12 @@ impl PySpline {
         self.inner.interpolates()
     }
 
+    /// Whether the curve is a closed loop (the certificate then includes the seam).
+    #[getter]
+    fn closed(&self) -> bool {
+        self.inner.closed()
+    }
+
     /// Guaranteed parametric continuity order at interior joints (255: a single C^∞ curve).
     #[getter]
     fn continuity(&self) -> u8 {
@@ -149,12 +151,12 @@ impl PySpline {
         py: Python<'py>,
         t: PyReadonlyArray1<'py, f64>,
         order: usize,
-        clamp: bool,
+        extrapolate: &str,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         if order > 3 {
             return Err(PyValueError::new_err(format!("order: expected 0, 1, 2 or 3, got {order}")));
         }
-        let ex = extrapolate(clamp);
+        let ex = self::extrapolate(extrapolate)?;
         self.batch(py, t, 4 * (order + 1), "Spline.evaluate", move |s, tc, first, o| {
             sp::evaluate_into(s, tc, first, order, ex, o)
         })
@@ -166,13 +168,13 @@ impl PySpline {
         py: Python<'py>,
         t: PyReadonlyArray1<'py, f64>,
         order: usize,
-        clamp: bool,
+        extrapolate: &str,
         out: &Bound<'py, PyArray2<f64>>,
     ) -> PyResult<()> {
         if order > 3 {
             return Err(PyValueError::new_err(format!("order: expected 0, 1, 2 or 3, got {order}")));
         }
-        let ex = extrapolate(clamp);
+        let ex = self::extrapolate(extrapolate)?;
         self.batch_into(py, t, out, 4 * (order + 1), "Spline.evaluate", move |s, tc, first, o| {
             sp::evaluate_into(s, tc, first, order, ex, o)
         })
@@ -208,12 +210,12 @@ impl PySpline {
         t: PyReadonlyArray1<'py, f64>,
         order: usize,
         body: bool,
-        clamp: bool,
+        extrapolate: &str,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         if !(1..=3).contains(&order) {
             return Err(PyValueError::new_err(format!("order: expected 1, 2 or 3, got {order}")));
         }
-        let ex = extrapolate(clamp);
+        let ex = self::extrapolate(extrapolate)?;
         let frame = if body { Frame::Body } else { Frame::World };
         self.batch(py, t, 3, "Spline.angular", move |s, tc, first, o| {
             sp::angular_into(s, tc, first, order, frame, ex, o)
@@ -412,24 +414,18 @@ fn squad(
 }
 
 #[pyfunction]
-#[pyo3(signature = (quats, times, ends, canonicalize))]
+#[pyo3(signature = (quats, times, ends, canonicalize, alpha=None, holds=false))]
 fn catmull_rom(
     quats: PyReadonlyArray2<'_, f64>,
     times: Option<PyReadonlyArray1<'_, f64>>,
     ends: &str,
     canonicalize: bool,
+    alpha: Option<f64>,
+    holds: bool,
 ) -> PyResult<PySpline> {
     let q = quats_of(&quats, "quats")?;
-    let ends = match ends {
-        "reflect" => sp::CatmullRomEnds::Reflect,
-        "duplicate" => sp::CatmullRomEnds::Duplicate,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "ends: expected \"reflect\" or \"duplicate\", got {other:?}"
-            )))
-        }
-    };
-    wrap(sp::CatmullRom::new(&q, times_of(&times).as_deref(), ends, canonicalize))
+    let ends = sp::tcb_ends(ends, "catmull_rom").map_err(to_py)?;
+    wrap(sp::CatmullRom::with_keyframes(&q, times_of(&times).as_deref(), alpha, ends, holds, canonicalize))
 }
 
 #[pyfunction]
@@ -445,7 +441,7 @@ fn cumulative_bspline(
 }
 
 #[pyfunction]
-#[pyo3(signature = (quats, times, ends, start_rate, end_rate, canonicalize))]
+#[pyo3(signature = (quats, times, ends, start_rate, end_rate, canonicalize, holds=false))]
 fn natural_spline(
     quats: PyReadonlyArray2<'_, f64>,
     times: Option<PyReadonlyArray1<'_, f64>>,
@@ -453,18 +449,21 @@ fn natural_spline(
     start_rate: Option<[f64; 3]>,
     end_rate: Option<[f64; 3]>,
     canonicalize: bool,
+    holds: bool,
 ) -> PyResult<PySpline> {
     let q = quats_of(&quats, "quats")?;
     let ends = match ends {
         "natural" => sp::NaturalEnds::Natural,
         "clamped" => sp::NaturalEnds::Clamped { start: start_rate, end: end_rate },
+        "rest" => sp::NaturalEnds::Rest,
+        "closed" => sp::NaturalEnds::Closed,
         other => {
             return Err(PyValueError::new_err(format!(
-                "ends: expected \"natural\" or \"clamped\", got {other:?}"
-            )))
+            "ends: the natural spline does not support {other:?}; supported: natural, clamped, rest, closed"
+        )))
         }
     };
-    wrap(sp::NaturalSpline::new(&q, times_of(&times).as_deref(), ends, canonicalize))
+    wrap(sp::NaturalSpline::with_keyframes(&q, times_of(&times).as_deref(), ends, holds, canonicalize))
 }
 
 fn c3_variant(v: &str) -> PyResult<sp::C3Variant> {

@@ -34,6 +34,27 @@ fn every_method_reaches_its_claimed_order() {
         (Box::new(CumulativeBSpline::new(&q, 0.5, 0.0, 4, true).unwrap()), 2),
         (Box::new(C3Spline::new(&q, Some(&t), &[0.3], &[0.1], C3Variant::Knot, true).unwrap()), 3),
     ];
+    let mut splines = splines;
+    let w: Vec<[f64; 3]> = (0..8).map(|k| [(k as f64).sin(), 0.3, -(k as f64).cos()]).collect();
+    let a: Vec<[f64; 3]> = (0..8).map(|k| [0.2, (k as f64).cos(), 0.1]).collect();
+    let tc = times(9);
+    let ends = KeyEnds::Open;
+    splines.extend([
+        (
+            Box::new(Hermite::new(&q, Some(&t), &w, None, Frame::World, ends, true).unwrap())
+                as Box<dyn Spline>,
+            1,
+        ),
+        (Box::new(Hermite::new(&q, Some(&t), &w, Some(&a), Frame::Body, ends, true).unwrap()), 2),
+        (Box::new(Hermite::new(&q, Some(&tc), &w, Some(&a), Frame::Body, KeyEnds::Closed, true).unwrap()), 2),
+        (
+            Box::new(
+                KochanekBartels::new(&q, Some(&tc), None, CATMULL_ROM, TcbEnds::Closed, true, true).unwrap(),
+            ),
+            1,
+        ),
+        (Box::new(NaturalSpline::with_keyframes(&q, Some(&tc), NaturalEnds::Closed, true, true).unwrap()), 2),
+    ]);
     for (s, claimed) in splines {
         assert_eq!(s.continuity() as i32, claimed, "{}", s.name());
         for j in continuity(&*s, 3, 1e-9) {

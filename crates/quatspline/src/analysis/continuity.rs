@@ -18,7 +18,7 @@ use crate::spline::Spline;
 /// The certificate of one joint.
 #[derive(Debug, Clone, PartialEq)]
 pub struct JointReport {
-    /// Joint index (1 … segments−1).
+    /// Joint index (1 … segments−1; `segments` is the seam of a closed curve).
     pub index: usize,
     pub time: f64,
     /// |R_m − L_m| for m = 0 … 3.
@@ -39,14 +39,20 @@ fn dist(a: Quat, b: Quat) -> f64 {
     (a - b).norm()
 }
 
-/// Certificates for every interior joint, checking orders 0 … `order` (≤ 3) against `tol`.
+/// Certificates for every interior joint (and the seam of a closed curve), checking orders 0 … `order` (≤ 3) against `tol`.
 pub fn continuity(s: &dyn Spline, order: usize, tol: f64) -> Vec<JointReport> {
     let order = order.min(3);
     let j = s.joints();
-    let sides: Vec<([Quat; 4], [Quat; 4])> = (1..j.len() - 1)
+    let last = j.len() - 1;
+    // Interior joints, and for a closed curve the seam (index `last`: the end of the last
+    // segment against the start of the first).
+    let seam = if s.closed() { Some(last) } else { None };
+    let sides: Vec<([Quat; 4], [Quat; 4])> = (1..last)
+        .chain(seam)
         .map(|k| {
-            let mut left = s.segment_jet4(k - 1, j[k]).derivatives();
-            let right = s.segment_jet4(k, j[k]).derivatives();
+            let (lk, rk) = if k == last { (j[last], j[0]) } else { (j[k], j[k]) };
+            let mut left = s.segment_jet4(k - 1, lk).derivatives();
+            let right = s.segment_jet4(k % last, rk).derivatives();
             // q and −q are the same rotation: compare on the double cover's same sheet.
             if left[0].dot(right[0]) < 0.0 {
                 left = left.map(|d| -d);

@@ -1,8 +1,21 @@
 //! Batch evaluation of any [`Spline`]: orientations with derivatives, angular rates.
+//!
+//! Outside the domain [a, b] every spline follows one [`Extrapolate`] rule, so all methods
+//! (and the pose spline, which uses these for its orientation) behave alike:
+//! - `Linear`: constant angular velocity from the nearest end, q(t) = q_e exp(½ ω_e (t − e))
+//!   with q_e, ω_e the end orientation and its body angular velocity (one-sided, from the end
+//!   segment). ω is then constant in both frames, α and jerk are zero; the curve is C¹ at the
+//!   ends (C² only where the end acceleration happens to vanish). The rule of evo's and
+//!   scipy's slerp-based extrapolation; scipy's `RotationSpline` instead continues its end
+//!   cubic, which agrees with this to first order (and exactly when its end segment turns at
+//!   constant speed, which the tests use).
+//! - `Periodic`: t ↦ a + ((t − a) mod (b − a)): repeats the curve; for a closed spline
+//!   (`ends="closed"`) this is as smooth across the seam as inside, for an open one the
+//!   repetition jumps at every period boundary.
 
 use super::Spline;
 use crate::error::{Error, Result};
-use crate::jet::angular;
+use crate::jet::{angular, JQuat, Jet};
 use crate::quat::Quat;
 
 /// What to do with t outside the domain.
@@ -12,6 +25,26 @@ pub enum Extrapolate {
     Raise,
     /// Hold the end orientation: the value at the nearest end, zero derivatives.
     Clamp,
+    /// Constant angular velocity beyond the ends (the end's one-sided body rate).
+    Linear,
+    /// Repeat the domain: t ↦ a + ((t − a) mod (b − a)).
+    Periodic,
+}
+
+impl Extrapolate {
+    /// Parses "raise", "clamp", "linear" or "periodic".
+    pub fn parse(s: &str) -> Result<Self> {
+        match s {
+            "raise" => Ok(Extrapolate::Raise),
+            "clamp" => Ok(Extrapolate::Clamp),
+            "linear" => Ok(Extrapolate::Linear),
+            "periodic" => Ok(Extrapolate::Periodic),
+            other => Err(Error::invalid(
+                "extrapolate",
+                format!("expected \"raise\", \"clamp\", \"linear\" or \"periodic\", got {other:?}"),
+            )),
+        }
+    }
 }
 
 /// The frame of angular rates.
@@ -73,20 +106,62 @@ pub fn derivatives_on(s: &dyn Spline, seg: usize, t: f64, order: usize) -> [Quat
     d
 }
 
-/// Resolves t against the domain: Ok(Some(t)) inside, Ok(None) when clamped to an end
-/// (the returned end time in `end`), Err with raise.
+/// Where a time lands after the extrapolation rule.
+#[derive(Debug, Clone, Copy)]
+enum Resolved {
+    /// Inside the domain (or wrapped into it): evaluate the segment formula at this time.
+    At(f64),
+    /// Clamped to this end time: the end value, zero derivatives.
+    Held(f64),
+    /// Beyond the end at time `end` (the first or last joint) by `dt` = t − end.
+    Linear { end: f64, dt: f64 },
+}
+
+/// Resolves t against the domain, or the error with `raise`.
 #[inline]
-fn resolve(s: &dyn Spline, i: usize, t: f64, ex: Extrapolate) -> Result<(f64, bool)> {
+fn resolve(s: &dyn Spline, i: usize, t: f64, ex: Extrapolate) -> Result<Resolved> {
     if !t.is_finite() {
         return Err(Error::NonFinite { arg: "t", index: i });
     }
     let (a, b) = s.domain();
     if t >= a && t <= b {
-        return Ok((t, false));
+        return Ok(Resolved::At(t));
     }
-    match ex {
-        Extrapolate::Raise => Err(Error::OutOfDomain { index: i, t, start: a, end: b }),
-        Extrapolate::Clamp => Ok((t.clamp(a, b), true)),
+    Ok(match ex {
+        Extrapolate::Raise => return Err(Error::OutOfDomain { index: i, t, start: a, end: b }),
+        Extrapolate::Clamp => Resolved::Held(t.clamp(a, b)),
+        Extrapolate::Linear => {
+            let end = if t < a { a } else { b };
+            Resolved::Linear { end, dt: t - end }
+        }
+        Extrapolate::Periodic => {
+            let w = a + (t - a).rem_euclid(b - a);
+            // rem_euclid may round up to b − a exactly; both ends are in the domain.
+            Resolved::At(w.clamp(a, b))
+        }
+    })
+}
+
+/// q, q', q'', q''' of the constant-angular-velocity continuation from the end at `end`:
+/// q(end + dt) = q_e exp(½ ω_b dt), ω_b the one-sided body rate at the end.
+#[inline]
+pub fn linear_extrapolation(s: &dyn Spline, end: f64, dt: f64) -> [Quat; 4] {
+    let (a, _) = s.domain();
+    let seg = if end <= a { 0 } else { s.segments() - 1 };
+    let d = s.segment_jet2(seg, end).derivatives();
+    let w = angular(&d, 1, true);
+    let x = Jet::<4>::variable(dt, 1.0);
+    let r: [Jet<4>; 3] = std::array::from_fn(|c| x * (0.5 * w[c]));
+    (JQuat::constant(d[0]) * JQuat::exp_pure(r)).derivatives()
+}
+
+/// q, q', …, q^(order) after the extrapolation rule.
+#[inline]
+fn resolved_derivatives(s: &dyn Spline, cursor: &mut Cursor<'_>, r: Resolved, order: usize) -> [Quat; 4] {
+    match r {
+        Resolved::At(t) => derivatives_on(s, cursor.locate(t), t, order),
+        Resolved::Held(t) => derivatives_on(s, cursor.locate(t), t, 0),
+        Resolved::Linear { end, dt } => linear_extrapolation(s, end, dt),
     }
 }
 
@@ -105,9 +180,8 @@ pub fn evaluate_into(
     let w = 4 * (order + 1);
     let mut cursor = Cursor::new(s);
     for (k, (&ti, row)) in t.iter().zip(out.chunks_exact_mut(w)).enumerate() {
-        let (tc, held) = resolve(s, first + k, ti, ex)?;
-        let seg = cursor.locate(tc);
-        let d = derivatives_on(s, seg, tc, if held { 0 } else { order });
+        let r = resolve(s, first + k, ti, ex)?;
+        let d = resolved_derivatives(s, &mut cursor, r, order);
         for (m, q) in d.iter().take(order + 1).enumerate() {
             row[4 * m..4 * m + 4].copy_from_slice(&q.to_wxyz());
         }
@@ -131,13 +205,12 @@ pub fn angular_into(
     }
     let mut cursor = Cursor::new(s);
     for (k, (&ti, row)) in t.iter().zip(out.chunks_exact_mut(3)).enumerate() {
-        let (tc, held) = resolve(s, first + k, ti, ex)?;
-        if held {
+        let r = resolve(s, first + k, ti, ex)?;
+        if let Resolved::Held(_) = r {
             row.copy_from_slice(&[0.0; 3]);
             continue;
         }
-        let seg = cursor.locate(tc);
-        let d = derivatives_on(s, seg, tc, order);
+        let d = resolved_derivatives(s, &mut cursor, r, order);
         row.copy_from_slice(&angular(&d, order, frame == Frame::Body));
     }
     Ok(())

@@ -17,6 +17,11 @@
 //! | global natural C² spline | `natural_spline.rs` | yes | C² |
 //! | Beta spline (β₁, β₂) | `beta.rs` | no | G¹ (not G² in general) |
 //! | C³ parametric spline (α, β) | `c3.rs` | yes | C³ |
+//! | Hermite keys (rates; + accelerations) | `hermite.rs` | yes | C¹ (C² quintic) |
+//! | Kochanek–Bartels (tension, continuity, bias) | `kochanek_bartels.rs` | yes | C¹ (C⁰ where continuity ≠ 0) |
+//!
+//! Keyframe control shared by the interpolating methods (closed loops, holds, rest ends) is
+//! in `keyframe.rs`; extrapolation beyond the ends (raise, clamp, linear, periodic) in `eval.rs`.
 
 mod beta;
 mod c3;
@@ -24,7 +29,10 @@ mod catmull_rom;
 mod cumulative_bezier;
 mod cumulative_bspline;
 mod eval;
+mod hermite;
+mod keyframe;
 mod keys;
+mod kochanek_bartels;
 mod lin_euler;
 mod lin_mat;
 mod natural_spline;
@@ -38,11 +46,16 @@ pub use c3::{patent_blending, C3Spline, C3Variant};
 pub use catmull_rom::{CatmullRom, CatmullRomEnds};
 pub use cumulative_bezier::CumulativeBezier;
 pub use cumulative_bspline::CumulativeBSpline;
-pub use eval::{angular_into, derivatives_on, evaluate_into, Cursor, Extrapolate, Frame};
+pub use eval::{
+    angular_into, derivatives_on, evaluate_into, linear_extrapolation, Cursor, Extrapolate, Frame,
+};
+pub use hermite::Hermite;
+pub use keyframe::{prepare_loop, same_rotation, KeyEnds, KeyLoop};
 pub use keys::{
     canonicalize_chain, chain_logs, check_domain, check_shape, check_span, prepare_keys, prepare_times,
     MAX_TIME, MIN_RELATIVE_SPACING,
 };
+pub use kochanek_bartels::{alpha_times, tcb_ends, KochanekBartels, Tcb, TcbEnds, CATMULL_ROM};
 pub use lin_euler::PiecewiseLinEuler;
 pub use lin_mat::PiecewiseLinMat;
 pub use natural_spline::{NaturalEnds, NaturalSpline};
@@ -88,6 +101,12 @@ pub trait Spline: Send + Sync {
     /// The number of segments.
     fn segments(&self) -> usize {
         self.joints().len() - 1
+    }
+
+    /// Whether the curve is a closed loop: the end joins the start (the seam) exactly as an
+    /// interior joint, so the continuity certificate checks it too.
+    fn closed(&self) -> bool {
+        false
     }
 
     /// For the Beta spline: the residuals of its geometric constraints at interior joints.

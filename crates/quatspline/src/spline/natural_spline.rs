@@ -11,11 +11,16 @@
 //! rates at both ends; default the end segments' chord rates ρ/h — exactly scipy's choice).
 //! C² in time, interpolating, global support (moving one key moves every segment).
 //! Two keys: slerp, under both end conditions (with the default clamped rates).
+//! Keyframe control (`with_keyframes`): `Rest` ends (zero rates at both ends), `Closed` loops
+//! (cyclic system, C² across the seam, at least 3 keys), holds (rates pinned to zero at the
+//! keys that bound a hold: exactly constant in between, C¹ there). The segments are the
+//! Hermite segments of `hermite.rs` with the solved rates.
 
-use super::{prepare_keys, prepare_times, segment_jets, Spline};
-use crate::convert::to_rotvec;
+use super::hermite::{bases_and_chords, RotvecSegments};
+use super::keyframe::prepare_loop;
+use super::{segment_jets, Spline};
 use crate::error::{Error, Result};
-use crate::jet::{JQuat, Jet};
+use crate::jet::JQuat;
 use crate::quat::Quat;
 use crate::vec3::{self, Vec3};
 use nalgebra::{Matrix3, Vector3};
@@ -28,6 +33,12 @@ pub enum NaturalEnds {
     /// Given body angular velocities at the first and last key (None: the chord rate of the
     /// end segment, which is what scipy's `RotationSpline` uses).
     Clamped { start: Option<Vec3>, end: Option<Vec3> },
+    /// Rest to rest: zero angular velocity at both ends (the acceleration is then free: a
+    /// cubic cannot also zero it).
+    Rest,
+    /// A periodic loop (see `keyframe.rs`): C² at every key and across the seam, solved as a
+    /// cyclic block-tridiagonal system.
+    Closed,
 }
 
 /// Σ c_m x^(2m) for |x| below `switch`, else the closed form: named singular ratios of the
@@ -115,7 +126,7 @@ fn skew(v: Vec3) -> Matrix3<f64> {
 }
 
 /// A(ρ): angular rate → rotation-vector rate, I + ½[ρ]× + k [ρ]×².
-fn rate_to_rotvec_dot(r: Vec3) -> Matrix3<f64> {
+pub(crate) fn rate_to_rotvec_dot(r: Vec3) -> Matrix3<f64> {
     let s = skew(r);
     Matrix3::identity() + s * 0.5 + s * s * one_minus_half_cot_over_sq(vec3::norm(r))
 }
@@ -128,7 +139,7 @@ fn rotvec_dot_to_rate(r: Vec3) -> Matrix3<f64> {
 }
 
 /// The quadratic term of the angular acceleration in the rotation-vector rate.
-fn accel_nonlinear(r: Vec3, rd: Vec3) -> Vec3 {
+pub(crate) fn accel_nonlinear(r: Vec3, rd: Vec3) -> Vec3 {
     let x = vec3::norm(r);
     let dp = vec3::dot(r, rd);
     let cp = vec3::cross(r, rd);
@@ -172,78 +183,170 @@ fn solve_block_tridiagonal(
 /// The global C² interpolating spline.
 #[derive(Debug, Clone)]
 pub struct NaturalSpline {
-    keys: Vec<Quat>,
-    times: Vec<f64>,
-    /// Per segment: coefficients of s, s², s³ of rᵢ(s).
-    coef: Vec<[Vec3; 3]>,
+    seg: RotvecSegments,
     /// Body angular velocity at each key.
     rates: Vec<Vec3>,
+    closed: bool,
+    /// C² everywhere, or C¹ where holds pin the rate to zero.
+    order: u8,
+}
+
+/// What fixes the rate at one key.
+#[derive(Debug, Clone, Copy)]
+enum Row {
+    /// Continuity of angular acceleration with the neighbours (segments on both sides).
+    Continuity,
+    /// The rate is given.
+    Fixed(Vec3),
+    /// Zero angular acceleration at the start (first key) or end (last key) of an open curve.
+    NaturalStart,
+    NaturalEnd,
+}
+
+/// Solves the cyclic block-tridiagonal system (l[0] couples x[n−1], u[n−1] couples x[0]) by
+/// bordering: x_k = y_k + Z_k x₀ from the open system of rows 1 … n−1, then row 0 for x₀.
+fn solve_cyclic(
+    l: &[Matrix3<f64>],
+    d: &[Matrix3<f64>],
+    u: &[Matrix3<f64>],
+    b: &[Vector3<f64>],
+) -> Option<Vec<Vector3<f64>>> {
+    let n = d.len();
+    let (li, di, ui) = (&l[1..], &d[1..], &u[1..]);
+    let y = solve_block_tridiagonal(li, di, ui, &b[1..])?;
+    // Columns of Z: T Z = −E, E = L₁ in the first row and U_{n−1} in the last.
+    let mut z = vec![Matrix3::zeros(); n - 1];
+    for c in 0..3 {
+        let mut e = vec![Vector3::zeros(); n - 1];
+        e[0] -= l[1].column(c);
+        e[n - 2] -= u[n - 1].column(c);
+        let col = solve_block_tridiagonal(li, di, ui, &e)?;
+        for (k, v) in col.iter().enumerate() {
+            z[k].set_column(c, v);
+        }
+    }
+    let m = d[0] + l[0] * z[n - 2] + u[0] * z[0];
+    let x0 = m.try_inverse()? * (b[0] - l[0] * y[n - 2] - u[0] * y[0]);
+    let mut x = vec![x0];
+    x.extend((0..n - 1).map(|k| y[k] + z[k] * x0));
+    Some(x)
 }
 
 impl NaturalSpline {
     pub fn new(keys: &[Quat], times: Option<&[f64]>, ends: NaturalEnds, canonicalize: bool) -> Result<Self> {
-        let keys = prepare_keys(keys, "quats", 2, canonicalize)?;
-        let times = prepare_times(times, keys.len())?;
-        let n = keys.len();
-        let h: Vec<f64> = times.windows(2).map(|w| w[1] - w[0]).collect();
-        let rho: Vec<Vec3> = keys.windows(2).map(|w| to_rotvec(w[0].conj() * w[1])).collect();
+        Self::with_keyframes(keys, times, ends, false, canonicalize)
+    }
+
+    /// With keyframe control: `ends` may also be `Rest` or `Closed`; `holds` pins the rate of
+    /// every key that starts or ends a hold (consecutive equal keys) to zero, so the hold is
+    /// exactly constant; the curve is then C¹ (not C²) at those keys.
+    pub fn with_keyframes(
+        keys: &[Quat],
+        times: Option<&[f64]>,
+        ends: NaturalEnds,
+        holds: bool,
+        canonicalize: bool,
+    ) -> Result<Self> {
+        let closed = ends == NaturalEnds::Closed;
+        let kl =
+            prepare_loop(keys, times, closed, if closed { 3 } else { 2 }, "natural spline", canonicalize)?;
+        let n = kl.keys.len();
+        let segs = kl.segments();
+        let (base, rho) = bases_and_chords(&kl);
+        let h: Vec<f64> = (0..segs).map(|i| kl.h(i)).collect();
         let a: Vec<Matrix3<f64>> = rho.iter().map(|&r| rate_to_rotvec_dot(r)).collect();
         let ai: Vec<Matrix3<f64>> = rho.iter().map(|&r| rotvec_dot_to_rate(r)).collect();
         let chord = |i: usize| vec3::scale(rho[i], 1.0 / h[i]);
-        let (start, end) = match ends {
-            NaturalEnds::Natural => (None, None),
-            NaturalEnds::Clamped { start, end } => {
-                for (name, v) in [("start_rate", start), ("end_rate", end)] {
-                    if v.is_some_and(|v| v.iter().any(|c| !c.is_finite())) {
-                        return Err(Error::NonFinite { arg: name, index: 0 });
-                    }
+        let mut rows: Vec<Row> = (0..n)
+            .map(|k| {
+                if closed || (k > 0 && k < n - 1) {
+                    return Row::Continuity;
                 }
-                (Some(start.unwrap_or_else(|| chord(0))), Some(end.unwrap_or_else(|| chord(n - 2))))
+                let first = k == 0;
+                match ends {
+                    NaturalEnds::Natural | NaturalEnds::Closed => {
+                        if first {
+                            Row::NaturalStart
+                        } else {
+                            Row::NaturalEnd
+                        }
+                    }
+                    NaturalEnds::Rest => Row::Fixed([0.0; 3]),
+                    NaturalEnds::Clamped { start, end } => Row::Fixed(if first {
+                        start.unwrap_or_else(|| chord(0))
+                    } else {
+                        end.unwrap_or_else(|| chord(n - 2))
+                    }),
+                }
+            })
+            .collect();
+        if let NaturalEnds::Clamped { start, end } = ends {
+            for (name, v) in [("start_rate", start), ("end_rate", end)] {
+                if v.is_some_and(|v| v.iter().any(|c| !c.is_finite())) {
+                    return Err(Error::NonFinite { arg: name, index: 0 });
+                }
             }
-        };
+        }
+        let mut pinned = false;
+        if holds {
+            for (k, hold) in kl.hold_keys().into_iter().enumerate() {
+                if hold {
+                    rows[k] = Row::Fixed([0.0; 3]);
+                    pinned = true;
+                }
+            }
+        }
         let zero = Matrix3::zeros();
         let eye = Matrix3::identity();
         let (mut l, mut d, mut u) = (vec![zero; n], vec![zero; n], vec![zero; n]);
         let mut b0 = vec![Vector3::zeros(); n];
-        // Row 0
-        if let Some(w0) = start {
-            d[0] = eye;
-            b0[0] = v3(w0);
-        } else {
-            d[0] = eye * (4.0 / h[0]);
-            u[0] = a[0] * (2.0 / h[0]);
-            b0[0] = v3(rho[0]) * (6.0 / (h[0] * h[0]));
-        }
-        // Interior rows: continuity of angular acceleration at key k.
-        for k in 1..n - 1 {
-            l[k] = ai[k - 1] * (2.0 / h[k - 1]);
-            d[k] = eye * (4.0 * (1.0 / h[k - 1] + 1.0 / h[k]));
-            u[k] = a[k] * (2.0 / h[k]);
-            b0[k] = v3(rho[k - 1]) * (6.0 / (h[k - 1] * h[k - 1])) + v3(rho[k]) * (6.0 / (h[k] * h[k]));
-        }
-        // Last row
-        let m = n - 1;
-        if let Some(we) = end {
-            d[m] = eye;
-            b0[m] = v3(we);
-        } else {
-            l[m] = ai[m - 1] * (2.0 / h[m - 1]);
-            d[m] = eye * (4.0 / h[m - 1]);
-            b0[m] = v3(rho[m - 1]) * (6.0 / (h[m - 1] * h[m - 1]));
-        }
-        // Initial guess: chord rates.
-        let mut w: Vec<Vec3> = (0..n).map(|k| chord(k.min(n - 2))).collect();
-        for _ in 0..100 {
-            let mut b = b0.clone();
-            for k in 1..n {
-                let constrained = k < n - 1 || end.is_none();
-                if constrained {
-                    let rd = a3(a[k - 1] * v3(w[k]));
-                    b[k] -= v3(accel_nonlinear(rho[k - 1], rd));
+        // Segment to the left / right of key k (cyclic when closed).
+        let left = |k: usize| if k == 0 { segs - 1 } else { k - 1 };
+        for k in 0..n {
+            match rows[k] {
+                Row::Fixed(w) => {
+                    d[k] = eye;
+                    b0[k] = v3(w);
+                }
+                Row::NaturalStart => {
+                    d[k] = eye * (4.0 / h[0]);
+                    u[k] = a[0] * (2.0 / h[0]);
+                    b0[k] = v3(rho[0]) * (6.0 / (h[0] * h[0]));
+                }
+                Row::NaturalEnd => {
+                    let m = k - 1;
+                    l[k] = ai[m] * (2.0 / h[m]);
+                    d[k] = eye * (4.0 / h[m]);
+                    b0[k] = v3(rho[m]) * (6.0 / (h[m] * h[m]));
+                }
+                Row::Continuity => {
+                    let (p, q) = (left(k), k);
+                    l[k] = ai[p] * (2.0 / h[p]);
+                    d[k] = eye * (4.0 * (1.0 / h[p] + 1.0 / h[q]));
+                    u[k] = a[q] * (2.0 / h[q]);
+                    b0[k] = v3(rho[p]) * (6.0 / (h[p] * h[p])) + v3(rho[q]) * (6.0 / (h[q] * h[q]));
                 }
             }
-            let x = solve_block_tridiagonal(&l, &d, &u, &b)
-                .ok_or_else(|| Error::Internal("natural spline: singular tridiagonal block".into()))?;
+        }
+        // Initial guess: chord rates (zero where pinned).
+        let mut w: Vec<Vec3> = (0..n)
+            .map(|k| match rows[k] {
+                Row::Fixed(v) => v,
+                _ => chord(k.min(segs - 1)),
+            })
+            .collect();
+        for _ in 0..100 {
+            let mut b = b0.clone();
+            for k in 0..n {
+                if matches!(rows[k], Row::Continuity | Row::NaturalEnd) {
+                    let p = left(k);
+                    let rd = a3(a[p] * v3(w[k]));
+                    b[k] -= v3(accel_nonlinear(rho[p], rd));
+                }
+            }
+            let x =
+                if closed { solve_cyclic(&l, &d, &u, &b) } else { solve_block_tridiagonal(&l, &d, &u, &b) }
+                    .ok_or_else(|| Error::Internal("natural spline: singular tridiagonal block".into()))?;
             let mut delta: f64 = 0.0;
             for k in 0..n {
                 let new = a3(x[k]);
@@ -259,18 +362,12 @@ impl NaturalSpline {
         if w.iter().flatten().any(|v| !v.is_finite()) {
             return Err(Error::invalid("quats", "natural spline solve diverged (keys too far apart?)"));
         }
-        let coef = (0..n - 1)
-            .map(|i| {
-                let hi = h[i];
-                let rd1 = a3(a[i] * v3(w[i + 1]));
-                let c3: Vec3 =
-                    std::array::from_fn(|c| (-2.0 * rho[i][c] + hi * w[i][c] + hi * rd1[c]) / hi.powi(3));
-                let c2: Vec3 =
-                    std::array::from_fn(|c| (3.0 * rho[i][c] - 2.0 * hi * w[i][c] - hi * rd1[c]) / (hi * hi));
-                [w[i], c2, c3]
-            })
-            .collect();
-        Ok(NaturalSpline { keys, times, coef, rates: w })
+        let mut joint_rates = w.clone();
+        if closed {
+            joint_rates.push(w[0]);
+        }
+        let seg = RotvecSegments::new(base, &rho, kl.times, &joint_rates, None);
+        Ok(NaturalSpline { seg, rates: w, closed, order: if pinned { 1 } else { 2 } })
     }
 
     /// Body angular velocity at each key (the solved unknowns).
@@ -280,11 +377,7 @@ impl NaturalSpline {
 
     #[inline(always)]
     fn segment<const N: usize>(&self, i: usize, t: f64) -> JQuat<N> {
-        let s = Jet::<N>::variable(t - self.times[i], 1.0);
-        let [c1, c2, c3] = self.coef[i];
-        let r: [Jet<N>; 3] =
-            std::array::from_fn(|c| Jet::poly(&[0.0, 0.5 * c1[c], 0.5 * c2[c], 0.5 * c3[c]], s));
-        JQuat::constant(self.keys[i]) * JQuat::exp_pure(r)
+        self.seg.segment::<N>(i, t)
     }
 }
 
@@ -294,13 +387,16 @@ impl Spline for NaturalSpline {
         "natural"
     }
     fn joints(&self) -> &[f64] {
-        &self.times
+        self.seg.joints()
     }
     fn interpolates(&self) -> bool {
         true
     }
     fn continuity(&self) -> u8 {
-        2
+        self.order
+    }
+    fn closed(&self) -> bool {
+        self.closed
     }
 }
 

@@ -1,0 +1,257 @@
+//! Hermite keys: orientations with given angular velocities (and optionally accelerations).
+//!
+//! Segment i, s = τ − τᵢ ∈ [0, hᵢ]: q(τ) = qᵢ exp(½ rᵢ(s)) with rᵢ a polynomial in the
+//! rotation vector — the segment form of the natural spline (`natural_spline.rs`, scipy's
+//! `RotationSpline`; MATH.md §6b) with the key rates given instead of solved:
+//! - cubic (rates only): rᵢ(0) = 0, rᵢ'(0) = ωᵢ, rᵢ(hᵢ) = ρᵢ = rotvec(qᵢ* qᵢ₊₁),
+//!   rᵢ'(hᵢ) = A(ρᵢ) ωᵢ₊₁ (ω body angular velocity, A the angular-rate → rotation-vector-rate
+//!   map I + ½[ρ]× + (1 − (|ρ|/2) cot(|ρ|/2))/|ρ|² [ρ]×²). C¹ in time.
+//! - quintic (rates and accelerations αᵢ): additionally rᵢ''(0) = αᵢ and
+//!   rᵢ''(hᵢ) = A(ρᵢ)(αᵢ₊₁ − N(ρᵢ, A(ρᵢ) ωᵢ₊₁)), N the quadratic term of the body angular
+//!   acceleration in the rotation-vector rate (the same N the natural spline iterates). C² in
+//!   time.
+//!
+//! World-frame inputs are turned into body rates by ω_b = qᵢ* ω qᵢ (and α_b = qᵢ* α qᵢ, since
+//! dω/dt = R α_b + ω × ω). The curve passes through every key with exactly the given rates
+//! (to rounding). Equal keys (a hold) with zero rates at both give rᵢ ≡ 0: exactly constant.
+//! Closed loops join key n−1 to key 0 with its rates. Source: the Hermite form of scipy's
+//! `RotationSpline` segments (Kim, Kim & Shin's rotation-vector lineage); glTF's CUBICSPLINE
+//! keys carry the same data (value and tangents per key).
+
+use super::keyframe::{prepare_loop, unsupported_ends, KeyEnds, KeyLoop};
+use super::natural_spline::{accel_nonlinear, rate_to_rotvec_dot};
+use super::{segment_jets, Frame, Spline};
+use crate::convert::to_rotvec;
+use crate::error::{Error, Result};
+use crate::jet::{JQuat, Jet};
+use crate::quat::Quat;
+use crate::vec3::Vec3;
+
+/// Segments qᵢ exp(½ rᵢ(s)), rᵢ(s) = Σ_{m=1..5} c_m s^m — shared by the Hermite and the
+/// natural spline.
+#[derive(Debug, Clone)]
+pub(crate) struct RotvecSegments {
+    base: Vec<Quat>,
+    times: Vec<f64>,
+    /// Per segment, coefficients of ½ rᵢ: [0, c₁, …, c₅]/2 per component.
+    half: Vec<[[f64; 6]; 3]>,
+    degree: usize,
+}
+
+fn mat_vec(m: &nalgebra::Matrix3<f64>, v: Vec3) -> Vec3 {
+    let r = m * nalgebra::Vector3::new(v[0], v[1], v[2]);
+    [r[0], r[1], r[2]]
+}
+
+impl RotvecSegments {
+    /// Builds the segments from per-segment base keys, rotation vectors ρᵢ, joint times and
+    /// body rates per joint (and accelerations per joint for the quintic).
+    pub(crate) fn new(
+        base: Vec<Quat>,
+        rho: &[Vec3],
+        times: Vec<f64>,
+        rates: &[Vec3],
+        accels: Option<&[Vec3]>,
+    ) -> Self {
+        let half = (0..base.len())
+            .map(|i| {
+                let h = times[i + 1] - times[i];
+                let a = rate_to_rotvec_dot(rho[i]);
+                let v1 = mat_vec(&a, rates[i + 1]);
+                let v0 = rates[i];
+                let (a0, a1) = match accels {
+                    Some(acc) => {
+                        let n = accel_nonlinear(rho[i], v1);
+                        let d: Vec3 = std::array::from_fn(|c| acc[i + 1][c] - n[c]);
+                        (acc[i], mat_vec(&a, d))
+                    }
+                    None => ([0.0; 3], [0.0; 3]),
+                };
+                std::array::from_fn(|c| {
+                    let (p, v0, v1, a0, a1) = (rho[i][c], v0[c], v1[c], a0[c], a1[c]);
+                    let mut k = [0.0; 6];
+                    if accels.is_none() {
+                        k[1] = v0;
+                        k[2] = (3.0 * p - 2.0 * h * v0 - h * v1) / (h * h);
+                        k[3] = (-2.0 * p + h * v0 + h * v1) / (h * h * h);
+                    } else {
+                        let d0 = p - v0 * h - 0.5 * a0 * h * h;
+                        let d1 = v1 - v0 - a0 * h;
+                        let d2 = a1 - a0;
+                        k[1] = v0;
+                        k[2] = 0.5 * a0;
+                        k[3] = (10.0 * d0 - 4.0 * d1 * h + 0.5 * d2 * h * h) / h.powi(3);
+                        k[4] = (-15.0 * d0 + 7.0 * d1 * h - d2 * h * h) / h.powi(4);
+                        k[5] = (6.0 * d0 - 3.0 * d1 * h + 0.5 * d2 * h * h) / h.powi(5);
+                    }
+                    k.map(|x| 0.5 * x)
+                })
+            })
+            .collect();
+        let degree = if accels.is_some() { 5 } else { 3 };
+        RotvecSegments { base, times, half, degree }
+    }
+
+    pub(crate) fn joints(&self) -> &[f64] {
+        &self.times
+    }
+
+    #[inline(always)]
+    pub(crate) fn segment<const N: usize>(&self, i: usize, t: f64) -> JQuat<N> {
+        let s = Jet::<N>::variable(t - self.times[i], 1.0);
+        let d = self.degree + 1;
+        let r: [Jet<N>; 3] = std::array::from_fn(|c| Jet::poly(&self.half[i][c][..d], s));
+        JQuat::constant(self.base[i]) * JQuat::exp_pure(r)
+    }
+}
+
+/// Per-segment base keys and rotation vectors ρᵢ = rotvec(qᵢ* qᵢ₊₁) of a key loop.
+pub(crate) fn bases_and_chords(k: &KeyLoop) -> (Vec<Quat>, Vec<Vec3>) {
+    let m = k.segments();
+    let base: Vec<Quat> = (0..m).map(|i| k.key_at_joint(i)).collect();
+    let rho = (0..m).map(|i| to_rotvec(base[i].conj() * k.key_at_joint(i + 1))).collect();
+    (base, rho)
+}
+
+/// Keyframes with angular velocities (cubic, C¹) or velocities and accelerations (quintic,
+/// C²); open or closed.
+#[derive(Debug, Clone)]
+pub struct Hermite {
+    seg: RotvecSegments,
+    closed: bool,
+}
+
+fn check_vectors(v: &[Vec3], n: usize, arg: &'static str) -> Result<()> {
+    if v.len() != n {
+        return Err(Error::invalid(arg, format!("expected {n} rows (one per key), got {}", v.len())));
+    }
+    for (i, r) in v.iter().enumerate() {
+        if r.iter().any(|c| !c.is_finite()) {
+            return Err(Error::NonFinite { arg, index: i });
+        }
+        if r.iter().any(|c| c.abs() > 1e12) {
+            return Err(Error::invalid(arg, format!("row {i} is beyond the supported range |value| ≤ 1e12")));
+        }
+    }
+    Ok(())
+}
+
+impl Hermite {
+    /// `rates` (and `accels`) one row per key as given (before a closing key is dropped).
+    pub fn new(
+        keys: &[Quat],
+        times: Option<&[f64]>,
+        rates: &[Vec3],
+        accels: Option<&[Vec3]>,
+        frame: Frame,
+        ends: KeyEnds,
+        canonicalize: bool,
+    ) -> Result<Self> {
+        if ends == KeyEnds::Rest {
+            return Err(unsupported_ends("hermite", ends, &["open", "closed"]));
+        }
+        let closed = ends == KeyEnds::Closed;
+        check_vectors(rates, keys.len(), "angular_velocity")?;
+        if let Some(a) = accels {
+            check_vectors(a, keys.len(), "angular_acceleration")?;
+        }
+        let k = prepare_loop(keys, times, closed, 2, "hermite", canonicalize)?;
+        let n = k.keys.len();
+        let to_body = |v: &[Vec3], arg: &'static str| -> Result<Vec<Vec3>> {
+            let mut out: Vec<Vec3> = (0..n)
+                .map(|i| match frame {
+                    Frame::Body => v[i],
+                    Frame::World => k.keys[i].conj().rotate(v[i]),
+                })
+                .collect();
+            if k.dropped_closing_key {
+                // The closing key repeats key 0: its rate must too.
+                let last = match frame {
+                    Frame::Body => v[n],
+                    Frame::World => k.keys[0].conj().rotate(v[n]),
+                };
+                let diff = (0..3).map(|c| (last[c] - out[0][c]).abs()).fold(0.0, f64::max);
+                let scale = (0..3).map(|c| out[0][c].abs()).fold(1.0, f64::max);
+                if diff > 1e-9 * scale {
+                    return Err(Error::invalid(
+                        arg,
+                        format!(
+                            "row {n} belongs to the closing key (equal to key 0, dropped) but differs \
+                             from row 0 by {diff:e}"
+                        ),
+                    ));
+                }
+            }
+            if closed {
+                out.push(out[0]);
+            }
+            Ok(out)
+        };
+        let w = to_body(rates, "angular_velocity")?;
+        let acc = accels.map(|a| to_body(a, "angular_acceleration")).transpose()?;
+        let (base, rho) = bases_and_chords(&k);
+        let seg = RotvecSegments::new(base, &rho, k.times, &w, acc.as_deref());
+        Ok(Hermite { seg, closed })
+    }
+
+    #[inline(always)]
+    fn segment<const N: usize>(&self, i: usize, t: f64) -> JQuat<N> {
+        self.seg.segment::<N>(i, t)
+    }
+}
+
+impl Spline for Hermite {
+    segment_jets!();
+    fn name(&self) -> &'static str {
+        "hermite"
+    }
+    fn joints(&self) -> &[f64] {
+        self.seg.joints()
+    }
+    fn interpolates(&self) -> bool {
+        true
+    }
+    fn continuity(&self) -> u8 {
+        if self.seg.degree == 5 {
+            2
+        } else {
+            1
+        }
+    }
+    fn closed(&self) -> bool {
+        self.closed
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::jet::angular;
+
+    #[test]
+    fn passes_through_keys_with_the_given_rates() {
+        let keys = [
+            Quat::new(1.0, 0.0, 0.0, 0.0),
+            Quat::new(0.9, 0.3, -0.2, 0.1).normalize(),
+            Quat::new(0.5, -0.5, 0.5, 0.5),
+        ];
+        let w = [[0.1, 0.2, -0.3], [1.0, -0.5, 0.2], [0.0, 0.3, 0.4]];
+        let a = [[0.5, 0.0, 0.1], [-0.2, 0.3, 0.0], [0.1, 0.1, -0.7]];
+        for (frame, body) in [(Frame::Body, true), (Frame::World, false)] {
+            let h = Hermite::new(&keys, Some(&[0.0, 0.7, 2.0]), &w, Some(&a), frame, KeyEnds::Open, true)
+                .unwrap();
+            for (j, &t) in [0.0, 0.7, 2.0].iter().enumerate() {
+                for seg in [j.saturating_sub(1), j.min(1)] {
+                    let d = h.segment_jet4(seg, t).derivatives();
+                    assert!((d[0].dot(keys[j]).abs() - 1.0).abs() < 1e-14);
+                    let got = angular(&d, 1, body);
+                    let acc = angular(&d, 2, body);
+                    for c in 0..3 {
+                        assert!((got[c] - w[j][c]).abs() < 1e-12, "ω {seg} {j}: {got:?}");
+                        assert!((acc[c] - a[j][c]).abs() < 1e-11, "α {seg} {j}: {acc:?}");
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,265 @@
+"""Keyframe control: Hermite keys with angular rates, Kochanek–Bartels, closed loops, holds.
+
+Closed loops (``ends="closed"``) take n keys at n + 1 times: the last time closes the loop
+(the segment from the last key back to the first). If the last key given equals the first
+(q or −q, within 1e-12 rad) it is the closing key: it is dropped and its time closes the loop,
+so keys ``A B C A`` at 0 1 2 3 and ``A B C`` at 0 1 2 3 are the same loop. Without times the
+keys are at 0, 1, …, n. ``extrapolate="periodic"`` repeats a closed loop smoothly.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import _core
+from ._arrays import as_real, with_width
+from .spline import Spline, _keys, _per, _times
+
+__all__ = ["Hermite", "KochanekBartels", "bessel_rates"]
+
+
+def _rows3(v, name: str, n: int) -> np.ndarray:
+    a = with_width(v, name, 3)
+    if a.ndim != 2 or a.shape[0] != n:
+        raise ValueError(f"{name}: expected shape ({n}, 3) (one row per key), got {a.shape}")
+    return np.ascontiguousarray(a, dtype=np.float64)
+
+
+def _per_key(v, name: str, n: int) -> np.ndarray:
+    a = np.atleast_1d(as_real(v, name)).astype(np.float64)
+    if a.ndim != 1 or len(a) not in (1, n):
+        raise ValueError(
+            f"{name}: expected a scalar or {n} values (one per key), got shape {np.shape(v)}"
+        )
+    bad = ~np.isfinite(a)
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise ValueError(f"{name}: non-finite value (NaN or inf) at index {k}")
+    return np.ascontiguousarray(np.broadcast_to(a, (n,)) if len(a) == 1 else a)
+
+
+class Hermite(Spline):
+    """Keys with angular velocities (C¹ cubic) and optionally accelerations (C² quintic).
+
+    Segment i is qᵢ exp(½ rᵢ(s)), s = t − tᵢ, with rᵢ a cubic (quintic) rotation-vector
+    polynomial matching the key orientations and the given rates (accelerations) at both ends
+    — the segment form of scipy's ``RotationSpline`` with the rates given instead of solved.
+    Equal consecutive keys with zero rates give an exactly constant hold.
+
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Key orientations (w, x, y, z); normalised, and made shortest-path unless
+        ``canonicalize=False``.
+    times : array_like, shape (N,) or (N + 1,), optional
+        Key times (default 0, 1, …); a closed curve takes one more, closing the loop.
+    angular_velocity : array_like, shape (N, 3)
+        Angular velocity at each key, rad per time unit, in ``frame``.
+    angular_acceleration : array_like, shape (N, 3), optional
+        Angular acceleration at each key; gives the C² quintic.
+    frame : {"world", "body"}
+        Frame of the given rates.
+    ends : {"open", "closed"}
+        ``"closed"``: the last key joins the first (see the module doc).
+    canonicalize : bool
+        Flip keys so consecutive ones are in the same hemisphere.
+    extrapolate : {"raise", "clamp", "linear", "periodic"}
+        Rule outside the domain.
+
+    Raises
+    ------
+    ValueError
+        Rates of the wrong shape or non-finite (named with the row), bad times or keys,
+        an unsupported ``ends``.
+
+    Examples
+    --------
+    >>> import numpy as np, quatspline as qs
+    >>> q = qs.from_rotvec([[0, 0, 0], [0, 0, 0.5], [0, 0, 1.0]])
+    >>> s = qs.Hermite(q, [0, 1, 2], angular_velocity=[[0, 0, 0.5]] * 3)
+    >>> bool(np.allclose(s.angular_velocity(0.7), [0, 0, 0.5]))
+    True
+    >>> s.continuity
+    1
+    """
+
+    def __init__(
+        self,
+        quats,
+        times=None,
+        angular_velocity=None,
+        angular_acceleration=None,
+        frame: str = "world",
+        ends: str = "open",
+        canonicalize: bool = True,
+        extrapolate: str = "raise",
+    ):
+        q = _keys(quats, "quats")
+        t = _times(times, len(q))
+        if angular_velocity is None:
+            raise ValueError("angular_velocity: required (one row of 3 per key)")
+        w = _rows3(angular_velocity, "angular_velocity", len(q))
+        a = None
+        if angular_acceleration is not None:
+            a = _rows3(angular_acceleration, "angular_acceleration", len(q))
+        super().__init__(
+            _core.hermite(q, t, w, a, str(frame), str(ends), bool(canonicalize)),
+            extrapolate,
+            quats=q,
+            times=t,
+            angular_velocity=w,
+            angular_acceleration=a,
+            frame=frame,
+            ends=ends,
+            canonicalize=canonicalize,
+        )
+
+
+def _alpha(alpha):
+    if alpha is None:
+        return None
+    a = as_real(alpha, "alpha")
+    if a.ndim != 0:
+        raise ValueError(f"alpha: expected a scalar in [0, 1], got shape {a.shape}")
+    a = float(a)
+    if not (0.0 <= a <= 1.0):
+        raise ValueError(f"alpha: expected a value in [0, 1], got {a}")
+    return a
+
+
+class KochanekBartels(Spline):
+    """Kochanek–Bartels (tension, continuity, bias) on the rotation group.
+
+    Cubic spherical Bézier segments whose key rates are the KB tangents lifted to the group
+    (see ``kochanek_bartels.rs``): at (0, 0, 0) exactly ``CatmullRom``; equal to the
+    ``splines`` package's ``KochanekBartels`` wherever the two neighbouring logs of each key
+    share an axis. C¹ in time at keys with ``continuity = 0``; a corner (C⁰) where it is not.
+
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Key orientations (w, x, y, z).
+    times : array_like, shape (N,) or (N + 1,), optional
+        Key times; a closed curve takes one more, closing the loop. Times take precedence
+        over ``alpha``.
+    tension, continuity, bias : float or array_like of shape (N,)
+        One value or one per key (as given; a dropped closing key's value must equal the
+        first). Finite, ``|value| ≤ 1e6``.
+    alpha : float in [0, 1], optional
+        Parametrisation when ``times`` is None: key spacing θ^α (θ the angle between keys):
+        0 uniform, 0.5 centripetal, 1 chordal — as ``splines.quaternion.KochanekBartels``.
+    ends : {"reflect", "duplicate", "rest", "closed"}
+        Open ends by a mirrored (default) or repeated phantom key, zero rates at both ends
+        (``"rest"``), or a closed loop.
+    holds : bool
+        Consecutive equal keys (q or −q) hold exactly still, with zero rates at both ends
+        (default True).
+    canonicalize : bool
+        Flip keys so consecutive ones are in the same hemisphere.
+    extrapolate : {"raise", "clamp", "linear", "periodic"}
+        Rule outside the domain.
+
+    Raises
+    ------
+    ValueError
+        Non-finite or wrongly sized tension/continuity/bias (named with the index), ``alpha``
+        outside [0, 1], too few keys for a closed curve, an unsupported ``ends``.
+
+    Examples
+    --------
+    >>> import numpy as np, quatspline as qs
+    >>> q = qs.from_rotvec([[0, 0, 0], [0.4, 0, 0], [0.4, 0.5, 0], [0, 0.5, 0.3]])
+    >>> kb = qs.KochanekBartels(q, tension=0.0, continuity=0.0, bias=0.0)
+    >>> bool(np.allclose(kb(np.linspace(0, 3, 7)), qs.CatmullRom(q)(np.linspace(0, 3, 7))))
+    True
+    >>> qs.KochanekBartels(q, continuity=0.5).continuity
+    0
+    """
+
+    def __init__(
+        self,
+        quats,
+        times=None,
+        tension=0.0,
+        continuity=0.0,
+        bias=0.0,
+        alpha=None,
+        ends: str = "reflect",
+        holds: bool = True,
+        canonicalize: bool = True,
+        extrapolate: str = "raise",
+    ):
+        q = _keys(quats, "quats")
+        t = _times(times, len(q))
+        a = _alpha(alpha)
+        core = _core.kochanek_bartels(
+            q,
+            t,
+            a,
+            _per(tension, "tension"),
+            _per(continuity, "continuity"),
+            _per(bias, "bias"),
+            str(ends),
+            bool(holds),
+            bool(canonicalize),
+        )
+        super().__init__(
+            core,
+            extrapolate,
+            quats=q,
+            times=t,
+            tension=tension,
+            continuity=continuity,
+            bias=bias,
+            alpha=alpha,
+            ends=ends,
+            holds=holds,
+            canonicalize=canonicalize,
+        )
+
+
+def bessel_rates(quats, times=None) -> np.ndarray:
+    """Body angular velocities at keys estimated from the keys alone (Bessel's rule).
+
+    At an interior key the time-weighted average (hᵢ mᵢ₋₁ + hᵢ₋₁ mᵢ)/(hᵢ₋₁ + hᵢ) of the
+    neighbouring chord rates mₖ = rotvec(qₖ* qₖ₊₁)/hₖ (each is the same vector in the body
+    frames of both its keys); at the ends the end chord rate. Exact for a constant-speed
+    great circle. The registry's default rates for ``hermite``.
+
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Keys, N ≥ 2.
+    times : array_like, shape (N,), optional
+        Key times (default 0, 1, …).
+
+    Returns
+    -------
+    numpy.ndarray, shape (N, 3)
+        Body-frame rates, rad per time unit.
+
+    Examples
+    --------
+    >>> import numpy as np, quatspline as qs
+    >>> q = qs.from_rotvec([[0, 0, 0], [0, 0, 0.2], [0, 0, 0.4]])
+    >>> bool(np.allclose(qs.keyframe.bessel_rates(q, [0, 1, 2]), [0, 0, 0.2]))
+    True
+    """
+    from .algebra import canonicalize, conjugate, multiply, normalize
+    from .convert import as_rotvec
+
+    q = canonicalize(normalize(_keys(quats, "quats")))
+    n = len(q)
+    if n < 2:
+        raise ValueError(f"quats: needs at least 2 keys, got {n}")
+    t = np.arange(n, dtype=float) if times is None else as_real(times, "times")
+    if t.shape != (n,):
+        raise ValueError(f"times: expected shape ({n},), got {t.shape}")
+    h = np.diff(t)
+    if not np.all(h > 0):
+        raise ValueError("times: not strictly increasing")
+    m = as_rotvec(multiply(conjugate(q[:-1]), q[1:])) / h[:, None]
+    w = np.empty((n, 3))
+    w[0], w[-1] = m[0], m[-1]
+    w[1:-1] = (h[1:, None] * m[:-1] + h[:-1, None] * m[1:]) / (h[1:] + h[:-1])[:, None]
+    return w
