@@ -36,8 +36,10 @@ from .dualquat import (
     dq_transform_point,
     sclerp,
 )
+from .integrate import integrate
 from .interpolate import lerp, lin_euler, lin_mat, nlerp, slerp
 from .metrics import angle_between
+from .mean import MeanInfo, mean, moving_mean
 from .pose import PoseSpline
 from .registry import METHODS, spline
 from .rigid import rotate_points
@@ -125,4 +127,8 @@ __all__ = [
     "to_scipy",
     "angle_between",
     "ops",
+    "integrate",
+    "MeanInfo",
+    "mean",
+    "moving_mean",
 ]

@@ -9,6 +9,7 @@
 mod algebra;
 mod arrays;
 mod spline;
+mod toolkit;
 
 use pyo3::prelude::*;
 
@@ -17,5 +18,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     algebra::register(m)?;
     spline::register(m)?;
+    toolkit::register(m)?;
     Ok(())
 }

