@@ -7,7 +7,12 @@ import importlib
 
 import pytest
 
-MODULES = ["quatspline.mean", "quatspline.integrate"]
+MODULES = [
+    "quatspline.mean",
+    "quatspline.integrate",
+    "quatspline.retime",
+    "quatspline.bspline",
+]
 
 
 @pytest.mark.parametrize("name", MODULES)

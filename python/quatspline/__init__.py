@@ -42,6 +42,7 @@ from .metrics import angle_between
 from .mean import MeanInfo, mean, moving_mean
 from .pose import PoseSpline
 from .registry import METHODS, spline
+from .retime import Reparameterized, arc_length, max_angular_rate, retime
 from .rigid import rotate_points
 from .screw import ScrewSpline
 from .spline import (
@@ -131,4 +132,8 @@ __all__ = [
     "MeanInfo",
     "mean",
     "moving_mean",
+    "Reparameterized",
+    "arc_length",
+    "max_angular_rate",
+    "retime",
 ]

@@ -7,6 +7,9 @@ approximating methods are adapted to keys at times as follows (documented choice
   [t₀, t_last] (passes through the first and last key only);
 - ``bspline``: the uniform cumulative B-spline with the keys as control points, the first and
   last key doubled so the curve spans [t₀, t_last]; it treats the key times as uniform;
+- ``nonuniform_bspline``: the cumulative cubic B-spline with the keys as control points (first
+  and last doubled) and knots at the key times (extended past the ends by the end spacings),
+  so non-uniform times are respected;
 - ``beta``: the Beta spline with the keys as vertices, the first and last doubled, one segment
   per key interval (joints at the key times).
 """
@@ -76,6 +79,12 @@ def _build(name, q, times, p):
         if k != 4:
             raise ValueError("order: the registry's bspline spans the keys with order 4 only")
         return sp.CumulativeBSpline(_pad(q), dt=(t[-1] - t[0]) / (len(q) - 1), t0=t[0], order=4)
+    if name == "nonuniform_bspline":
+        # keys as control points (ends doubled), joints at the key times, end knots
+        # extended by the end spacings: simple knots, C², non-uniform times respected
+        h0, h1 = t[1] - t[0], t[-1] - t[-2]
+        knots = np.concatenate([t[0] - h0 * np.arange(3, 0, -1), t, t[-1] + h1 * np.arange(1, 4)])
+        return sp.CumulativeBSpline(_pad(q), knots=knots, order=4)
     if name == "beta":
         return sp.BetaSpline(_pad(q), beta1=p["beta1"], beta2=p["beta2"], times=t)
     raise AssertionError(name)
@@ -128,6 +137,13 @@ METHODS: dict[str, Method] = {
             False,
             "C2",
             {"order": Param(int, 4, "spline order (4 = cubic)")},
+        ),
+        Method(
+            "nonuniform_bspline",
+            "cumulative cubic B-spline, keys as control points, joints at the key times",
+            False,
+            "C2",
+            {},
         ),
         Method(
             "beta",

@@ -325,7 +325,9 @@ class CumulativeBSpline(Spline):
     """Uniform cumulative B-spline of order k (cubic by default): C^(k−2), approximating.
 
     Segment i spans [t0 + i·dt, t0 + (i+1)·dt] with control rotations i … i+k−1, so the
-    domain is [t0, t0 + (n − k + 1)·dt].
+    domain is [t0, t0 + (n − k + 1)·dt]. Non-uniform: ``knots=`` (n + k non-decreasing knots,
+    domain [u_{k−1}, u_n]) or ``dt=[…]`` (the n + k − 1 knot spacings, u_{k−1} = t0) give
+    the non-uniform cumulative B-spline (De Boor basis, see ``quatspline.bspline``).
     """
 
     def __init__(
@@ -336,8 +338,16 @@ class CumulativeBSpline(Spline):
         order: int = 4,
         canonicalize: bool = True,
         extrapolate: str = "raise",
+        knots=None,
     ):
         q = _keys(control_quats, "control_quats")
+        if knots is not None or np.ndim(dt) != 0:
+            # Non-uniform knots (explicit, or per-interval spacings): see bspline.py.
+            from .bspline import _core_spline
+
+            core = _core_spline(q, dt, t0, order, bool(canonicalize), knots)
+            super().__init__(core, extrapolate)
+            return
         super().__init__(
             _core.cumulative_bspline(q, float(dt), float(t0), int(order), bool(canonicalize)),
             extrapolate,
@@ -406,9 +416,16 @@ def reparameterize(spline: Spline, kind: str = "angle") -> Spline:
 
     Works for the interpolating methods made from keys and times (``PiecewiseSlerp``,
     ``Squad``, ``CatmullRom``, ``NaturalSpline``).
+
+    ``kind="arc_length"`` works for ANY spline: the same path at exactly constant angular
+    speed over the same domain, with exact derivatives (``quatspline.retime.arc_length``).
     """
+    if kind == "arc_length":
+        from .retime import arc_length
+
+        return arc_length(spline)
     if kind != "angle":
-        raise ValueError(f"kind: expected 'angle', got {kind!r}")
+        raise ValueError(f"kind: expected 'angle' or 'arc_length', got {kind!r}")
     if "quats" not in spline.params:
         raise ValueError(
             f"reparameterize: {type(spline).__name__} is not built from keys at times; "

@@ -68,6 +68,59 @@ fn integrate_rates<'py>(
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(integrate_rates, m)?)?;
-    let _ = to_py;
+    register_splines(m)
+}
+
+// ---- splines ---------------------------------------------------------------------------
+
+use crate::spline::PySpline;
+use quatspline::spline::{self as sp};
+use std::sync::Arc;
+
+fn wrap_spline(r: Result<impl sp::Spline + 'static, quatspline::Error>) -> PyResult<PySpline> {
+    r.map(|s| PySpline::from_arc(Arc::new(s))).map_err(to_py)
+}
+
+/// Non-uniform cumulative B-spline of order k with an explicit knot vector (n + k knots).
+#[pyfunction]
+fn nonuniform_bspline(
+    control_quats: PyReadonlyArray2<'_, f64>,
+    knots: PyReadonlyArray1<'_, f64>,
+    order: usize,
+    canonicalize: bool,
+) -> PyResult<PySpline> {
+    let rows = Rows::new(&control_quats, "control_quats", 4)?;
+    let q: Vec<Quat> = (0..rows.len()).map(|i| rows.quat(i)).collect();
+    wrap_spline(sp::NonUniformBSpline::new(&q, &vec_of(&knots), order, canonicalize))
+}
+
+/// The spline on its arc-length clock (constant angular speed, same domain); also returns
+/// the path length.
+#[pyfunction]
+fn arc_length_spline(py: Python<'_>, spline: &PySpline) -> PyResult<(PySpline, f64)> {
+    let inner = spline.arc();
+    let r = guarded(py, "reparameterize", move || sp::Reparameterized::arc_length(inner))?;
+    let length = r.length();
+    Ok((PySpline::from_arc(Arc::new(r)), length))
+}
+
+/// The spline with time stretched by `factor` about the start of its domain.
+#[pyfunction]
+fn time_scaled_spline(spline: &PySpline, factor: f64) -> PyResult<PySpline> {
+    wrap_spline(sp::Reparameterized::scaled(spline.arc(), factor))
+}
+
+/// (max |ω| or |dω/dt| or |d²ω/dt²|, time where reached) over the domain.
+#[pyfunction]
+fn max_rate(py: Python<'_>, spline: &PySpline, order: usize) -> PyResult<(f64, f64)> {
+    let inner = spline.arc();
+    guarded(py, "max_rate", move || sp::max_rate(&*inner, order))
+}
+
+pub fn register_splines(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(nonuniform_bspline, m)?)?;
+    m.add_function(wrap_pyfunction!(arc_length_spline, m)?)?;
+    m.add_function(wrap_pyfunction!(time_scaled_spline, m)?)?;
+    m.add_function(wrap_pyfunction!(max_rate, m)?)?;
     Ok(())
 }

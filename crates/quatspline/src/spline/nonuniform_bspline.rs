@@ -28,11 +28,13 @@ pub fn basis_jets<const N: usize>(knots: &[f64], m: usize, k: usize, t: f64) -> 
     let mut b = [Jet::<N>::constant(0.0); 12];
     let mut left = [Jet::<N>::constant(0.0); 12];
     let mut right = [Jet::<N>::constant(0.0); 12];
-    let x = Jet::<N>::variable(t, 1.0);
+    // Local coordinate x = t − u_m: knot differences are exact-ish, no cancellation with t.
+    let um = knots[m];
+    let x = Jet::<N>::variable(t - um, 1.0);
     b[0] = Jet::constant(1.0);
     for d in 1..k {
-        left[d] = x + (-knots[m + 1 - d]);
-        right[d] = -x + knots[m + d];
+        left[d] = x + (um - knots[m + 1 - d]);
+        right[d] = -x + (knots[m + d] - um);
         let mut saved = Jet::constant(0.0);
         for r in 0..d {
             let inv = 1.0 / (knots[m + r + 1] - knots[m + 1 + r - d]);

@@ -138,10 +138,13 @@ impl Reparameterized {
         if !estimate.is_finite() {
             return Err(Error::invalid("spline", "the angular speed is not finite"));
         }
-        if estimate <= 0.0 {
+        // Rounding in the keys alone leaves ~1e-16 rad per segment: below 1e-14 rad per
+        // segment there is no path to follow.
+        let floor = 1e-14 * (j.len() - 1) as f64;
+        if estimate <= floor {
             return Err(Error::invalid(
                 "spline",
-                "the spline does not rotate (zero path length): no arc length to follow",
+                format!("the spline does not rotate (path length {estimate:.3e} rad ≤ {floor:.0e})"),
             ));
         }
         let tol = 1e-13 * estimate;
