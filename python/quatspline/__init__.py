@@ -38,9 +38,10 @@ from .dualquat import (
 )
 from .integrate import integrate
 from .interpolate import lerp, lin_euler, lin_mat, nlerp, slerp
-from .metrics import angle_between
 from .mean import MeanInfo, mean, moving_mean
+from .metrics import angle_between
 from .pose import PoseSpline
+from .pose_bspline import PoseBSpline
 from .registry import METHODS, spline
 from .retime import Reparameterized, arc_length, max_angular_rate, retime
 from .rigid import rotate_points
@@ -136,4 +137,5 @@ __all__ = [
     "arc_length",
     "max_angular_rate",
     "retime",
+    "PoseBSpline",
 ]

@@ -122,5 +122,139 @@ pub fn register_splines(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(arc_length_spline, m)?)?;
     m.add_function(wrap_pyfunction!(time_scaled_spline, m)?)?;
     m.add_function(wrap_pyfunction!(max_rate, m)?)?;
+    register_se3(m)
+}
+
+// ---- SE(3) splines -----------------------------------------------------------------------
+
+use quatspline::se3::{self, PoseCurve};
+
+/// A pose spline of the core (screw spline, pose B-spline): rotation part, dual part,
+/// positions with derivatives, twists.
+#[pyclass(name = "PoseCurve", module = "quatspline._core", frozen)]
+pub struct PyPoseCurve {
+    inner: Arc<dyn PoseCurve>,
+}
+
+fn extrapolate_of(clamp: bool) -> sp::Extrapolate {
+    if clamp {
+        sp::Extrapolate::Clamp
+    } else {
+        sp::Extrapolate::Raise
+    }
+}
+
+#[pymethods]
+impl PyPoseCurve {
+    /// The rotation part as a Spline (all rotation features, certificate).
+    fn rotation(&self) -> PySpline {
+        let s: Arc<dyn sp::Spline> = self.inner.clone();
+        PySpline::from_arc(s)
+    }
+
+    /// The dual part d(t) as a quaternion Spline (for the continuity certificate).
+    fn dual_part(&self) -> PySpline {
+        PySpline::from_arc(Arc::new(se3::DualPart(self.inner.clone())))
+    }
+
+    /// (M, 3·(order+1)): p, p', …, p^(order) at each t (world coordinates).
+    fn positions<'py>(
+        &self,
+        py: Python<'py>,
+        t: PyReadonlyArray1<'py, f64>,
+        order: usize,
+        clamp: bool,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        if order > 3 {
+            return Err(PyValueError::new_err(format!("order: expected 0, 1, 2 or 3, got {order}")));
+        }
+        let tv = vec_of(&t);
+        let s = self.inner.clone();
+        let w = 3 * (order + 1);
+        let out = guarded(py, "positions", move || {
+            let mut out = vec![0.0; tv.len() * w];
+            se3::positions_into(&*s, &tv, order, extrapolate_of(clamp), &mut out)?;
+            Ok(out)
+        })?;
+        let rows: Vec<Vec<f64>> = out.chunks_exact(w).map(|r| r.to_vec()).collect();
+        if rows.is_empty() {
+            return Ok(PyArray2::zeros(py, [0, w], false));
+        }
+        PyArray2::from_vec2(py, &rows).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+    }
+
+    /// (M, 6): the body or spatial twist (order 1) or its time derivatives (2, 3).
+    fn twists<'py>(
+        &self,
+        py: Python<'py>,
+        t: PyReadonlyArray1<'py, f64>,
+        order: usize,
+        body: bool,
+        clamp: bool,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let tv = vec_of(&t);
+        let s = self.inner.clone();
+        let out = guarded(py, "twists", move || {
+            let mut out = vec![0.0; tv.len() * 6];
+            se3::twists_into(&*s, &tv, order, body, extrapolate_of(clamp), &mut out)?;
+            Ok(out)
+        })?;
+        to_array::<6>(py, out.chunks_exact(6).map(|r| std::array::from_fn(|k| r[k])).collect())
+    }
+}
+
+fn pose_inputs(
+    quats: &PyReadonlyArray2<'_, f64>,
+    positions: &PyReadonlyArray2<'_, f64>,
+    qname: &'static str,
+) -> PyResult<(Vec<Quat>, Vec<[f64; 3]>)> {
+    let rows = Rows::new(quats, qname, 4)?;
+    let q = (0..rows.len()).map(|i| rows.quat(i)).collect();
+    Ok((q, rows_of::<3>(positions, "positions")?))
+}
+
+#[pyfunction]
+#[pyo3(signature = (quats, positions, times, smooth, alpha, beta))]
+fn screw_spline(
+    quats: PyReadonlyArray2<'_, f64>,
+    positions: PyReadonlyArray2<'_, f64>,
+    times: Option<PyReadonlyArray1<'_, f64>>,
+    smooth: bool,
+    alpha: PyReadonlyArray1<'_, f64>,
+    beta: PyReadonlyArray1<'_, f64>,
+) -> PyResult<PyPoseCurve> {
+    let (q, p) = pose_inputs(&quats, &positions, "quats")?;
+    let t = times.as_ref().map(vec_of);
+    let s = se3::ScrewSpline::new(&q, &p, t.as_deref(), smooth, &vec_of(&alpha), &vec_of(&beta))
+        .map_err(to_py)?;
+    Ok(PyPoseCurve { inner: Arc::new(s) })
+}
+
+#[pyfunction]
+fn pose_bspline(
+    control_quats: PyReadonlyArray2<'_, f64>,
+    positions: PyReadonlyArray2<'_, f64>,
+    knots: PyReadonlyArray1<'_, f64>,
+    order: usize,
+    formulation: &str,
+) -> PyResult<PyPoseCurve> {
+    let f = match formulation {
+        "se3" => se3::PoseFormulation::Se3,
+        "split" => se3::PoseFormulation::Split,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "formulation: expected \"se3\" or \"split\", got {other:?}"
+            )))
+        }
+    };
+    let (q, p) = pose_inputs(&control_quats, &positions, "control_quats")?;
+    let s = se3::PoseBSpline::new(&q, &p, &vec_of(&knots), order, f).map_err(to_py)?;
+    Ok(PyPoseCurve { inner: Arc::new(s) })
+}
+
+pub fn register_se3(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyPoseCurve>()?;
+    m.add_function(wrap_pyfunction!(screw_spline, m)?)?;
+    m.add_function(wrap_pyfunction!(pose_bspline, m)?)?;
     Ok(())
 }

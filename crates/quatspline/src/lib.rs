@@ -19,6 +19,7 @@ pub mod integrate;
 pub mod interp;
 pub mod jet;
 pub mod quat;
+pub mod se3;
 pub mod special;
 pub mod spline;
 pub mod translation;

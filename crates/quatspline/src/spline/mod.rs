@@ -40,7 +40,7 @@ pub use beta::{BetaJoint, BetaSpline};
 pub use c3::{patent_blending, C3Spline, C3Variant};
 pub use catmull_rom::{CatmullRom, CatmullRomEnds};
 pub use cumulative_bezier::CumulativeBezier;
-pub use cumulative_bspline::CumulativeBSpline;
+pub use cumulative_bspline::{cumulative_blending_matrix, CumulativeBSpline};
 pub use eval::{angular_into, derivatives_on, evaluate_into, Cursor, Extrapolate, Frame};
 pub use keys::{
     canonicalize_chain, chain_logs, check_domain, check_shape, check_span, prepare_keys, prepare_times,
