@@ -36,11 +36,15 @@ from .dualquat import (
     dq_transform_point,
     sclerp,
 )
+from .integrate import integrate
 from .interpolate import lerp, lin_euler, lin_mat, nlerp, slerp
 from .keyframe import Hermite, KochanekBartels
+from .mean import MeanInfo, mean, moving_mean
 from .metrics import angle_between
 from .pose import PoseSpline
+from .pose_bspline import PoseBSpline
 from .registry import METHODS, spline
+from .retime import Reparameterized, arc_length, max_angular_rate, retime
 from .rigid import rotate_points
 from .screw import ScrewSpline
 from .spline import (
@@ -128,4 +132,13 @@ __all__ = [
     "to_scipy",
     "angle_between",
     "ops",
+    "integrate",
+    "MeanInfo",
+    "mean",
+    "moving_mean",
+    "Reparameterized",
+    "arc_length",
+    "max_angular_rate",
+    "retime",
+    "PoseBSpline",
 ]

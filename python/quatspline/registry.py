@@ -7,6 +7,9 @@ approximating methods are adapted to keys at times as follows (documented choice
   [t₀, t_last] (passes through the first and last key only);
 - ``bspline``: the uniform cumulative B-spline with the keys as control points, the first and
   last key doubled so the curve spans [t₀, t_last]; it treats the key times as uniform;
+- ``nonuniform_bspline``: the cumulative cubic B-spline with the keys as control points (first
+  and last doubled) and knots at the key times (extended past the ends by the end spacings),
+  so non-uniform times are respected;
 - ``beta``: the Beta spline with the keys as vertices, the first and last doubled, one segment
   per key interval (joints at the key times).
 
@@ -24,7 +27,15 @@ from numpy.typing import ArrayLike
 
 from . import spline as sp
 
-__all__ = ["METHODS", "Method", "Param", "interpolating_methods", "spline"]
+__all__ = [
+    "METHODS",
+    "POSE_METHODS",
+    "Method",
+    "Param",
+    "interpolating_methods",
+    "pose_spline",
+    "spline",
+]
 
 
 @dataclass(frozen=True)
@@ -160,6 +171,12 @@ def _build(name, q, times, p):
         if k != 4:
             raise ValueError("order: the registry's bspline spans the keys with order 4 only")
         return sp.CumulativeBSpline(_pad(q), dt=(t[-1] - t[0]) / (len(q) - 1), t0=t[0], order=4)
+    if name == "nonuniform_bspline":
+        # keys as control points (ends doubled), joints at the key times, end knots
+        # extended by the end spacings: simple knots, C², non-uniform times respected
+        h0, h1 = t[1] - t[0], t[-1] - t[-2]
+        knots = np.concatenate([t[0] - h0 * np.arange(3, 0, -1), t, t[-1] + h1 * np.arange(1, 4)])
+        return sp.CumulativeBSpline(_pad(q), knots=knots, order=4)
     if name == "beta":
         return sp.BetaSpline(_pad(q), beta1=p["beta1"], beta2=p["beta2"], times=t)
     raise AssertionError(name)
@@ -249,6 +266,13 @@ METHODS: dict[str, Method] = {
             {"order": Param(int, 4, "spline order (4 = cubic)")},
         ),
         Method(
+            "nonuniform_bspline",
+            "cumulative cubic B-spline, keys as control points, joints at the key times",
+            False,
+            "C2",
+            {},
+        ),
+        Method(
             "beta",
             "Beta quaternion spline with the keys as vertices",
             False,
@@ -336,3 +360,53 @@ def spline(
         except (TypeError, ValueError):
             raise ValueError(f"{name}: expected {spec.type.__name__}, got {v!r}") from None
     return _build(method, quats, times, p)
+
+
+# ---- pose methods (issue 2.4): splines of poses, built from keys at times ----------------
+
+POSE_METHODS: dict[str, Method] = {
+    m.name: m
+    for m in [
+        Method("screw", "piecewise ScLerp (constant screw per segment)", True, "C0", {}),
+        Method(
+            "screw_smooth", "C³ cumulative screw spline (the c3 weights on SE(3))", True, "C3", {}
+        ),
+        Method(
+            "pose_bspline",
+            "cumulative cubic B-spline on SE(3), keys as control poses, joints at key times",
+            False,
+            "C2",
+            {"formulation": Param(str, "se3", "se3 | split")},
+        ),
+    ]
+}
+
+
+def pose_spline(method: str, quats, times, positions, **params):
+    """Builds the pose method ``method`` (see ``POSE_METHODS``) through pose keys at times;
+    unknown names and parameters raise a ValueError listing the valid ones."""
+    if method not in POSE_METHODS:
+        raise ValueError(
+            f"method: unknown pose method {method!r}; valid: {', '.join(POSE_METHODS)}"
+        )
+    m = POSE_METHODS[method]
+    unknown = sorted(set(params) - set(m.params))
+    if unknown:
+        valid = ", ".join(m.params) or "none"
+        raise ValueError(f"{unknown[0]}: unknown parameter of {method}; valid: {valid}")
+    if method in ("screw", "screw_smooth"):
+        from .screw import ScrewSpline
+
+        return ScrewSpline(quats, times, positions, smooth=method == "screw_smooth")
+    from .pose_bspline import PoseBSpline
+
+    q = np.asarray(quats, dtype=float)
+    p = np.asarray(positions, dtype=float)
+    t = _times_or_default(times, len(q))
+    if len(t) < 2 or len(t) != len(q):
+        raise ValueError(f"times: expected {len(q)} times (one per key, at least 2), got {len(t)}")
+    h0, h1 = t[1] - t[0], t[-1] - t[-2]
+    knots = np.concatenate([t[0] - h0 * np.arange(3, 0, -1), t, t[-1] + h1 * np.arange(1, 4)])
+    return PoseBSpline(
+        _pad(q), _pad(p), knots=knots, order=4, formulation=params.get("formulation", "se3")
+    )

@@ -941,15 +941,18 @@ class CumulativeBSpline(Spline):
 
     Kim, Kim & Shin (1995); the form used in visual-inertial estimation (Sommer et al.
     2020). Segment i spans ``[t0 + i·dt, t0 + (i+1)·dt]`` and uses control rotations
-    i … i+k−1, so the domain is ``[t0, t0 + (n − k + 1)·dt]``.
+    i … i+k−1, so the domain is ``[t0, t0 + (n − k + 1)·dt]``. Non-uniform: ``knots=``
+    (n + k non-decreasing knots, domain ``[u_{k−1}, u_n]``) or ``dt=[…]`` (the n + k − 1 knot
+    spacings, ``u_{k−1} = t0``) give the non-uniform cumulative B-spline (De Boor basis, see
+    ``quatspline.bspline``).
 
     Parameters
     ----------
     control_quats : array_like, shape (n, 4)
         Control rotations (or a scipy ``Rotation``); at least ``order`` of them. The curve
         does not pass through them.
-    dt : float, default 1.0
-        Knot spacing (time per segment), > 0.
+    dt : float or array_like, default 1.0
+        Knot spacing (time per segment), > 0; or the n + k − 1 knot spacings.
     t0 : float, default 0.0
         Start time.
     order : int, default 4
@@ -990,8 +993,16 @@ class CumulativeBSpline(Spline):
         order: int = 4,
         canonicalize: bool = True,
         extrapolate: str = "raise",
+        knots=None,
     ):
         q = _keys(control_quats, "control_quats")
+        if knots is not None or np.ndim(dt) != 0:
+            # Non-uniform knots (explicit, or per-interval spacings): see bspline.py.
+            from .bspline import _core_spline
+
+            core = _core_spline(q, dt, t0, order, bool(canonicalize), knots)
+            super().__init__(core, extrapolate)
+            return
         super().__init__(
             _core.cumulative_bspline(q, float(dt), float(t0), int(order), bool(canonicalize)),
             extrapolate,
@@ -1124,15 +1135,18 @@ def path_length(spline: Spline, per_segment: int = 8) -> float:
 def reparameterize(spline: Spline, kind: str = "angle") -> Spline:
     """The same method through the same keys, re-timed for an even angular speed.
 
-    Each segment's duration becomes proportional to its rotation angle, keeping the start
-    and end times, so the angular speed is (near) constant across segments.
+    ``kind="angle"``: each segment's duration becomes proportional to its rotation angle,
+    keeping the start and end times, so the angular speed is (near) constant across
+    segments (interpolating methods made from keys and times). ``kind="arc_length"`` works
+    for ANY spline: the same path at exactly constant angular speed over the same domain,
+    with exact derivatives (``quatspline.retime.arc_length``).
 
     Parameters
     ----------
     spline : Spline
         An interpolating spline made from keys and times (``PiecewiseSlerp``, ``Squad``,
         ``CatmullRom``, ``NaturalSpline``, ``C3Spline``, the baselines).
-    kind : {"angle"}, default "angle"
+    kind : {"angle", "arc_length"}, default "angle"
         Re-timing rule.
 
     Returns
@@ -1154,8 +1168,12 @@ def reparameterize(spline: Spline, kind: str = "angle") -> Spline:
     >>> s.joints.round(6)
     array([0. , 0.2, 2. ])
     """
+    if kind == "arc_length":
+        from .retime import arc_length
+
+        return arc_length(spline)
     if kind != "angle":
-        raise ValueError(f"kind: expected 'angle', got {kind!r}")
+        raise ValueError(f"kind: expected 'angle' or 'arc_length', got {kind!r}")
     if "quats" not in spline.params:
         raise ValueError(
             f"reparameterize: {type(spline).__name__} is not built from keys at times; "

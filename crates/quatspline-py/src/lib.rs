@@ -10,6 +10,7 @@ mod algebra;
 mod arrays;
 mod keyframe;
 mod spline;
+mod toolkit;
 
 use pyo3::prelude::*;
 
@@ -19,5 +20,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     algebra::register(m)?;
     spline::register(m)?;
     keyframe::register(m)?;
+    toolkit::register(m)?;
     Ok(())
 }

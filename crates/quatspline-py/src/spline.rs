@@ -36,6 +36,16 @@ fn extrapolate(rule: &str) -> PyResult<Extrapolate> {
 }
 
 impl PySpline {
+    /// Wraps a core spline (for the other binding files).
+    pub(crate) fn from_arc(inner: Arc<dyn sp::Spline>) -> Self {
+        PySpline { inner }
+    }
+
+    /// The core spline (for the other binding files).
+    pub(crate) fn arc(&self) -> Arc<dyn sp::Spline> {
+        Arc::clone(&self.inner)
+    }
+
     /// Fills an (M, width) array from t in parallel chunks with `f(t_chunk, first, out_chunk)`.
     fn batch<'py>(
         &self,

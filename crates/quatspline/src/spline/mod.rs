@@ -14,6 +14,7 @@
 //! | Squad | `squad.rs` | yes | C¹ |
 //! | Catmull–Rom (Gortler) | `catmull_rom.rs` | yes | C¹ |
 //! | cumulative B-spline, order k | `cumulative_bspline.rs` | no | C^(k−2) |
+//! | non-uniform cumulative B-spline, knots | `nonuniform_bspline.rs` | no | C^(k−1−multiplicity) |
 //! | global natural C² spline | `natural_spline.rs` | yes | C² |
 //! | Beta spline (β₁, β₂) | `beta.rs` | no | G¹ (not G² in general) |
 //! | C³ parametric spline (α, β) | `c3.rs` | yes | C³ |
@@ -37,7 +38,9 @@ mod lin_euler;
 mod lin_mat;
 mod natural_spline;
 mod nlerp;
+mod nonuniform_bspline;
 mod piecewise_slerp;
+mod reparam;
 mod spherical_bezier;
 mod squad;
 
@@ -45,7 +48,7 @@ pub use beta::{BetaJoint, BetaSpline};
 pub use c3::{patent_blending, C3Spline, C3Variant};
 pub use catmull_rom::{CatmullRom, CatmullRomEnds};
 pub use cumulative_bezier::CumulativeBezier;
-pub use cumulative_bspline::CumulativeBSpline;
+pub use cumulative_bspline::{cumulative_blending_matrix, CumulativeBSpline};
 pub use eval::{
     angular_into, derivatives_on, evaluate_into, linear_extrapolation, Cursor, Extrapolate, Frame,
 };
@@ -60,7 +63,9 @@ pub use lin_euler::PiecewiseLinEuler;
 pub use lin_mat::PiecewiseLinMat;
 pub use natural_spline::{NaturalEnds, NaturalSpline};
 pub use nlerp::PiecewiseNlerp;
+pub use nonuniform_bspline::{basis_jets, check_knots, NonUniformBSpline};
 pub use piecewise_slerp::PiecewiseSlerp;
+pub use reparam::{max_rate, Reparameterized, TimeMap};
 pub use spherical_bezier::{de_casteljau, SphericalBezier};
 pub use squad::Squad;
 
