@@ -25,9 +25,11 @@ test: build test-rust test-python lint
 
 test-rust:
 	cargo test --workspace --release
+	QUATSPLINE_SIMD=scalar cargo test -p quatspline --release --test simd_kernels
 
 test-python: build
 	$(VPY) -m pytest
+	QUATSPLINE_SIMD=scalar $(VPY) -m pytest -q tests/test_simd.py tests/test_engine.py tests/test_splines.py
 
 lint: $(STAMP)
 	cargo fmt --all --check

@@ -41,6 +41,7 @@ from .pose import PoseSpline
 from .registry import METHODS, spline
 from .rigid import rotate_points
 from .screw import ScrewSpline
+from .simd import set_simd, simd_status
 from .spline import (
     BetaSpline,
     C3Spline,
@@ -63,6 +64,8 @@ __all__ = [
     "__version__",
     "get_num_threads",
     "set_num_threads",
+    "set_simd",
+    "simd_status",
     "METHODS",
     "PiecewiseLinEuler",
     "PiecewiseLinMat",

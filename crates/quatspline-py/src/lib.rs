@@ -8,6 +8,7 @@
 
 mod algebra;
 mod arrays;
+mod simd;
 mod spline;
 
 use pyo3::prelude::*;
@@ -17,5 +18,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     algebra::register(m)?;
     spline::register(m)?;
+    simd::register(m)?;
     Ok(())
 }

@@ -18,6 +18,7 @@ mod error;
 pub mod interp;
 pub mod jet;
 pub mod quat;
+pub mod simd;
 pub mod special;
 pub mod spline;
 pub mod translation;

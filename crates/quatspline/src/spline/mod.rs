@@ -38,7 +38,10 @@ pub use c3::{patent_blending, C3Spline, C3Variant};
 pub use catmull_rom::{CatmullRom, CatmullRomEnds};
 pub use cumulative_bezier::CumulativeBezier;
 pub use cumulative_bspline::CumulativeBSpline;
-pub use eval::{angular_into, derivatives_on, evaluate_into, Cursor, Extrapolate, Frame};
+pub use eval::{
+    angular_into, angular_reference_into, derivatives_on, evaluate_into, evaluate_reference_into, Cursor,
+    Extrapolate, Frame,
+};
 pub use keys::{
     canonicalize_chain, chain_logs, check_domain, check_shape, check_span, prepare_keys, prepare_times,
     MAX_TIME, MIN_RELATIVE_SPACING,
@@ -97,6 +100,12 @@ pub trait Spline: Send + Sync {
 
     /// Bézier control points per segment, where the method has them (Beta spline).
     fn control_points(&self) -> Option<Vec<[crate::quat::Quat; 4]>> {
+        None
+    }
+
+    /// The method's batch kernels (`crate::simd`), where it has them: the engine then hands
+    /// runs of located samples to them instead of calling `segment_jetN` per sample.
+    fn batch(&self) -> Option<&dyn crate::simd::BatchKernel> {
         None
     }
 
