@@ -37,6 +37,7 @@ test: build $(DEV) test-rust test-python lint $(if $(wildcard examples),typechec
 
 test-rust:
 	cargo test --workspace --release
+	QUATSPLINE_SIMD=scalar cargo test -p quatspline --release --test simd_kernels
 
 # The Khronos glTF validator (test-only), installed into the project, never used by the library.
 GLTF_VALIDATOR := .npm/node_modules/gltf-validator/package.json
@@ -52,6 +53,7 @@ $(TESTSTAMP): $(DEV)
 # Unit and property tests, and every docstring example as a doctest.
 test-python: build $(DEV) $(TESTSTAMP) $(GLTF_VALIDATOR)
 	$(VPY) -m pytest
+	QUATSPLINE_SIMD=scalar $(VPY) -m pytest -q tests/test_simd.py tests/test_engine.py tests/test_splines.py
 
 PYDIRS := $(wildcard python tests tests_installed benchmarks fuzz examples docs)
 

@@ -10,6 +10,7 @@ import pytest
 import quatspline as qs
 
 from .splinekit import random_times, random_walk
+from .test_simd import worst
 
 Q = random_walk(40, 1)
 T = random_times(40, 1)
@@ -50,9 +51,8 @@ def test_engine_equals_scalar_path(name):
             fast = s._core.evaluate(np.ascontiguousarray(t), order, "raise")
             ref = s._core.evaluate_scalar(np.ascontiguousarray(t), order)[:, : 4 * (order + 1)]
             assert fast.shape == ref.shape
-            if len(t):
-                scale = np.maximum(1.0, np.abs(ref))
-                assert np.max(np.abs(fast - ref) / scale) <= 1e-14, (kind, order)
+            # the documented bound of the batch kernels (tests/test_simd.py)
+            assert worst(s, t, fast, ref, 4, 0) <= 1.0, (kind, order)
 
 
 def test_thread_count_independence():

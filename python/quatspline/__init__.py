@@ -47,6 +47,7 @@ from .registry import METHODS, spline
 from .retime import Reparameterized, arc_length, max_angular_rate, retime
 from .rigid import rotate_points
 from .screw import ScrewSpline
+from .simd import set_simd, simd_status
 from .spline import (
     BetaSpline,
     C3Spline,
@@ -69,6 +70,8 @@ __all__ = [
     "__version__",
     "get_num_threads",
     "set_num_threads",
+    "set_simd",
+    "simd_status",
     "METHODS",
     "PiecewiseLinEuler",
     "PiecewiseLinMat",

@@ -9,6 +9,7 @@
 mod algebra;
 mod arrays;
 mod keyframe;
+mod simd;
 mod spline;
 mod toolkit;
 
@@ -21,5 +22,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     spline::register(m)?;
     keyframe::register(m)?;
     toolkit::register(m)?;
+    simd::register(m)?;
     Ok(())
 }

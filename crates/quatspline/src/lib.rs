@@ -20,6 +20,7 @@ pub mod interp;
 pub mod jet;
 pub mod quat;
 pub mod se3;
+pub mod simd;
 pub mod special;
 pub mod spline;
 pub mod translation;

@@ -19,6 +19,7 @@ use super::{prepare_keys, prepare_times, segment_jets, Spline};
 use crate::error::{Error, Result};
 use crate::jet::{Axis, JQuat, Jet};
 use crate::quat::Quat;
+use crate::simd::cumulative::{Basis, CumulativeTable, SegmentForm};
 
 /// Residuals of the geometric constraints at one interior joint (local parameter u).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -50,6 +51,8 @@ pub struct BetaSpline {
     ctrl: Vec<[Quat; 4]>,
     logs: Vec<[Axis; 3]>,
     times: Vec<f64>,
+    /// Flat per-segment data of the batch kernels (`crate::simd::cumulative`).
+    batch: Option<crate::simd::cumulative::CumulativeTable>,
 }
 
 /// One value per vertex from a scalar (len 1) or a full list.
@@ -118,11 +121,17 @@ impl BetaSpline {
             let q3 = q2[i] * (q2[i].conj() * q1[i + 1]).powf(1.0 / (1.0 + b1[i + 1]));
             ctrl.push([q0, q1[i], q2[i], q3]);
         }
-        let logs = ctrl
+        let logs: Vec<[Axis; 3]> = ctrl
             .iter()
             .map(|c| std::array::from_fn(|j| Axis::from_log((c[j].conj() * c[j + 1]).log().vec())))
             .collect();
-        Ok(BetaSpline { p, beta1: b1, beta2: b2, gamma, delta, ctrl, logs, times })
+        // cumulative cubic Bernstein weights 1 − (1−u)³, 3u² − 2u³, u³
+        const W: [[f64; 4]; 3] = [[0.0, 1.0, 1.0, 1.0], [0.0, 0.0, 1.0, 1.0], [0.0, 0.0, 0.0, 1.0]];
+        let batch = CumulativeTable::new(&times, Basis::Bernstein, |s| SegmentForm {
+            base: ctrl[s][0],
+            factors: (0..3).map(|j| (logs[s][j], W[j].to_vec())).collect(),
+        });
+        Ok(BetaSpline { p, beta1: b1, beta2: b2, gamma, delta, ctrl, logs, times, batch })
     }
 
     /// The Bézier points [q_{i,0}, q_{i,1}, q_{i,2}, q_{i,3}] of segments i = 1 … l.
@@ -200,5 +209,8 @@ impl Spline for BetaSpline {
     }
     fn control_points(&self) -> Option<Vec<[Quat; 4]>> {
         Some(self.ctrl.clone())
+    }
+    fn batch(&self) -> Option<&dyn crate::simd::BatchKernel> {
+        self.batch.as_ref().map(|b| b as &dyn crate::simd::BatchKernel)
     }
 }

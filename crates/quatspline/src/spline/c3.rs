@@ -20,6 +20,7 @@ use super::{prepare_keys, prepare_times, segment_jets, Spline};
 use crate::error::{Error, Result};
 use crate::jet::{Axis, JQuat, Jet};
 use crate::quat::Quat;
+use crate::simd::cumulative::{Basis, CumulativeTable, SegmentForm};
 
 /// Where the shape parameters live.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -39,6 +40,8 @@ pub struct C3Spline {
     /// Per segment, Bernstein coefficients of C̃₁, C̃₂, C̃₃ in the local parameter (evaluated
     /// in Bernstein form: stable, and exact at the ends, so keys are hit to the last bit).
     basis: Vec<[[f64; 8]; 3]>,
+    /// Flat per-segment data of the batch kernels (`crate::simd::cumulative`).
+    batch: Option<crate::simd::cumulative::CumulativeTable>,
 }
 
 const BINOM7: [f64; 8] = [1.0, 7.0, 21.0, 35.0, 35.0, 21.0, 7.0, 1.0];
@@ -191,7 +194,7 @@ impl C3Spline {
                     .collect()
             }
         };
-        let basis = blend
+        let basis: Vec<[[f64; 8]; 3]> = blend
             .iter()
             .map(|c| {
                 let c1t: [f64; 8] = std::array::from_fn(|k| 1.0 - c[0][k]);
@@ -199,7 +202,11 @@ impl C3Spline {
                 [c1t, c2t, c[3]]
             })
             .collect();
-        Ok(C3Spline { base: padded, logs, times, basis })
+        let batch = CumulativeTable::new(&times, Basis::Bernstein, |s| SegmentForm {
+            base: padded[s],
+            factors: (0..3).map(|j| (logs[s + 1 + j], basis[s][j].to_vec())).collect(),
+        });
+        Ok(C3Spline { base: padded, logs, times, basis, batch })
     }
 
     /// Per segment, the power-basis coefficients of the cumulative weights C̃₁, C̃₂, C̃₃ in the
@@ -246,6 +253,9 @@ impl Spline for C3Spline {
     }
     fn continuity(&self) -> u8 {
         3
+    }
+    fn batch(&self) -> Option<&dyn crate::simd::BatchKernel> {
+        self.batch.as_ref().map(|b| b as &dyn crate::simd::BatchKernel)
     }
 }
 

@@ -9,6 +9,7 @@ use super::{prepare_keys, segment_jets, Spline};
 use crate::error::Result;
 use crate::jet::{Axis, JQuat, Jet};
 use crate::quat::Quat;
+use crate::simd::cumulative::{Basis, CumulativeTable, SegmentForm};
 
 /// One cumulative Bézier curve of any degree on u ∈ [0, 1].
 #[derive(Debug, Clone)]
@@ -17,6 +18,8 @@ pub struct CumulativeBezier {
     logs: Vec<Axis>,
     binom: Vec<f64>,
     joints: [f64; 2],
+    /// Flat per-segment data of the batch kernels (`crate::simd::cumulative`).
+    batch: Option<crate::simd::cumulative::CumulativeTable>,
 }
 
 impl CumulativeBezier {
@@ -31,7 +34,14 @@ impl CumulativeBezier {
         for i in 1..=n {
             binom[i] = binom[i - 1] * (n + 1 - i) as f64 / i as f64;
         }
-        Ok(CumulativeBezier { ctrl, logs, binom, joints })
+        // factor j's weight B̃_j = Σ_{l≥j} B_{l,n}: Bernstein coefficients 1 from l = j on
+        let batch = CumulativeTable::new(&joints, Basis::Bernstein, |_| SegmentForm {
+            base: ctrl[0],
+            factors: (1..=n)
+                .map(|j| (logs[j - 1], (0..=n).map(|l| if l >= j { 1.0 } else { 0.0 }).collect()))
+                .collect(),
+        });
+        Ok(CumulativeBezier { ctrl, logs, binom, joints, batch })
     }
 
     #[inline(always)]
@@ -73,5 +83,8 @@ impl Spline for CumulativeBezier {
     }
     fn continuity(&self) -> u8 {
         u8::MAX
+    }
+    fn batch(&self) -> Option<&dyn crate::simd::BatchKernel> {
+        self.batch.as_ref().map(|b| b as &dyn crate::simd::BatchKernel)
     }
 }

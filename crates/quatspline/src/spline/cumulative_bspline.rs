@@ -13,6 +13,7 @@ use super::{local, prepare_keys, segment_jets, Spline};
 use crate::error::{Error, Result};
 use crate::jet::{Axis, JQuat, Jet};
 use crate::quat::Quat;
+use crate::simd::cumulative::{Basis, CumulativeTable, SegmentForm};
 
 /// The cumulative blending matrix M̃ (k×k, row j = coefficients of B̃ⱼ in powers of u).
 pub fn cumulative_blending_matrix(k: usize) -> Vec<Vec<f64>> {
@@ -57,6 +58,8 @@ pub struct CumulativeBSpline {
     basis: Vec<Vec<f64>>,
     order: usize,
     joints: Vec<f64>,
+    /// Flat per-segment data of the batch kernels (`crate::simd::cumulative`).
+    batch: Option<crate::simd::cumulative::CumulativeTable>,
 }
 
 impl CumulativeBSpline {
@@ -77,8 +80,13 @@ impl CumulativeBSpline {
         super::check_span("dt", t0, t0 + segs as f64 * dt, segs)?;
         let mut logs = vec![Axis::default()];
         logs.extend(super::chain_logs(&ctrl));
-        let joints = (0..=segs).map(|i| t0 + i as f64 * dt).collect();
-        Ok(CumulativeBSpline { ctrl, logs, basis: cumulative_blending_matrix(order), order, joints })
+        let joints: Vec<f64> = (0..=segs).map(|i| t0 + i as f64 * dt).collect();
+        let basis = cumulative_blending_matrix(order);
+        let batch = CumulativeTable::new(&joints, Basis::Power, |i| SegmentForm {
+            base: ctrl[i],
+            factors: (1..order).map(|j| (logs[i + j], basis[j].clone())).collect(),
+        });
+        Ok(CumulativeBSpline { ctrl, logs, basis, order, joints, batch })
     }
 
     #[inline(always)]
@@ -106,6 +114,9 @@ impl Spline for CumulativeBSpline {
     }
     fn continuity(&self) -> u8 {
         (self.order - 2) as u8
+    }
+    fn batch(&self) -> Option<&dyn crate::simd::BatchKernel> {
+        self.batch.as_ref().map(|b| b as &dyn crate::simd::BatchKernel)
     }
 }
 

@@ -165,8 +165,28 @@ fn resolved_derivatives(s: &dyn Spline, cursor: &mut Cursor<'_>, r: Resolved, or
     }
 }
 
-/// Writes q, q', …, q^(order) (4·(order+1) numbers) for each t into `out`.
+/// Writes q, q', …, q^(order) (4·(order+1) numbers) for each t into `out`: through the
+/// spline's batch kernels where it has them (`crate::simd`), else per sample.
 pub fn evaluate_into(
+    s: &dyn Spline,
+    t: &[f64],
+    first: usize,
+    order: usize,
+    ex: Extrapolate,
+    out: &mut [f64],
+) -> Result<()> {
+    if order <= 3 {
+        let reference = |tc: &[f64], f: usize, o: &mut [f64]| evaluate_reference_into(s, tc, f, order, ex, o);
+        if let Some(r) = crate::simd::engine::evaluate(s, t, first, order, reference, out) {
+            return r;
+        }
+    }
+    evaluate_reference_into(s, t, first, order, ex, out)
+}
+
+/// The per-sample reference path of [`evaluate_into`]: cursor, one `segment_jetN` call per
+/// sample. Every batch kernel is tested against it.
+pub fn evaluate_reference_into(
     s: &dyn Spline,
     t: &[f64],
     first: usize,
@@ -190,8 +210,29 @@ pub fn evaluate_into(
 }
 
 /// Writes the angular velocity (order 1), acceleration (2) or jerk (3) for each t into `out`
-/// (3 numbers per sample) in the chosen frame.
+/// (3 numbers per sample) in the chosen frame: closed-form batch kernels where the spline has
+/// them (`crate::simd`), else exact jets per sample.
 pub fn angular_into(
+    s: &dyn Spline,
+    t: &[f64],
+    first: usize,
+    order: usize,
+    frame: Frame,
+    ex: Extrapolate,
+    out: &mut [f64],
+) -> Result<()> {
+    if (1..=3).contains(&order) {
+        let reference =
+            |tc: &[f64], f: usize, o: &mut [f64]| angular_reference_into(s, tc, f, order, frame, ex, o);
+        if let Some(r) = crate::simd::engine::angular(s, t, first, order, frame, reference, out) {
+            return r;
+        }
+    }
+    angular_reference_into(s, t, first, order, frame, ex, out)
+}
+
+/// The per-sample reference path of [`angular_into`] (jets, then `jet::angular`).
+pub fn angular_reference_into(
     s: &dyn Spline,
     t: &[f64],
     first: usize,

@@ -50,7 +50,8 @@ pub use catmull_rom::{CatmullRom, CatmullRomEnds};
 pub use cumulative_bezier::CumulativeBezier;
 pub use cumulative_bspline::{cumulative_blending_matrix, CumulativeBSpline};
 pub use eval::{
-    angular_into, derivatives_on, evaluate_into, linear_extrapolation, Cursor, Extrapolate, Frame,
+    angular_into, angular_reference_into, derivatives_on, evaluate_into, evaluate_reference_into,
+    linear_extrapolation, Cursor, Extrapolate, Frame,
 };
 pub use hermite::Hermite;
 pub use keyframe::{prepare_loop, same_rotation, KeyEnds, KeyLoop};
@@ -121,6 +122,12 @@ pub trait Spline: Send + Sync {
 
     /// Bézier control points per segment, where the method has them (Beta spline).
     fn control_points(&self) -> Option<Vec<[crate::quat::Quat; 4]>> {
+        None
+    }
+
+    /// The method's batch kernels (`crate::simd`), where it has them: the engine then hands
+    /// runs of located samples to them instead of calling `segment_jetN` per sample.
+    fn batch(&self) -> Option<&dyn crate::simd::BatchKernel> {
         None
     }
 

@@ -8,6 +8,7 @@ use super::{local, prepare_keys, prepare_times, segment_jets, Spline};
 use crate::error::Result;
 use crate::jet::{Axis, JQuat};
 use crate::quat::Quat;
+use crate::simd::cumulative::{Basis, CumulativeTable, SegmentForm};
 
 /// Slerp between consecutive keys.
 #[derive(Debug, Clone)]
@@ -15,6 +16,8 @@ pub struct PiecewiseSlerp {
     keys: Vec<Quat>,
     times: Vec<f64>,
     logs: Vec<Axis>,
+    /// Flat per-segment data of the batch kernels (`crate::simd::cumulative`).
+    batch: Option<crate::simd::cumulative::CumulativeTable>,
 }
 
 impl PiecewiseSlerp {
@@ -24,7 +27,11 @@ impl PiecewiseSlerp {
         let keys = prepare_keys(keys, "quats", 2, canonicalize)?;
         let times = prepare_times(times, keys.len())?;
         let logs = super::chain_logs(&keys);
-        Ok(PiecewiseSlerp { keys, times, logs })
+        let batch = CumulativeTable::new(&times, Basis::Power, |i| SegmentForm {
+            base: keys[i],
+            factors: vec![(logs[i], vec![0.0, 1.0])],
+        });
+        Ok(PiecewiseSlerp { keys, times, logs, batch })
     }
 
     #[inline(always)]
@@ -47,5 +54,8 @@ impl Spline for PiecewiseSlerp {
     }
     fn continuity(&self) -> u8 {
         0
+    }
+    fn batch(&self) -> Option<&dyn crate::simd::BatchKernel> {
+        self.batch.as_ref().map(|b| b as &dyn crate::simd::BatchKernel)
     }
 }

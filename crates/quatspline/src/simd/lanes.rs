@@ -1,0 +1,251 @@
+//! One kernel body, two instruction sets: the [`Lanes`] trait is a vector of `N` doubles with
+//! the handful of operations the kernels use. `f64` is the portable scalar lane (N = 1, no FMA,
+//! the project's fdlibm `sin_cos`); [`Avx2`] is four lanes of AVX2 + FMA. Kernels are written
+//! once, generically, and instantiated inside a `#[target_feature(enable = "avx2,fma")]`
+//! function, into which every `#[inline(always)]` method here is inlined.
+
+// fdlibm's kernel constants are kept digit for digit as published.
+#![allow(clippy::excessive_precision)]
+
+use std::ops::{Add, Mul, Neg, Sub};
+
+/// A vector of `N` f64 lanes.
+pub(crate) trait Lanes:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Neg<Output = Self>
+{
+    /// The number of lanes.
+    const N: usize;
+    /// Every lane `x`.
+    fn splat(x: f64) -> Self;
+    /// Lanes from `p[0..N]`.
+    ///
+    /// # Safety
+    /// `p` must be valid for `N` reads.
+    unsafe fn load(p: *const f64) -> Self;
+    /// Lane l from `p[idx[l]]`.
+    ///
+    /// # Safety
+    /// Every `p[idx[l]]`, l < N, must be valid for reads.
+    unsafe fn gather(p: *const f64, idx: &[usize; 4]) -> Self;
+    /// The lanes as an array (the first `N` entries).
+    fn to_array(self) -> [f64; 4];
+    /// `self · b + c` (fused where the hardware has it).
+    fn fma(self, b: Self, c: Self) -> Self;
+    /// `c − self · b` (fused where the hardware has it).
+    fn fnma(self, b: Self, c: Self) -> Self;
+    /// (sin, cos) of every lane, within one ulp of libm (fdlibm kernels).
+    fn sin_cos(self) -> (Self, Self);
+}
+
+impl Lanes for f64 {
+    const N: usize = 1;
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        x
+    }
+    #[inline(always)]
+    unsafe fn load(p: *const f64) -> Self {
+        *p
+    }
+    #[inline(always)]
+    unsafe fn gather(p: *const f64, idx: &[usize; 4]) -> Self {
+        *p.add(idx[0])
+    }
+    #[inline(always)]
+    fn to_array(self) -> [f64; 4] {
+        [self, 0.0, 0.0, 0.0]
+    }
+    #[inline(always)]
+    fn fma(self, b: Self, c: Self) -> Self {
+        self * b + c
+    }
+    #[inline(always)]
+    fn fnma(self, b: Self, c: Self) -> Self {
+        c - self * b
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        crate::special::sin_cos(self)
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+pub(crate) use avx2::Avx2;
+
+#[cfg(target_arch = "x86_64")]
+mod avx2 {
+    use super::Lanes;
+    use std::arch::x86_64::*;
+    use std::ops::{Add, Mul, Neg, Sub};
+
+    /// Four f64 lanes in an AVX2 register. Only constructed inside functions compiled with
+    /// `#[target_feature(enable = "avx2,fma")]` after `is_x86_feature_detected!` said yes.
+    #[derive(Clone, Copy)]
+    pub(crate) struct Avx2(pub(crate) __m256d);
+
+    impl Add for Avx2 {
+        type Output = Self;
+        #[inline(always)]
+        fn add(self, b: Self) -> Self {
+            // SAFETY (all methods): an Avx2 value exists only where AVX2+FMA were detected.
+            Avx2(unsafe { _mm256_add_pd(self.0, b.0) })
+        }
+    }
+    impl Sub for Avx2 {
+        type Output = Self;
+        #[inline(always)]
+        fn sub(self, b: Self) -> Self {
+            Avx2(unsafe { _mm256_sub_pd(self.0, b.0) })
+        }
+    }
+    impl Mul for Avx2 {
+        type Output = Self;
+        #[inline(always)]
+        fn mul(self, b: Self) -> Self {
+            Avx2(unsafe { _mm256_mul_pd(self.0, b.0) })
+        }
+    }
+    impl Neg for Avx2 {
+        type Output = Self;
+        #[inline(always)]
+        fn neg(self) -> Self {
+            Avx2(unsafe { _mm256_xor_pd(self.0, _mm256_set1_pd(-0.0)) })
+        }
+    }
+
+    const PIO2_1: f64 = 1.570_796_326_734_125_614_17e0;
+    const PIO2_2: f64 = 6.077_100_506_303_965_976_6e-11;
+    const PIO2_2T: f64 = 2.022_266_248_795_950_631_54e-21;
+    const INV_PIO2: f64 = std::f64::consts::FRAC_2_PI;
+    const MAGIC: f64 = 6_755_399_441_055_744.0;
+    /// Beyond this |x| the 3-part reduction loses bits (same limit as `special::sin_cos`).
+    const REDUCE_LIMIT: f64 = 823_549.6;
+    const S: [f64; 6] = [
+        -1.666_666_666_666_663_243_48e-1,
+        8.333_333_333_322_489_461_24e-3,
+        -1.984_126_982_985_794_931_34e-4,
+        2.755_731_370_707_006_767_89e-6,
+        -2.505_076_025_340_686_341_95e-8,
+        1.589_690_995_211_550_102_21e-10,
+    ];
+    const C: [f64; 6] = [
+        4.166_666_666_666_660_190_37e-2,
+        -1.388_888_888_887_410_957_49e-3,
+        2.480_158_728_947_672_941_78e-5,
+        -2.755_731_435_139_066_330_35e-7,
+        2.087_572_321_298_174_827_90e-9,
+        -1.135_964_755_778_819_482_65e-11,
+    ];
+
+    /// (sin x, cos x) for four lanes: fdlibm's kernels after a 3-part Cody–Waite reduction by
+    /// π/2, quadrant by blend and sign flips (no branch). Lanes with |x| ≥ 823549.6 or NaN
+    /// are redone by libm (rare: a branch on a movemask).
+    #[inline(always)]
+    unsafe fn sin_cos4(x: __m256d) -> (__m256d, __m256d) {
+        let s1 = |v: f64| _mm256_set1_pd(v);
+        let big = _mm256_fmadd_pd(x, s1(INV_PIO2), s1(MAGIC));
+        let k = _mm256_sub_pd(big, s1(MAGIC));
+        let r = _mm256_fnmadd_pd(k, s1(PIO2_1), x);
+        let r = _mm256_fnmadd_pd(k, s1(PIO2_2), r);
+        let r = _mm256_fnmadd_pd(k, s1(PIO2_2T), r);
+        let z = _mm256_mul_pd(r, r);
+        // __kernel_sin: r + r z (S1 + z (S2 + … + z S6))
+        let mut ps = _mm256_fmadd_pd(z, s1(S[5]), s1(S[4]));
+        ps = _mm256_fmadd_pd(z, ps, s1(S[3]));
+        ps = _mm256_fmadd_pd(z, ps, s1(S[2]));
+        ps = _mm256_fmadd_pd(z, ps, s1(S[1]));
+        ps = _mm256_fmadd_pd(z, ps, s1(S[0]));
+        let sn = _mm256_fmadd_pd(_mm256_mul_pd(r, z), ps, r);
+        // __kernel_cos: w + (((1 − w) − z/2) + z² P(z)), w = 1 − z/2
+        let mut pc = _mm256_fmadd_pd(z, s1(C[5]), s1(C[4]));
+        pc = _mm256_fmadd_pd(z, pc, s1(C[3]));
+        pc = _mm256_fmadd_pd(z, pc, s1(C[2]));
+        pc = _mm256_fmadd_pd(z, pc, s1(C[1]));
+        pc = _mm256_fmadd_pd(z, pc, s1(C[0]));
+        let hz = _mm256_mul_pd(s1(0.5), z);
+        let w = _mm256_sub_pd(s1(1.0), hz);
+        let tail = _mm256_sub_pd(_mm256_sub_pd(s1(1.0), w), hz);
+        let cs = _mm256_add_pd(w, _mm256_fmadd_pd(_mm256_mul_pd(z, z), pc, tail));
+        // quadrant k mod 4 from the low bits of `big`
+        let qi = _mm256_castpd_si256(big);
+        let one = _mm256_set1_epi64x(1);
+        let two = _mm256_set1_epi64x(2);
+        let swap = _mm256_castsi256_pd(_mm256_cmpeq_epi64(_mm256_and_si256(qi, one), one));
+        let s_ = _mm256_blendv_pd(sn, cs, swap);
+        let c_ = _mm256_blendv_pd(cs, sn, swap);
+        let sgn_s = _mm256_slli_epi64::<62>(_mm256_and_si256(qi, two));
+        let sgn_c = _mm256_slli_epi64::<62>(_mm256_and_si256(_mm256_add_epi64(qi, one), two));
+        let mut s_out = _mm256_xor_pd(s_, _mm256_castsi256_pd(sgn_s));
+        let mut c_out = _mm256_xor_pd(c_, _mm256_castsi256_pd(sgn_c));
+        // |x| < limit is false for NaN too
+        let ax = _mm256_andnot_pd(s1(-0.0), x);
+        let ok = _mm256_cmp_pd::<_CMP_LT_OQ>(ax, s1(REDUCE_LIMIT));
+        if _mm256_movemask_pd(ok) != 0xF {
+            let (mut xa, mut sa, mut ca) = ([0.0; 4], [0.0; 4], [0.0; 4]);
+            _mm256_storeu_pd(xa.as_mut_ptr(), x);
+            _mm256_storeu_pd(sa.as_mut_ptr(), s_out);
+            _mm256_storeu_pd(ca.as_mut_ptr(), c_out);
+            for l in 0..4 {
+                if xa[l].is_nan() || xa[l].abs() >= REDUCE_LIMIT {
+                    (sa[l], ca[l]) = xa[l].sin_cos();
+                }
+            }
+            s_out = _mm256_loadu_pd(sa.as_ptr());
+            c_out = _mm256_loadu_pd(ca.as_ptr());
+        }
+        (s_out, c_out)
+    }
+
+    impl Lanes for Avx2 {
+        const N: usize = 4;
+        #[inline(always)]
+        fn splat(x: f64) -> Self {
+            Avx2(unsafe { _mm256_set1_pd(x) })
+        }
+        #[inline(always)]
+        unsafe fn load(p: *const f64) -> Self {
+            Avx2(_mm256_loadu_pd(p))
+        }
+        #[inline(always)]
+        unsafe fn gather(p: *const f64, idx: &[usize; 4]) -> Self {
+            let i = _mm256_set_epi64x(idx[3] as i64, idx[2] as i64, idx[1] as i64, idx[0] as i64);
+            Avx2(_mm256_i64gather_pd::<8>(p, i))
+        }
+        #[inline(always)]
+        fn to_array(self) -> [f64; 4] {
+            let mut a = [0.0; 4];
+            unsafe { _mm256_storeu_pd(a.as_mut_ptr(), self.0) };
+            a
+        }
+        #[inline(always)]
+        fn fma(self, b: Self, c: Self) -> Self {
+            Avx2(unsafe { _mm256_fmadd_pd(self.0, b.0, c.0) })
+        }
+        #[inline(always)]
+        fn fnma(self, b: Self, c: Self) -> Self {
+            Avx2(unsafe { _mm256_fnmadd_pd(self.0, b.0, c.0) })
+        }
+        #[inline(always)]
+        fn sin_cos(self) -> (Self, Self) {
+            let (s, c) = unsafe { sin_cos4(self.0) };
+            (Avx2(s), Avx2(c))
+        }
+    }
+
+    /// (sin, cos) of `x.len()` values with the AVX2 kernel (for the accuracy tests and the
+    /// binding's test hook). Caller checked AVX2+FMA.
+    #[target_feature(enable = "avx2,fma")]
+    pub(crate) unsafe fn sin_cos_slice(x: &[f64], s: &mut [f64], c: &mut [f64]) {
+        for ((xc, sc), cc) in x.chunks(4).zip(s.chunks_mut(4)).zip(c.chunks_mut(4)) {
+            let mut buf = [0.0; 4];
+            buf[..xc.len()].copy_from_slice(xc);
+            let (vs, vc) = Avx2::load(buf.as_ptr()).sin_cos();
+            let (a, b) = (vs.to_array(), vc.to_array());
+            sc.copy_from_slice(&a[..xc.len()]);
+            cc.copy_from_slice(&b[..xc.len()]);
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+pub(crate) use avx2::sin_cos_slice as avx2_sin_cos_slice;
