@@ -18,8 +18,7 @@ rest = np.setdiff1d(np.arange(idx[-1] + 1), idx)
 
 for name in ["slerp", "squad", "natural", "c3"]:
     s = qs.spline(name, rec.quats[idx], t[idx])
-    dot = np.abs(np.sum(s(t[rest]) * rec.quats[rest], axis=1))
-    err = np.degrees(2 * np.arccos(np.clip(dot, 0.0, 1.0)))
+    err = qs.angle_between(s(t[rest]), rec.quats[rest], degrees=True)
     print(f"{name:8s} median {np.median(err):.4f}°  p95 {np.percentile(err, 95):.4f}°")
 
 # %%
