@@ -19,8 +19,8 @@ theirs = RotationSpline(times, keys)
 t = np.linspace(0, 4, 801)
 
 # values: compare as rotations (q and -q are the same)
-err = qs.angle_between(ours(t), qs.from_scipy(theirs(t)), degrees=True)
-print("largest angle between the two:", err.max())
+gap = qs.angle_between(ours(t), qs.from_scipy(theirs(t)), degrees=True)
+print(f"largest angle between the two: {gap.max():.2e} degrees")
 
 # %%
 # Rates: scipy's ``order=1`` is the body frame

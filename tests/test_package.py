@@ -94,3 +94,17 @@ def test_demo_refuses_a_file_as_output(tmp_path):
     f.write_text("x")
     assert cli.main(["demo", "-o", str(f)]) == 1
     assert f.read_text() == "x"
+
+
+def test_compiled_functions_have_running_examples():
+    import doctest
+
+    runner = doctest.DocTestRunner(optionflags=doctest.NORMALIZE_WHITESPACE)
+    for fn in (qs.set_num_threads, qs.get_num_threads):
+        assert "Examples\n--------" in fn.__doc__
+        tests = doctest.DocTestFinder().find(fn, fn.__name__, globs={})
+        assert tests and tests[0].examples
+        for t in tests:
+            runner.run(t)
+    assert runner.summarize(verbose=False).failed == 0
+    assert qs.get_num_threads() >= 1

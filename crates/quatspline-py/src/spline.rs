@@ -525,12 +525,50 @@ fn c3_spline(
     ))
 }
 
-/// Sets the number of threads for batch evaluation (0 = one per core).
+/// Sets the number of threads for batch evaluation.
+///
+/// Large batches (more than one chunk of 4,096 samples) are spread over a thread pool with
+/// the GIL released; small ones stay on the calling thread. Results do not depend on the
+/// number of threads.
+///
+/// Parameters
+/// ----------
+/// n : int
+///     Number of threads; 0 restores the default (one per core).
+///
+/// Raises
+/// ------
+/// OverflowError
+///     If ``n`` is negative.
+///
+/// See Also
+/// --------
+/// get_num_threads
+///
+/// Examples
+/// --------
+/// >>> import quatspline as qs
+/// >>> qs.set_num_threads(1)
+/// >>> qs.get_num_threads()
+/// 1
+/// >>> qs.set_num_threads(0)  # back to one per core
 #[pyfunction]
 fn set_num_threads(n: usize) -> PyResult<()> {
     crate::arrays::set_num_threads(n)
 }
 
+/// The number of threads batch evaluation uses.
+///
+/// Returns
+/// -------
+/// int
+///     The size of the pool set by :func:`set_num_threads`, or the number of cores.
+///
+/// Examples
+/// --------
+/// >>> import quatspline as qs
+/// >>> qs.get_num_threads() >= 1
+/// True
 #[pyfunction]
 fn get_num_threads() -> usize {
     crate::arrays::num_threads()

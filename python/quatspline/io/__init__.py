@@ -45,8 +45,30 @@ FORMATS = {
 }
 
 
-def detect_format(path) -> str:
-    """The format of ``path`` from its extension and, for .csv/.txt, its first line."""
+def detect_format(path: str | Path) -> str:
+    """The format of a trajectory file, from its extension and, for .csv/.txt, its first line.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file (or ROS 2 bag directory).
+
+    Returns
+    -------
+    str
+        A key of :data:`FORMATS`; ``"csv"`` when nothing else matches.
+
+    Raises
+    ------
+    ValueError
+        If ``path`` exists but is not a regular file (a FIFO or device).
+
+    Examples
+    --------
+    >>> from quatspline.io import detect_format
+    >>> detect_format("walk.bvh"), detect_format("poses.json"), detect_format("track.glb")
+    ('bvh', 'json', 'gltf')
+    """
     p = Path(path)
     ext = p.suffix.lower()
     if rosbag.is_bag(p):
@@ -80,11 +102,48 @@ def _check_options(fmt: str, fn, options: dict) -> None:
             )
 
 
-def read(path, format: str | None = None, **options) -> Trajectory:
-    """Reads a trajectory. Options depend on the format (see each module).
+def read(path: str | Path, format: str | None = None, **options: object) -> Trajectory:
+    """Reads a trajectory file.
 
-    Only regular files are read (a FIFO, device or directory is refused before it is opened);
-    an unknown option is a ``ValueError`` naming it.
+    Only regular files are read (a FIFO, device or directory is refused before it is
+    opened).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file (a ROS 2 bag may be a directory).
+    format : str, optional
+        A key of :data:`FORMATS`; by default guessed by :func:`detect_format`.
+    **options
+        Format options, e.g. ``euler="xyz"`` and ``degrees=True`` for a CSV of Euler
+        angles, ``joint="LeftElbow"`` and ``world=True`` for BVH, ``sort=True`` /
+        ``dedupe=True`` for unordered or repeated times (see each format's module).
+
+    Returns
+    -------
+    Trajectory
+        Times in seconds, unit quaternions (w, x, y, z), positions when the file has them.
+
+    Raises
+    ------
+    ValueError
+        If the file is missing or not regular, the format or an option is unknown, or the
+        content is invalid (the message names the file, and the line and column where it
+        applies).
+
+    See Also
+    --------
+    write, quatspline.examples.load_recording
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from quatspline import io
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "keys.csv"
+    >>> _ = path.write_text("t,qw,qx,qy,qz\\n0,1,0,0,0\\n1,0,0,0,1\\n")
+    >>> traj = io.read(path)
+    >>> traj.times, traj.quats[1]
+    (array([0., 1.]), array([0., 0., 0., 1.]))
     """
     if format is not None and format not in FORMATS:
         raise ValueError(f"format: unknown format {format!r}; valid: {', '.join(FORMATS)}")
@@ -103,12 +162,45 @@ def read(path, format: str | None = None, **options) -> Trajectory:
         raise ValueError(f"{path}: not a text file ({e.reason} at byte {e.start})") from None
 
 
-def write(path, trajectory: Trajectory, format: str | None = None, **options) -> None:
-    """Writes a trajectory atomically; ``format`` defaults to the one of the extension.
+def write(
+    path: str | Path, trajectory: Trajectory, format: str | None = None, **options: object
+) -> None:
+    """Writes a trajectory atomically (temporary file beside the target, renamed on success).
 
     An extension that names no format (``.xlsx``, ``.parquet``) is refused with the list of
     formats rather than written as CSV. The target must be a regular file or not exist (a
     symbolic link is followed and its target replaced); a replaced file keeps its mode.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The output file.
+    trajectory : Trajectory
+        What to write.
+    format : str, optional
+        A key of :data:`FORMATS`; by default taken from the extension.
+    **options
+        Format options (see each format's module).
+
+    Raises
+    ------
+    TypeError
+        If ``trajectory`` is not a :class:`Trajectory`.
+    ValueError
+        If the format or an option is unknown, or the target is not a regular file.
+
+    See Also
+    --------
+    read
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from quatspline import io
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "out.json"
+    >>> io.write(path, io.Trajectory([0.0, 1.0], [[1, 0, 0, 0], [0, 1, 0, 0]]))
+    >>> io.read(path).quats[1]
+    array([0., 1., 0., 0.])
     """
     if not isinstance(trajectory, Trajectory):
         raise TypeError(

@@ -13,17 +13,56 @@ MAX_SNIFF_LINE = 1 << 16
 
 
 class TrajectoryError(ValueError):
-    """A file that cannot be read as a trajectory (the message names file, line, column)."""
+    """A file that cannot be read as a trajectory; the message names file, line and column.
+
+    A subclass of ``ValueError``: ``except ValueError`` catches it.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from quatspline import io
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "bad.csv"
+    >>> _ = path.write_text("t,qw,qx,qy,qz\\n0,1,0,0,zero\\n")
+    >>> try:
+    ...     io.read(path)
+    ... except io.TrajectoryError as e:
+    ...     print(str(e).split("bad.csv:")[1])
+    2: column 5 ('qz'): not a number: 'zero'
+    """
 
 
 @dataclass
 class Trajectory:
-    """Times (N,), unit quaternions (N, 4) in (w, x, y, z) order, optional positions (N, 3),
-    and optional extra columns (name → (N,) or (N, k) arrays, e.g. angular velocity).
+    """A recorded or sampled motion: times, orientations, optional positions.
 
-    ``stamps_ns`` (optional, int64 (N,)) keeps integer nanosecond stamps exactly (EuRoC, ROS
-    bags), so a round trip does not pass them through float64 seconds; ``times`` is then
-    ``stamps_ns / 1e9``.
+    Parameters
+    ----------
+    times : array_like, shape (N,)
+        Times (seconds for every reader).
+    quats : array_like, shape (N, 4)
+        Unit quaternions (w, x, y, z).
+    positions : array_like, shape (N, 3), optional
+        Positions.
+    extra : dict of str to numpy.ndarray, optional
+        Extra columns, each (N,) or (N, k), e.g. angular velocity.
+    name : str, optional
+        A label (the file name for readers).
+    stamps_ns : array_like of int64, shape (N,), optional
+        Integer nanosecond stamps kept exactly (EuRoC, ROS bags), so a round trip does not
+        pass them through float64 seconds; ``times`` is then ``stamps_ns / 1e9``.
+
+    Raises
+    ------
+    ValueError
+        If the lengths of times, quaternions, positions or stamps differ.
+
+    Examples
+    --------
+    >>> from quatspline import io
+    >>> q, x = [[1, 0, 0, 0], [0, 1, 0, 0]], [[0, 0, 0], [1, 0, 0]]
+    >>> tr = io.Trajectory([0.0, 0.5], q, positions=x)
+    >>> len(tr), tr.quats.dtype, tr.positions.shape
+    (2, dtype('float64'), (2, 3))
     """
 
     times: np.ndarray

@@ -21,8 +21,29 @@ def _trajectory_module():
 
 
 def to_evo(traj: Trajectory):
-    """An ``evo.core.trajectory.PoseTrajectory3D`` (positions 0 when the trajectory has none,
-    which evo's rotation-only metrics accept)."""
+    """An ``evo.core.trajectory.PoseTrajectory3D`` of a trajectory (needs evo).
+
+    Parameters
+    ----------
+    traj : Trajectory
+        The trajectory; positions become 0 when it has none, which evo's rotation-only
+        metrics accept.
+
+    Returns
+    -------
+    evo.core.trajectory.PoseTrajectory3D
+
+    Raises
+    ------
+    TypeError
+        If ``traj`` is not a :class:`Trajectory`.
+    ImportError
+        If evo is not installed (the message says how to install it).
+
+    See Also
+    --------
+    from_evo
+    """
     if not isinstance(traj, Trajectory):
         raise TypeError(f"traj: expected a quatspline.io.Trajectory, got {type(traj).__name__}")
     tm = _trajectory_module()
@@ -35,7 +56,35 @@ def to_evo(traj: Trajectory):
 
 
 def from_evo(pose_trajectory, name: str = "", sort: bool = False, dedupe: bool = False):
-    """A trajectory from an evo ``PoseTrajectory3D`` (times, orientations, positions)."""
+    """A trajectory from an evo ``PoseTrajectory3D`` (times, orientations, positions).
+
+    Parameters
+    ----------
+    pose_trajectory : evo.core.trajectory.PoseTrajectory3D
+        The evo trajectory.
+    name : str, optional
+        A label.
+    sort, dedupe : bool, default False
+        Sort by time / drop repeated times instead of raising.
+
+    Returns
+    -------
+    Trajectory
+
+    Raises
+    ------
+    TypeError
+        If the argument is not a ``PoseTrajectory3D``.
+    ValueError
+        If its times or orientations are invalid.
+
+    Examples
+    --------
+    >>> from quatspline.io import Trajectory, from_evo, to_evo
+    >>> tr = Trajectory([0.0, 0.5], [[1.0, 0, 0, 0], [0, 0, 0, 1.0]])
+    >>> from_evo(to_evo(tr)).quats[1]
+    array([0., 0., 0., 1.])
+    """
     tm = _trajectory_module()
     if not isinstance(pose_trajectory, tm.PoseTrajectory3D):
         raise TypeError(

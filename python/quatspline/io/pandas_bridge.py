@@ -18,8 +18,18 @@ def _pd():
 
 
 def to_dataframe(traj: Trajectory):
-    """Columns ``t, qw, qx, qy, qz`` (then ``x, y, z`` with positions, ``t_ns`` with exact
-    nanosecond stamps, and the extra columns, vectors as ``name_x, name_y, name_z``).
+    """A pandas DataFrame of a trajectory (needs pandas: ``pip install quatspline[pandas]``).
+
+    Parameters
+    ----------
+    traj : Trajectory
+        The trajectory.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``t, qw, qx, qy, qz``, then ``x, y, z`` with positions, ``t_ns`` with exact
+        nanosecond stamps, and the extra columns (vectors as ``name_x, name_y, name_z``).
 
     Examples
     --------
@@ -48,10 +58,40 @@ def to_dataframe(traj: Trajectory):
 
 
 def from_dataframe(df, name: str = "", sort: bool = False, dedupe: bool = False) -> Trajectory:
-    """A trajectory from a DataFrame with a time column and quaternion columns, matched as the
-    CSV reader matches headers (``t``/``time``/…, ``qw qx qy qz`` or ``w x y z`` in any order,
-    optional ``x y z``/``tx ty tz``/``px py pz``); a ``t_ns`` int64 column gives exact stamps.
-    Errors name the DataFrame row (its index label)."""
+    """A trajectory from a DataFrame with a time column and quaternion columns.
+
+    Columns are matched as the CSV reader matches headers (``t``/``time``/…, ``qw qx qy qz``
+    or ``w x y z`` in any order, optional ``x y z``/``tx ty tz``/``px py pz``); a ``t_ns``
+    int64 column gives exact stamps.
+
+    Parameters
+    ----------
+    df : pandas.DataFrame
+        The table.
+    name : str, optional
+        A label for the trajectory.
+    sort, dedupe : bool, default False
+        Sort by time / drop repeated times instead of raising.
+
+    Returns
+    -------
+    Trajectory
+
+    Raises
+    ------
+    TypeError
+        If ``df`` is not a DataFrame.
+    ValueError
+        If columns are missing or a value is invalid (the message names the DataFrame row
+        by its index label).
+
+    Examples
+    --------
+    >>> from quatspline.io import Trajectory, from_dataframe, to_dataframe
+    >>> tr = Trajectory([0.0, 0.5], [[1.0, 0, 0, 0], [0, 1.0, 0, 0]])
+    >>> from_dataframe(to_dataframe(tr)).quats[1]
+    array([0., 1., 0., 0.])
+    """
     from . import csv_format
     from ._common import TrajectoryError, finish
 
