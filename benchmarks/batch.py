@@ -116,13 +116,16 @@ def main() -> None:
         t_loop = best(loop, args.repeat)
         results = {}
         for n in (1, 2):
-            with LocalCluster(
-                n_workers=n,
-                threads_per_worker=1,
-                processes=True,
-                dashboard_address=None,
-                silence_logs=40,
-            ) as cluster, Client(cluster) as c:
+            with (
+                LocalCluster(
+                    n_workers=n,
+                    threads_per_worker=1,
+                    processes=True,
+                    dashboard_address=None,
+                    silence_logs=40,
+                ) as cluster,
+                Client(cluster) as c,
+            ):
 
                 def dask_run(c=c):
                     table = batch.run(

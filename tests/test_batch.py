@@ -34,9 +34,16 @@ pytestmark = [
 
 @pytest.fixture(scope="module")
 def client():
-    with LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=40
-    ) as cluster, Client(cluster) as c:
+    with (
+        LocalCluster(
+            n_workers=2,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            silence_logs=40,
+        ) as cluster,
+        Client(cluster) as c,
+    ):
         yield c
 
 
@@ -67,7 +74,9 @@ def test_sample_equals_single_file_command_bit_for_bit(tmp_path, client):
         rel = p.relative_to(tmp_path / "in").with_suffix(".csv")
         single = tmp_path / "single" / rel
         single.parent.mkdir(parents=True, exist_ok=True)
-        assert main(["sample", str(p), "-o", str(single), "--method", "natural", "--rate", "50"]) == 0
+        assert (
+            main(["sample", str(p), "-o", str(single), "--method", "natural", "--rate", "50"]) == 0
+        )
         assert (out / rel).read_bytes() == single.read_bytes()
     assert (table["samples"] > 0).all()
     assert (out / "summary.csv").is_file() and (out / "summary.md").is_file()

@@ -130,10 +130,24 @@ class Task:
     name: str
 
 
+#: Output formats of sample/fit: ``to`` → (extension, format given to the writer).
+OUTPUT_FORMATS = {
+    "csv": (".csv", None),
+    "json": (".json", None),
+    "npz": (".npz", None),
+    "tum": (".txt", "tum"),
+    "euroc": (".csv", "euroc"),
+}
+
+
 def _output_ext(operation: str, options: dict) -> str:
     if operation in ("sample", "fit"):
-        to = str(options.get("to") or "csv").lower().lstrip(".")
-        return "." + to
+        to = str(options.get("to") or "csv").lower()
+        if to not in OUTPUT_FORMATS:
+            raise ValueError(
+                f"to: unknown output format {to!r}; valid: {', '.join(OUTPUT_FORMATS)}"
+            )
+        return OUTPUT_FORMATS[to][0]
     if operation == "compare":
         return ".compare.json"
     return ".glb"
@@ -267,28 +281,86 @@ def _jsonable(x):
 
 
 # ---- the operations (each calls the library; nothing of substance lives here) ------------------
+def _read(task: Task, options: dict):
+    from . import io as qio
+
+    return qio.read(task.input, **_read_options(options))
+
+
+def _write(task: Task, traj, options: dict) -> None:
+    from . import io as qio
+
+    to = str(options.get("to") or "csv").lower()
+    qio.write(task.output, traj, format=OUTPUT_FORMATS[to][1])
+
+
 def _op_sample(task: Task, options: dict) -> dict:
+    """``quatspline sample IN -o OUT``: the same read, ``ops.sample_trajectory`` and write."""
     from . import ops
 
-    return ops.sample_file(task.input, task.output, **_op_options("sample", options))
+    traj = _read(task, options)
+    out = ops.sample_trajectory(
+        traj,
+        options.get("method", "c3"),
+        rate=options.get("rate"),
+        count=options.get("count"),
+        params=options.get("params") or {},
+        derivatives=bool(options.get("derivatives")),
+        max_samples=int(options.get("max_samples") or ops.DEFAULT_MAX_SAMPLES),
+    )
+    _write(task, out, options)
+    return {"samples": len(out), "keys": len(traj)}
 
 
 def _op_fit(task: Task, options: dict) -> dict:
+    """``quatspline fit IN -o OUT``: the library's fit, sampled like ``sample``."""
     from . import ops
 
-    return ops.fit_file(task.input, task.output, **_op_options("fit", options))
+    if not hasattr(ops, "fit_trajectory"):
+        raise NotImplementedError("fit: this quatspline has no fitting operation")
+    traj = _read(task, options)
+    fit_opts = {k: options[k] for k in ("smoothing", "penalty", "robust") if k in options}
+    out, info = ops.fit_trajectory(
+        traj,
+        rate=options.get("rate"),
+        count=options.get("count"),
+        derivatives=bool(options.get("derivatives")),
+        max_samples=int(options.get("max_samples") or ops.DEFAULT_MAX_SAMPLES),
+        **fit_opts,
+    )
+    _write(task, out, options)
+    return {"samples": len(out), "keys": len(traj), **info}
 
 
 def _op_compare(task: Task, options: dict) -> dict:
+    """``quatspline compare IN --json``: the library's compare; rows written as JSON."""
     from . import ops
 
-    return ops.compare_file(task.input, task.output, **_op_options("compare", options))
+    traj = _read(task, options)
+    rows = ops.compare(traj, options.get("methods"), holdout=options.get("holdout"))
+    with atomic_write(task.output) as f:
+        json.dump(rows, f, indent=1)
+    figures: dict = {"samples": len(traj)}
+    for r in rows:
+        for k in ("holdout_median_deg", "holdout_p95_deg", "holdout_max_deg", "rms_jerk"):
+            if k in r:
+                figures[f"{k}[{r['method']}]"] = r[k]
+    return figures
 
 
 def _op_export(task: Task, options: dict) -> dict:
-    from . import ops
+    """``quatspline export IN -o OUT.glb``: the library's glTF export with its error bound."""
+    from . import export
 
-    return ops.export_file(task.input, task.output, **_op_options("export", options))
+    traj = _read(task, options)
+    opts = {k: options[k] for k in ("max_error", "interpolation", "method") if k in options}
+    report = export.to_gltf(traj, task.output, progress=False, **opts)
+    return {
+        "samples": len(traj),
+        "rotation_keys": report.rotation_keys,
+        "rotation_error_deg": float(np.degrees(report.rotation_error)),
+        "translation_keys": report.translation_keys,
+    }
 
 
 _OPERATION_FUNCS = {
@@ -297,11 +369,6 @@ _OPERATION_FUNCS = {
     "compare": _op_compare,
     "export": _op_export,
 }
-
-
-def _op_options(operation: str, options: dict) -> dict:
-    skip = {"max_file_bytes", "to"}
-    return {k: v for k, v in options.items() if k not in skip}
 
 
 # ---- the batch --------------------------------------------------------------------------------
@@ -406,6 +473,12 @@ def run(
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise ValueError(f"out_dir: {out} exists and is not a directory")
+    if (
+        operation in ("sample", "fit")
+        and options.get("rate") is None
+        and options.get("count") is None
+    ):
+        raise ValueError(f"{operation}: give rate= (samples per time unit) or count=")
     inputs = expand_inputs(paths)
     tasks = plan(operation, inputs, out, options)
     out.mkdir(parents=True, exist_ok=True)
@@ -687,7 +760,7 @@ def cli_options(args) -> dict:
         "sort": args.sort,
         "dedupe": args.dedupe,
     }
-    opts = {k: v for k, v in read.items() if v not in (None, False)}
+    opts: dict = {k: v for k, v in read.items() if v not in (None, False)}
     if args.max_file_size is not None:
         if args.max_file_size < 1:
             raise ValueError(f"--max-file-size: expected a positive size, got {args.max_file_size}")
