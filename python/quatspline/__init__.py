@@ -7,7 +7,7 @@ broadcasting, conversions, the CLI, file I/O and plots.
 
 from __future__ import annotations
 
-from . import examples, io, ops
+from . import batch, examples, io, ops
 from ._core import __version__, get_num_threads, set_num_threads
 from .algebra import canonicalize, conjugate, exp, inverse, log, multiply, normalize, power, rotate
 from .continuity import JointContinuity, continuity
@@ -67,6 +67,7 @@ from .spline import (
 )
 
 __all__ = [
+    "batch",
     "__version__",
     "get_num_threads",
     "set_num_threads",

@@ -204,6 +204,29 @@ def _input_options(p):
     p.add_argument("--dedupe", action="store_true", help="drop rows with a repeated time")
 
 
+# ---- batch ----------------------------------------------------------------------------------
+def cmd_batch(args) -> int:
+    from . import batch
+
+    options = batch.cli_options(args)
+    table = batch.run(
+        args.operation,
+        args.inputs,
+        args.output,
+        scheduler=args.scheduler,
+        workers=args.workers,
+        force=args.force,
+        **options,
+    )
+    n_bad = int((table["status"] == "error").sum())
+    n_skip = int((table["status"] == "skipped").sum())
+    print(
+        f"batch {args.operation}: {len(table)} files, {len(table) - n_bad - n_skip} done, "
+        f"{n_skip} up to date, {n_bad} failed; summary in {Path(args.output) / 'summary.md'}"
+    )
+    return 1 if n_bad else 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(
         prog="quatspline",
@@ -274,6 +297,12 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("-o", "--out", default="out", help="output directory (default: out)")
     d.add_argument("--recording", help="recording to use (default: bundled TUM RGB-D fr1/xyz)")
     d.set_defaults(func=cmd_demo)
+
+    from .batch import add_arguments
+
+    b = sub.add_parser("batch", help="one operation over many files, distributed with Dask")
+    add_arguments(b)
+    b.set_defaults(func=cmd_batch)
     return p
 
 

@@ -1,0 +1,791 @@
+"""Whole datasets at once: one operation over many trajectory files, distributed with Dask.
+
+``run(operation, paths, out_dir)`` expands ``paths`` (files, directories searched recursively,
+glob patterns), runs the single-file library operation on every file as one Dask task — on a
+``LocalCluster`` by default, or on any running scheduler (``client=`` or ``scheduler=``) — and
+returns a table (a pandas ``DataFrame``) with one row per file: its status, duration, number of
+samples, error message, and the operation's own figures.
+
+Behaviour at scale:
+
+- one bad file fails alone: its error goes into the table and ``OUTDIR/batch.log``; the others
+  go on;
+- every output is written atomically (temporary file, then rename);
+- a re-run skips files whose output is up to date — same input file (size and modification
+  time), same options, same quatspline version — so an interrupted batch resumes where it
+  stopped (``force=True`` redoes everything);
+- memory per task is bounded: files larger than ``max_file_bytes`` are refused with a message
+  before they are read, and sampling is bounded by ``max_samples``;
+- each file goes through exactly the code of the single-file command (``quatspline sample`` …),
+  so its output is identical to that command's, bit for bit.
+
+``OUTDIR/summary.csv`` holds the per-file table, ``OUTDIR/summary.md`` a readable summary
+(for ``compare``: per method, the median over files of the per-file median held-out error and
+how often the method was the best), and ``OUTDIR/summary.png`` a figure (with matplotlib).
+
+Dask is an optional dependency: ``pip install "quatspline[dask]"``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import glob
+import hashlib
+import json
+import math
+import os
+import time
+import traceback
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import __version__
+from ._atomic import atomic_write
+
+__all__ = ["OPERATIONS", "expand_inputs", "plan", "run", "summarize"]
+
+#: The operations ``run`` knows, with the extension of their per-file output.
+OPERATIONS = ("sample", "fit", "compare", "export")
+
+_STATE_DIR = ".quatspline-batch"
+_DEFAULT_MAX_FILE_BYTES = 1 << 30
+_TRAJ_EXT = (".csv", ".txt", ".tum", ".json", ".npz", ".bvh", ".kitti", ".bag", ".mcap")
+_DASK_HINT = 'quatspline batch needs Dask: pip install "quatspline[dask]"'
+
+
+def _need_dask():
+    try:
+        import dask.distributed  # noqa: F401
+    except ImportError:
+        raise ImportError(_DASK_HINT) from None
+    return dask.distributed
+
+
+# ---- inputs -----------------------------------------------------------------------------------
+def expand_inputs(patterns, extensions=_TRAJ_EXT) -> list[Path]:
+    """The files named by ``patterns``, sorted, each once.
+
+    Parameters
+    ----------
+    patterns : str, path or sequence of them
+        Files, directories (searched recursively for files whose extension is one of
+        ``extensions``) and glob patterns (``*``, ``?``, ``[…]``, ``**`` for any depth).
+    extensions : tuple of str
+        Extensions (lower case, with the dot) a directory search keeps.
+
+    Returns
+    -------
+    list of pathlib.Path
+        Regular files, sorted by path, duplicates removed.
+
+    Raises
+    ------
+    ValueError
+        When nothing matched (the message names the patterns), or a pattern names something
+        that is neither a file, a directory nor a glob.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> for name in ("a.csv", "sub/b.tum", "sub/notes.md"):
+    ...     (d / name).parent.mkdir(exist_ok=True)
+    ...     _ = (d / name).write_text("")
+    >>> [p.name for p in expand_inputs([d])]
+    ['a.csv', 'b.tum']
+    """
+    if isinstance(patterns, (str, os.PathLike)):
+        patterns = [patterns]
+    found: dict[str, Path] = {}
+    unmatched = []
+    for pat in patterns:
+        s = os.fspath(pat)
+        p = Path(s)
+        hits: list[Path] = []
+        if p.is_dir():
+            hits = [f for f in p.rglob("*") if f.is_file() and f.suffix.lower() in extensions]
+            hits = [f for f in hits if _STATE_DIR not in f.parts]
+        elif p.is_file():
+            hits = [p]
+        elif glob.has_magic(s):
+            hits = [Path(h) for h in glob.glob(s, recursive=True) if Path(h).is_file()]
+        if not hits:
+            unmatched.append(s)
+        for h in hits:
+            found.setdefault(str(h.resolve()), h)
+    if not found:
+        raise ValueError(f"inputs: no files matched {', '.join(map(repr, unmatched))}")
+    return sorted(found.values(), key=lambda f: str(f))
+
+
+@dataclass(frozen=True)
+class Task:
+    """One file's work: where it comes from, where its output goes, and its bookkeeping."""
+
+    input: Path
+    output: Path
+    record: Path
+    name: str
+
+
+#: Output formats of sample/fit: ``to`` → (extension, format given to the writer).
+OUTPUT_FORMATS = {
+    "csv": (".csv", None),
+    "json": (".json", None),
+    "npz": (".npz", None),
+    "tum": (".txt", "tum"),
+    "euroc": (".csv", "euroc"),
+}
+
+
+def _output_ext(operation: str, options: dict) -> str:
+    if operation in ("sample", "fit"):
+        to = str(options.get("to") or "csv").lower()
+        if to not in OUTPUT_FORMATS:
+            raise ValueError(
+                f"to: unknown output format {to!r}; valid: {', '.join(OUTPUT_FORMATS)}"
+            )
+        return OUTPUT_FORMATS[to][0]
+    if operation == "compare":
+        return ".compare.json"
+    return ".glb"
+
+
+def plan(operation: str, inputs: list[Path], out_dir, options: dict | None = None) -> list[Task]:
+    """Where each input's output and bookkeeping record go.
+
+    Outputs mirror the inputs' paths relative to their deepest common directory, so files of
+    the same name in different folders do not collide: ``data/a/x.tum`` and ``data/b/x.tum``
+    become ``OUTDIR/a/x.csv`` and ``OUTDIR/b/x.csv``.
+
+    Parameters
+    ----------
+    operation : {"sample", "fit", "compare", "export"}
+    inputs : list of pathlib.Path
+        The files (from :func:`expand_inputs`).
+    out_dir : str or pathlib.Path
+        The output directory.
+    options : dict, optional
+        The operation's options (``to`` picks the output format of sample/fit).
+
+    Returns
+    -------
+    list of Task
+    """
+    options = options or {}
+    out = Path(out_dir)
+    ext = _output_ext(operation, options)
+    resolved = [p.resolve() for p in inputs]
+    root = Path(os.path.commonpath([str(p.parent) for p in resolved])) if resolved else out
+    tasks = []
+    for src, res in zip(inputs, resolved):
+        rel = res.relative_to(root)
+        stem = rel.with_suffix("")
+        tasks.append(
+            Task(
+                input=src,
+                output=out / stem.parent / (stem.name + ext),
+                record=out / _STATE_DIR / stem.parent / (stem.name + ".json"),
+                name=str(rel),
+            )
+        )
+    return tasks
+
+
+# ---- one file ---------------------------------------------------------------------------------
+def _fingerprint(path: Path) -> dict:
+    st = path.stat()
+    return {"size": st.st_size, "mtime_ns": st.st_mtime_ns}
+
+
+def _options_key(operation: str, options: dict) -> str:
+    blob = json.dumps([operation, options, __version__], sort_keys=True, default=str)
+    return hashlib.sha256(blob.encode()).hexdigest()[:16]
+
+
+def _up_to_date(task: Task, key: str) -> dict | None:
+    """The stored result row when ``task``'s output is current, else None."""
+    try:
+        rec = json.loads(task.record.read_text())
+    except (OSError, ValueError):
+        return None
+    if not task.output.is_file() or rec.get("options_key") != key:
+        return None
+    try:
+        if rec.get("input") != _fingerprint(task.input):
+            return None
+    except OSError:
+        return None
+    row = rec.get("row")
+    return row if isinstance(row, dict) and row.get("status") == "ok" else None
+
+
+def _read_options(options: dict) -> dict:
+    keep = ("format", "joint", "world", "skip_frames", "sort", "dedupe", "euler", "degrees")
+    return {k: options[k] for k in keep if options.get(k) not in (None, False)}
+
+
+def run_one(operation: str, task: Task, options: dict, force: bool = False) -> dict:
+    """Runs ``operation`` on one file; never raises for a bad file (the row says what failed).
+
+    This is the function each Dask task executes; it is also the plain-loop path used to
+    measure Dask's overhead.
+
+    Returns
+    -------
+    dict
+        ``file``, ``status`` ("ok", "skipped" or "error"), ``duration_s``, ``samples``,
+        ``error``, ``output`` and the operation's figures.
+    """
+    key = _options_key(operation, options)
+    if not force:
+        row = _up_to_date(task, key)
+        if row is not None:
+            return {**row, "status": "skipped", "duration_s": 0.0}
+    t0 = time.perf_counter()
+    row: dict = {"file": task.name, "output": str(task.output), "error": ""}
+    try:
+        size = task.input.stat().st_size
+        limit = int(options.get("max_file_bytes") or _DEFAULT_MAX_FILE_BYTES)
+        if size > limit:
+            raise ValueError(
+                f"{task.input}: {size} bytes is over the per-task limit of {limit} bytes "
+                "(raise --max-file-size, or split the recording)"
+            )
+        figures = _OPERATION_FUNCS[operation](task, options)
+        row.update(status="ok", **figures)
+    except Exception as e:  # one bad file fails alone, whatever went wrong
+        msg = str(e).splitlines()[0] if str(e) else type(e).__name__
+        row.update(status="error", error=f"{type(e).__name__}: {msg}", samples=0)
+        row["_traceback"] = traceback.format_exc(limit=8)
+    row["duration_s"] = time.perf_counter() - t0
+    if row["status"] == "ok":
+        rec = {
+            "input": _fingerprint(task.input),
+            "options_key": key,
+            "row": {k: v for k, v in row.items() if not k.startswith("_")},
+        }
+        with atomic_write(task.record) as f:
+            json.dump(rec, f, default=_jsonable)
+    return row
+
+
+def _jsonable(x):
+    if isinstance(x, (np.floating, np.integer)):
+        return x.item()
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    return str(x)
+
+
+# ---- the operations (each calls the library; nothing of substance lives here) ------------------
+def _read(task: Task, options: dict):
+    from . import io as qio
+
+    return qio.read(task.input, **_read_options(options))
+
+
+def _write(task: Task, traj, options: dict) -> None:
+    from . import io as qio
+
+    to = str(options.get("to") or "csv").lower()
+    qio.write(task.output, traj, format=OUTPUT_FORMATS[to][1])
+
+
+def _op_sample(task: Task, options: dict) -> dict:
+    """``quatspline sample IN -o OUT``: the same read, ``ops.sample_trajectory`` and write."""
+    from . import ops
+
+    traj = _read(task, options)
+    out = ops.sample_trajectory(
+        traj,
+        options.get("method", "c3"),
+        rate=options.get("rate"),
+        count=options.get("count"),
+        params=options.get("params") or {},
+        derivatives=bool(options.get("derivatives")),
+        max_samples=int(options.get("max_samples") or ops.DEFAULT_MAX_SAMPLES),
+    )
+    _write(task, out, options)
+    return {"samples": len(out), "keys": len(traj)}
+
+
+def _op_fit(task: Task, options: dict) -> dict:
+    """``quatspline fit IN -o OUT``: the library's fit, sampled like ``sample``."""
+    from . import ops
+
+    if not hasattr(ops, "fit_trajectory"):
+        raise NotImplementedError("fit: this quatspline has no fitting operation")
+    traj = _read(task, options)
+    fit_opts = {k: options[k] for k in ("smoothing", "penalty", "robust") if k in options}
+    out, info = ops.fit_trajectory(
+        traj,
+        rate=options.get("rate"),
+        count=options.get("count"),
+        derivatives=bool(options.get("derivatives")),
+        max_samples=int(options.get("max_samples") or ops.DEFAULT_MAX_SAMPLES),
+        **fit_opts,
+    )
+    _write(task, out, options)
+    return {"samples": len(out), "keys": len(traj), **info}
+
+
+def _op_compare(task: Task, options: dict) -> dict:
+    """``quatspline compare IN --json``: the library's compare; rows written as JSON."""
+    from . import ops
+
+    traj = _read(task, options)
+    rows = ops.compare(traj, options.get("methods"), holdout=options.get("holdout"))
+    with atomic_write(task.output) as f:
+        json.dump(rows, f, indent=1)
+    figures: dict = {"samples": len(traj)}
+    for r in rows:
+        for k in ("holdout_median_deg", "holdout_p95_deg", "holdout_max_deg", "rms_jerk"):
+            if k in r:
+                figures[f"{k}[{r['method']}]"] = r[k]
+    return figures
+
+
+def _op_export(task: Task, options: dict) -> dict:
+    """``quatspline export IN -o OUT.glb``: the library's glTF export with its error bound."""
+    from . import export
+
+    traj = _read(task, options)
+    opts = {k: options[k] for k in ("max_error", "interpolation", "method") if k in options}
+    report = export.to_gltf(traj, task.output, progress=False, **opts)
+    return {
+        "samples": len(traj),
+        "rotation_keys": report.rotation_keys,
+        "rotation_error_deg": float(np.degrees(report.rotation_error)),
+        "translation_keys": report.translation_keys,
+    }
+
+
+_OPERATION_FUNCS = {
+    "sample": _op_sample,
+    "fit": _op_fit,
+    "compare": _op_compare,
+    "export": _op_export,
+}
+
+
+# ---- the batch --------------------------------------------------------------------------------
+@contextlib.contextmanager
+def _client(
+    client=None, scheduler: str | None = None, workers: int | None = None, timeout: float = 10.0
+):
+    """A Dask client: the one given, one connected to ``scheduler``, or a LocalCluster."""
+    if client is not None:
+        yield client
+        return
+    dd = _need_dask()
+    if scheduler:
+        try:
+            if str(scheduler).endswith(".json") and Path(scheduler).is_file():
+                c = dd.Client(scheduler_file=str(scheduler), timeout=timeout)
+            else:
+                c = dd.Client(str(scheduler), timeout=timeout)
+        except (OSError, TimeoutError) as e:
+            raise OSError(
+                f"scheduler: cannot reach {scheduler} within {timeout:g} s ({type(e).__name__})"
+            ) from None
+        with c:
+            yield c
+        return
+    n = int(workers) if workers else min(os.cpu_count() or 1, 4)
+    if n < 1:
+        raise ValueError(f"workers: expected at least 1, got {workers}")
+    with (
+        dd.LocalCluster(
+            n_workers=n,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            silence_logs=40,
+        ) as cluster,
+        dd.Client(cluster) as c,
+    ):
+        yield c
+
+
+def run(
+    operation: str,
+    paths,
+    out_dir,
+    client=None,
+    *,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    force: bool = False,
+    progress: bool | None = None,
+    **options,
+):
+    """Runs one operation over many trajectory files on Dask and returns the per-file table.
+
+    Parameters
+    ----------
+    operation : {"sample", "fit", "compare", "export"}
+        The single-file operation: ``sample`` (resample through a method), ``fit`` (a
+        smoothing fit, then sampled), ``compare`` (held-out comparison of methods), ``export``
+        (glTF).
+    paths : str, path or sequence of them
+        Files, directories (recursive) and glob patterns; see :func:`expand_inputs`.
+    out_dir : str or pathlib.Path
+        Output directory (created); outputs mirror the inputs' relative paths.
+    client : dask.distributed.Client, optional
+        A client to use. Without one, ``scheduler`` (an address such as
+        ``"tcp://127.0.0.1:8786"`` or a scheduler file) is connected to, or else a
+        ``LocalCluster`` with ``workers`` single-threaded worker processes is started.
+    scheduler : str, optional
+        Scheduler address or scheduler-file path.
+    workers : int, optional
+        Worker processes of the local cluster (default: the number of cores, at most 4).
+    force : bool
+        Redo files whose outputs are up to date.
+    progress : bool, optional
+        A progress bar over files (default: on a terminal only).
+    **options
+        The operation's options, as for the single-file command (``method``, ``rate``,
+        ``count``, ``params``, ``methods``, ``holdout``, ``smoothing``, …), the reading options
+        (``format``, ``joint``, …), ``to`` (output format of sample/fit, default ``"csv"``)
+        and ``max_file_bytes`` (per-task input size limit, default 1 GiB).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per file, sorted by file: ``file``, ``status``, ``duration_s``,
+        ``samples``, ``error``, ``output`` and the operation's figures. Also written to
+        ``OUTDIR/summary.csv`` with ``summary.md`` and, with matplotlib, ``summary.png``.
+
+    Raises
+    ------
+    ValueError
+        Unknown operation, no input matched, ``out_dir`` is not a directory.
+    OSError
+        The scheduler cannot be reached within the timeout.
+    ImportError
+        Dask (or pandas) is not installed.
+    """
+    if operation not in OPERATIONS:
+        raise ValueError(f"operation: unknown {operation!r}; valid: {', '.join(OPERATIONS)}")
+    out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"out_dir: {out} exists and is not a directory")
+    if (
+        operation in ("sample", "fit")
+        and options.get("rate") is None
+        and options.get("count") is None
+    ):
+        raise ValueError(f"{operation}: give rate= (samples per time unit) or count=")
+    inputs = expand_inputs(paths)
+    tasks = plan(operation, inputs, out, options)
+    out.mkdir(parents=True, exist_ok=True)
+    try:
+        import pandas as pd
+    except ImportError:
+        raise ImportError(_DASK_HINT) from None
+    dd = _need_dask()
+    rows: list[dict] = []
+    with _client(client, scheduler, workers) as c:
+        futures = c.map(
+            run_one,
+            [operation] * len(tasks),
+            tasks,
+            [options] * len(tasks),
+            [force] * len(tasks),
+            pure=False,
+        )
+        bar = _bar(len(tasks), operation, progress)
+        try:
+            for fut in dd.as_completed(futures):
+                try:
+                    rows.append(fut.result())
+                except Exception as e:  # a worker lost mid-task, a task that cannot unpickle
+                    i = futures.index(fut)
+                    rows.append(
+                        {
+                            "file": tasks[i].name,
+                            "status": "error",
+                            "samples": 0,
+                            "duration_s": float("nan"),
+                            "output": str(tasks[i].output),
+                            "error": f"{type(e).__name__}: {e}",
+                        }
+                    )
+                bar.update(1)
+        finally:
+            bar.close()
+    _log_errors(out, rows)
+    rows = [{k: v for k, v in r.items() if not k.startswith("_")} for r in rows]
+    table = pd.DataFrame(rows).sort_values("file", kind="stable").reset_index(drop=True)
+    summarize(table, out, operation)
+    return table
+
+
+def _bar(total: int, desc: str, progress: bool | None):
+    try:
+        from tqdm import tqdm
+    except ImportError:  # pragma: no cover
+
+        class _Null:
+            def update(self, n):
+                pass
+
+            def close(self):
+                pass
+
+        return _Null()
+    disable = None if progress is None else not progress
+    return tqdm(total=total, desc=f"batch {desc}", unit="file", disable=disable, leave=False)
+
+
+def _log_errors(out: Path, rows: list[dict]) -> None:
+    bad = [r for r in rows if r.get("status") == "error"]
+    lines = [f"{time.strftime('%Y-%m-%dT%H:%M:%S')} {len(rows)} files, {len(bad)} failed"]
+    for r in sorted(bad, key=lambda r: r["file"]):
+        lines.append(f"{r['file']}: {r['error']}")
+        if r.get("_traceback"):
+            lines.append("    " + r["_traceback"].rstrip().replace("\n", "\n    "))
+    with atomic_write(out / "batch.log") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+# ---- summary ----------------------------------------------------------------------------------
+def _md_cell(x) -> str:
+    if isinstance(x, float):
+        if math.isnan(x):
+            return ""
+        return f"{x:.4g}"
+    return str(x).replace("|", "\\|").replace("\n", " ")
+
+
+def _md_table(header: list[str], rows: list[list]) -> str:
+    head = "| " + " | ".join(_md_cell(h) for h in header) + " |"
+    sep = "|" + "|".join("---" for _ in header) + "|"
+    return "\n".join([head, sep] + ["| " + " | ".join(_md_cell(c) for c in r) + " |" for r in rows])
+
+
+def method_summary(table) -> list[dict]:
+    """Per method, over the files of a ``compare`` batch that succeeded: the median of the
+    per-file median held-out errors (degrees), their maximum, and how many files the method
+    won (lowest per-file median error; ties go to every tied method).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The table ``run("compare", …)`` returned (columns ``holdout_median_deg[METHOD]``).
+
+    Returns
+    -------
+    list of dict
+        ``method``, ``files``, ``median_of_medians_deg``, ``worst_median_deg``, ``wins``,
+        sorted by ``median_of_medians_deg``.
+    """
+    ok = table[table["status"].isin(["ok", "skipped"])]
+    cols = [c for c in table.columns if c.startswith("holdout_median_deg[")]
+    if not cols or ok.empty:
+        return []
+    vals = ok[cols].to_numpy(dtype=float)
+    best = np.nanmin(vals, axis=1, keepdims=True)
+    wins = np.sum(vals == best, axis=0)
+    out = []
+    for j, c in enumerate(cols):
+        v = vals[:, j][np.isfinite(vals[:, j])]
+        out.append(
+            {
+                "method": c[len("holdout_median_deg[") : -1],
+                "files": int(v.size),
+                "median_of_medians_deg": float(np.median(v)) if v.size else float("nan"),
+                "worst_median_deg": float(np.max(v)) if v.size else float("nan"),
+                "wins": int(wins[j]),
+            }
+        )
+    return sorted(out, key=lambda r: r["median_of_medians_deg"])
+
+
+def summarize(table, out_dir, operation: str) -> None:
+    """Writes ``summary.csv``, ``summary.md`` and (with matplotlib) ``summary.png``.
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The per-file table of :func:`run`.
+    out_dir : str or pathlib.Path
+        The batch's output directory.
+    operation : str
+        The operation that made the table.
+    """
+    out = Path(out_dir)
+    with atomic_write(out / "summary.csv", newline="") as f:
+        table.to_csv(f, index=False)
+    counts = table["status"].value_counts().to_dict()
+    ok = table[table["status"].isin(["ok", "skipped"])]
+    lines = [
+        f"# quatspline batch {operation}",
+        "",
+        f"{len(table)} files: {counts.get('ok', 0)} done, {counts.get('skipped', 0)} up to date "
+        f"(skipped), {counts.get('error', 0)} failed.",
+        "",
+    ]
+    if len(ok):
+        dur = table.loc[table["status"] == "ok", "duration_s"].to_numpy(dtype=float)
+        samples = ok["samples"].to_numpy(dtype=float) if "samples" in ok else np.zeros(0)
+        lines += [
+            _md_table(
+                ["files", "samples (total)", "median time per file (s)", "total time (s)"],
+                [
+                    [
+                        len(ok),
+                        int(np.nansum(samples)),
+                        float(np.median(dur)) if dur.size else float("nan"),
+                        float(np.sum(dur)),
+                    ]
+                ],
+            ),
+            "",
+        ]
+    per_method = method_summary(table) if operation == "compare" else []
+    if per_method:
+        lines += [
+            "## Methods (held-out error, degrees)",
+            "",
+            _md_table(
+                [
+                    "method",
+                    "files",
+                    "median of per-file medians (°)",
+                    "worst per-file median (°)",
+                    "wins",
+                ],
+                [
+                    [
+                        r["method"],
+                        r["files"],
+                        r["median_of_medians_deg"],
+                        r["worst_median_deg"],
+                        r["wins"],
+                    ]
+                    for r in per_method
+                ],
+            ),
+            "",
+        ]
+    bad = table[table["status"] == "error"]
+    if len(bad):
+        lines += [
+            "## Failed files",
+            "",
+            _md_table(["file", "error"], [[r.file, r.error] for r in bad.itertuples()]),
+            "",
+        ]
+    with atomic_write(out / "summary.md") as f:
+        f.write("\n".join(lines))
+    _figure(table, per_method, out, operation)
+
+
+def _figure(table, per_method, out: Path, operation: str) -> None:
+    try:
+        import matplotlib
+        from matplotlib.figure import Figure
+    except ImportError:
+        return
+    del matplotlib
+    fig = Figure(figsize=(7, 4), layout="constrained")
+    ax = fig.add_subplot()
+    if per_method:
+        cols = [f"holdout_median_deg[{r['method']}]" for r in per_method]
+        ok = table[table["status"].isin(["ok", "skipped"])]
+        data = [ok[c].dropna().to_numpy(dtype=float) for c in cols]
+        ax.boxplot(data, tick_labels=[r["method"] for r in per_method], showfliers=True)
+        ax.set_yscale("log")
+        ax.set_ylabel("per-file median held-out error (°)")
+        ax.set_xlabel("method")
+        ax.set_title(f"compare over {len(ok)} files")
+    else:
+        dur = table.loc[table["status"] == "ok", "duration_s"].to_numpy(dtype=float)
+        ax.hist(dur if dur.size else [0.0], bins=30)
+        ax.set_xlabel("time per file (s)")
+        ax.set_ylabel("files")
+        ax.set_title(f"batch {operation}: {len(table)} files")
+    with atomic_write(out / "summary.png", "wb") as f:
+        fig.savefig(f, format="png", dpi=110)
+
+
+# ---- the command line's part (``quatspline batch``): arguments → options of :func:`run` -------
+def add_arguments(p) -> None:
+    """Adds ``quatspline batch``'s arguments to an argparse parser."""
+    p.add_argument("operation", choices=OPERATIONS, help="the single-file operation to run")
+    p.add_argument("inputs", nargs="+", help="files, directories (recursive) or glob patterns")
+    p.add_argument("-o", "--output", required=True, help="output directory")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address or file")
+    where.add_argument("--workers", type=int, help="local worker processes (default: cores)")
+    p.add_argument("--force", action="store_true", help="redo files whose output is up to date")
+    p.add_argument("--in-format", help="input format (default: guessed per file)")
+    p.add_argument("--joint", help="BVH joint (default: the root)")
+    p.add_argument("--world", action="store_true", help="BVH: world rotation instead of local")
+    p.add_argument("--skip-frames", type=int, default=0, help="BVH: frames to drop at the start")
+    p.add_argument("--sort", action="store_true", help="sort rows by time instead of failing")
+    p.add_argument("--dedupe", action="store_true", help="drop rows with a repeated time")
+    p.add_argument("--max-file-size", type=int, metavar="BYTES", help="per-file size limit")
+    g = p.add_argument_group("sample / fit")
+    g.add_argument("--method", default="c3", help="sample: interpolation method (default: c3)")
+    g.add_argument("--param", action="append", metavar="NAME=VALUE", help="method parameter")
+    rate = g.add_mutually_exclusive_group()
+    rate.add_argument("--rate", type=float, help="samples per time unit")
+    rate.add_argument("--count", type=int, help="samples per file")
+    g.add_argument("--derivatives", action="store_true", help="add ω, α and jerk columns")
+    g.add_argument("--to", default="csv", help="output format of sample/fit (default: csv)")
+    g.add_argument("--smoothing", default="auto", help="fit: auto or a λ ≥ 0")
+    g.add_argument("--penalty", default="acceleration", help="fit: acceleration | jerk")
+    g.add_argument("--robust", help="fit: huber | cauchy")
+    c = p.add_argument_group("compare")
+    c.add_argument("--methods", help="comma-separated methods (default: all interpolating)")
+    c.add_argument("--holdout", type=int, default=4, metavar="K", help="keys = every K-th frame")
+    e = p.add_argument_group("export")
+    e.add_argument("--max-error", default="0.01deg", help="glTF playback error bound")
+    e.add_argument("--interpolation", default="linear", help="glTF: linear | cubicspline")
+
+
+def cli_options(args) -> dict:
+    """The options of :func:`run` that ``quatspline batch``'s arguments give, only those of the
+    chosen operation (so that changing another operation's option does not redo files)."""
+    read = {
+        "format": args.in_format,
+        "joint": args.joint,
+        "world": args.world,
+        "skip_frames": args.skip_frames or None,
+        "sort": args.sort,
+        "dedupe": args.dedupe,
+    }
+    opts: dict = {k: v for k, v in read.items() if v not in (None, False)}
+    if args.max_file_size is not None:
+        if args.max_file_size < 1:
+            raise ValueError(f"--max-file-size: expected a positive size, got {args.max_file_size}")
+        opts["max_file_bytes"] = args.max_file_size
+    op = args.operation
+    if op in ("sample", "fit"):
+        if args.rate is None and args.count is None:
+            raise ValueError(f"batch {op}: give --rate HZ or --count N")
+        opts.update(
+            {"rate": args.rate} if args.rate is not None else {"count": args.count},
+            derivatives=args.derivatives,
+            to=args.to,
+        )
+        if op == "sample":
+            from .cli import _params
+
+            opts.update(method=args.method, params=_params(args.param))
+        else:
+            opts.update(smoothing=args.smoothing, penalty=args.penalty)
+            if args.robust:
+                opts["robust"] = args.robust
+    elif op == "compare":
+        if args.methods:
+            opts["methods"] = [m.strip() for m in args.methods.split(",") if m.strip()]
+        opts["holdout"] = args.holdout
+    else:
+        opts.update(max_error=args.max_error, interpolation=args.interpolation)
+    return opts

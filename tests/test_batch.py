@@ -1,0 +1,258 @@
+"""``quatspline batch`` on Dask: a LocalCluster and a separately started scheduler."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pytest.importorskip("dask.distributed", reason="the dask extra is not installed")
+import pandas as pd  # noqa: E402
+import quatspline as qs  # noqa: E402
+import quatspline.io as qio  # noqa: E402
+from dask.distributed import Client, LocalCluster  # noqa: E402
+from quatspline import batch  # noqa: E402
+from quatspline.cli import main  # noqa: E402
+
+DATA = Path(__file__).resolve().parent.parent / "data"
+TUM = DATA / "tum_rgbd_fr1_xyz" / "freiburg1_xyz-groundtruth.txt"
+EUROC = DATA / "euroc_v1_02_medium" / "V102_groundtruth_first10s.csv"
+
+pytestmark = [
+    pytest.mark.filterwarnings("ignore::DeprecationWarning"),
+    pytest.mark.filterwarnings("ignore::ResourceWarning"),
+    pytest.mark.filterwarnings("ignore::UserWarning"),
+]
+
+
+@pytest.fixture(scope="module")
+def client():
+    with (
+        LocalCluster(
+            n_workers=2,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            silence_logs=40,
+        ) as cluster,
+        Client(cluster) as c,
+    ):
+        yield c
+
+
+def _recordings(root: Path, n: int = 4, rows: int = 240) -> list[Path]:
+    """Small recordings made from the bundled TUM file: each a random rotation of a slice."""
+    src = qio.read(TUM)
+    rng = np.random.default_rng(7)
+    paths = []
+    for i in range(n):
+        a = int(rng.integers(0, len(src) - rows))
+        r = qs.from_rotvec(rng.normal(size=3))
+        q = qs.multiply(r, src.quats[a : a + rows])
+        p = root / ("sub" if i % 2 else "") / f"rec{i}.txt"
+        p.parent.mkdir(parents=True, exist_ok=True)
+        qio.write(p, qio.Trajectory(src.times[a : a + rows], q, src.positions[a : a + rows]))
+        paths.append(p)
+    return paths
+
+
+def test_sample_equals_single_file_command_bit_for_bit(tmp_path, client):
+    inputs = _recordings(tmp_path / "in")
+    out = tmp_path / "out"
+    table = batch.run(
+        "sample", [tmp_path / "in"], out, client=client, method="natural", rate=50.0, to="csv"
+    )
+    assert list(table["status"]) == ["ok"] * 4
+    for p in inputs:
+        rel = p.relative_to(tmp_path / "in").with_suffix(".csv")
+        single = tmp_path / "single" / rel
+        single.parent.mkdir(parents=True, exist_ok=True)
+        assert (
+            main(["sample", str(p), "-o", str(single), "--method", "natural", "--rate", "50"]) == 0
+        )
+        assert (out / rel).read_bytes() == single.read_bytes()
+    assert (table["samples"] > 0).all()
+    assert (out / "summary.csv").is_file() and (out / "summary.md").is_file()
+
+
+def test_corrupt_file_fails_alone(tmp_path, client):
+    _recordings(tmp_path / "in", n=3)
+    bad = tmp_path / "in" / "broken.txt"
+    bad.write_text("0.0 1 2 3 4 5 6 7\n0.1 1 2 3 oops 5 6 7\n")
+    out = tmp_path / "out"
+    table = batch.run("sample", [tmp_path / "in"], out, client=client, method="slerp", count=20)
+    row = table.set_index("file").loc["broken.txt"]
+    assert row["status"] == "error" and "broken.txt:2" in row["error"]
+    assert (table["status"] == "ok").sum() == 3
+    assert "broken.txt" in (out / "batch.log").read_text()
+    assert not (out / "broken.csv").exists()
+    # the command line: every good file written, exit code 1 at the end
+    code = main(["batch", "sample", str(tmp_path / "in"), "-o", str(tmp_path / "o2"),
+                 "--count", "20", "--method", "slerp", "--workers", "1"])  # fmt: skip
+    assert code == 1
+    assert len(list((tmp_path / "o2").rglob("rec*.csv"))) == 3
+
+
+def test_resume_after_deleting_half_the_outputs(tmp_path, client):
+    _recordings(tmp_path / "in", n=4)
+    out = tmp_path / "out"
+    first = batch.run("sample", [tmp_path / "in"], out, client=client, method="squad", count=30)
+    assert (first["status"] == "ok").all()
+    outputs = sorted(out.rglob("rec*.csv"))
+    before = {p: p.read_bytes() for p in outputs}
+    for p in outputs[:2]:
+        p.unlink()
+    second = batch.run("sample", [tmp_path / "in"], out, client=client, method="squad", count=30)
+    status = dict(zip(second["file"], second["status"]))
+    assert sorted(status.values()) == ["ok", "ok", "skipped", "skipped"]
+    assert {p: p.read_bytes() for p in outputs} == before
+    # changed options redo everything; so does force
+    third = batch.run("sample", [tmp_path / "in"], out, client=client, method="squad", count=31)
+    assert (third["status"] == "ok").all()
+    forced = batch.run(
+        "sample", [tmp_path / "in"], out, client=client, method="squad", count=31, force=True
+    )
+    assert (forced["status"] == "ok").all()
+    # a touched input is redone
+    src = sorted((tmp_path / "in").rglob("rec*.txt"))[0]
+    os.utime(src, ns=(time.time_ns(), time.time_ns() + 10**9))
+    fourth = batch.run("sample", [tmp_path / "in"], out, client=client, method="squad", count=31)
+    assert sorted(fourth["status"]) == ["ok", "skipped", "skipped", "skipped"]
+
+
+def test_compare_summary_recomputed_from_the_table(tmp_path, client):
+    _recordings(tmp_path / "in", n=4, rows=400)
+    out = tmp_path / "out"
+    methods = ["slerp", "squad", "natural"]
+    table = batch.run("compare", [tmp_path / "in"], out, client=client, methods=methods, holdout=4)
+    assert (table["status"] == "ok").all()
+    summary = {r["method"]: r for r in batch.method_summary(table)}
+    per_file = table[[f"holdout_median_deg[{m}]" for m in methods]].to_numpy()
+    best = per_file.min(axis=1, keepdims=True)
+    for j, m in enumerate(methods):
+        assert summary[m]["median_of_medians_deg"] == pytest.approx(np.median(per_file[:, j]))
+        assert summary[m]["wins"] == int(np.sum(per_file[:, j] == best[:, 0]))
+    # the per-file figures are those of the library's compare on the same file
+    one = sorted((tmp_path / "in").rglob("rec*.txt"))[0]
+    rows = qs.ops.compare(qio.read(one), methods, holdout=4)
+    name = str(one.relative_to(tmp_path / "in"))
+    got = table.set_index("file").loc[name]
+    for r in rows:
+        assert got[f"holdout_median_deg[{r['method']}]"] == r["holdout_median_deg"]
+    md = (out / "summary.md").read_text()
+    assert "median of per-file medians" in md and "| natural |" in md
+    on_disk = pd.read_csv(out / "summary.csv")
+    assert len(on_disk) == len(table)
+    assert (out / "summary.png").stat().st_size > 1000
+
+
+def test_mixed_formats_in_one_directory(tmp_path, client):
+    d = tmp_path / "in"
+    d.mkdir()
+    src = qio.read(EUROC)
+    shutil.copy(EUROC, d / "euroc.csv")
+    qio.write(d / "traj.json", qio.Trajectory(src.times[:200], src.quats[:200]))
+    qio.write(d / "traj.txt", qio.Trajectory(src.times[:200], src.quats[:200], src.positions[:200]))
+    table = batch.run("sample", [d], tmp_path / "out", client=client, method="slerp", count=25)
+    assert (table["status"] == "ok").all(), table["error"].tolist()
+    assert len(table) == 3
+
+
+def test_external_scheduler_and_workers(tmp_path):
+    """A scheduler and a worker started as separate processes, addresses on 127.0.0.1."""
+    if shutil.which("dask", path=str(Path(sys.executable).parent)) is None:
+        pytest.fail("the dask command line is missing from the environment")
+    dask_cmd = str(Path(sys.executable).parent / "dask")
+    sched_file = tmp_path / "scheduler.json"
+    env = {**os.environ, "DASK_DISTRIBUTED__LOGGING__DISTRIBUTED": "error"}
+    sched = subprocess.Popen(
+        [dask_cmd, "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
+         "--scheduler-file", str(sched_file)],
+        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env,
+    )  # fmt: skip
+    worker = None
+    try:
+        for _ in range(300):
+            if sched_file.is_file() and sched_file.stat().st_size > 0:
+                break
+            time.sleep(0.1)
+        address = json.loads(sched_file.read_text())["address"]
+        assert address.startswith("tcp://127.0.0.1:")
+        worker = subprocess.Popen(
+            [dask_cmd, "worker", address, "--nworkers", "1", "--nthreads", "1",
+             "--no-dashboard", "--host", "127.0.0.1"],
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env,
+        )  # fmt: skip
+        _recordings(tmp_path / "in", n=2)
+        with Client(address, timeout=30) as c:
+            c.wait_for_workers(1, timeout=60)
+        table = batch.run(
+            "sample", [tmp_path / "in"], tmp_path / "out", scheduler=address, method="c3", count=40
+        )
+        assert (table["status"] == "ok").all()
+        assert len(list((tmp_path / "out").rglob("rec*.csv"))) == 2
+    finally:
+        for p in (worker, sched):
+            if p is not None:
+                p.terminate()
+                try:
+                    p.wait(timeout=20)
+                except subprocess.TimeoutExpired:
+                    p.kill()
+
+
+# ---- bad input --------------------------------------------------------------------------------
+def test_no_inputs_matched_names_the_patterns(tmp_path):
+    with pytest.raises(ValueError, match=r"no files matched .*nothing\*\.tum"):
+        batch.run("sample", [str(tmp_path / "nothing*.tum")], tmp_path / "out", count=5)
+    code = main(["batch", "sample", str(tmp_path / "x*.csv"), "-o", str(tmp_path / "o"),
+                 "--count", "5"])  # fmt: skip
+    assert code == 1
+
+
+def test_unreachable_scheduler_is_one_line_within_a_timeout(tmp_path, capsys):
+    _recordings(tmp_path / "in", n=1)
+    t0 = time.monotonic()
+    code = main(["batch", "sample", str(tmp_path / "in"), "-o", str(tmp_path / "o"), "--count",
+                 "5", "--scheduler", "tcp://127.0.0.1:9"])  # fmt: skip
+    assert code == 1 and time.monotonic() - t0 < 60
+    err = capsys.readouterr().err.strip()
+    assert "cannot reach tcp://127.0.0.1:9" in err and len(err.splitlines()) == 1
+
+
+def test_output_directory_that_is_a_file(tmp_path):
+    _recordings(tmp_path / "in", n=1)
+    f = tmp_path / "out"
+    f.write_text("x")
+    with pytest.raises(ValueError, match="not a directory"):
+        batch.run("sample", [tmp_path / "in"], f, count=5)
+
+
+def test_unknown_operation_and_missing_rate(tmp_path):
+    with pytest.raises(ValueError, match="operation: unknown 'resample'"):
+        batch.run("resample", [tmp_path], tmp_path / "o")
+    _recordings(tmp_path / "in", n=1)
+    code = main(["batch", "sample", str(tmp_path / "in"), "-o", str(tmp_path / "o")])
+    assert code == 1
+
+
+def test_too_large_file_is_refused_before_reading(tmp_path, client):
+    _recordings(tmp_path / "in", n=2)
+    table = batch.run(
+        "sample", [tmp_path / "in"], tmp_path / "o", client=client, count=5, max_file_bytes=100
+    )
+    assert (table["status"] == "error").all()
+    assert table["error"].str.contains("over the per-task limit of 100 bytes").all()
+
+
+def test_expand_inputs_globs_and_duplicates(tmp_path):
+    paths = _recordings(tmp_path / "in", n=4)
+    got = batch.expand_inputs([str(tmp_path / "in" / "**" / "*.txt"), paths[0], tmp_path / "in"])
+    assert sorted(map(str, got)) == sorted(map(str, paths))
