@@ -47,7 +47,7 @@ def integrate(times, angular_velocity, q0=(1.0, 0.0, 0.0, 0.0), frame="body", me
     ------
     ValueError
         Rates of the wrong shape, times not strictly increasing or non-finite, ``q0`` not a
-        rotation (|q0| ≠ 1), an unknown frame or method.
+        rotation (``|q0| ≠ 1``), an unknown frame or method.
     TypeError
         ``frame`` or ``method`` is not a string.
 

@@ -1,14 +1,14 @@
 """Retiming: the same path on a new clock, with exact derivatives (Rust ``spline/reparam.rs``).
 
 - :func:`arc_length` (also ``reparameterize(s, "arc_length")``): any spline traced at
-  constant angular speed over the same domain. The arc-length map φ(s) = ∫|ω| is tabulated
+  constant angular speed over the same domain. The arc-length map ``φ(s) = ∫|ω|`` is tabulated
   by adaptive Gauss–Legendre quadrature and inverted by safeguarded Newton; the derivatives
   of the composed curve q(s(t)) follow from the chain rule with s' = c/|ω(s)| solved in Taylor
   mode, so velocity, acceleration and jerk are exact, not differenced.
 - :func:`retime`: the spline slowed down (or, with ``shrink=True``, sped up) uniformly so
   that the angular velocity and acceleration stay within bounds. The stretch is **global**
   (t ↦ a + λ(t − a)): ω scales by 1/λ and dω/dt by 1/λ², so
-  λ = max(max|ω|/ω_max, √(max|dω/dt|/α_max)) is the least uniform stretch and the binding
+  ``λ = max(max|ω|/ω_max, √(max|dω/dt|/α_max))`` is the least uniform stretch and the binding
   bound is met with equality where its maximum is reached. A per-segment stretch could save
   time on slow segments but makes ω jump at every joint where λ changes (the retimed curve
   would only be C⁰), so it is not offered: a global stretch keeps the spline's continuity.
@@ -57,7 +57,7 @@ def arc_length(spline: Spline) -> Reparameterized:
     Returns
     -------
     Reparameterized
-        ``r(t) = spline(s(t))`` with |ω| = ``r.length / r.duration`` wherever the original
+        ``r(t) = spline(s(t))`` with ``|ω| = r.length / r.duration`` wherever the original
         moves; same continuity order as ``spline``; segments where it holds still are skipped.
 
     Raises
@@ -85,8 +85,8 @@ def arc_length(spline: Spline) -> Reparameterized:
 
 
 def max_angular_rate(spline: Spline, order: int = 1) -> tuple[float, float]:
-    """(largest |ω| (order 1), |dω/dt| (2) or |d²ω/dt²| (3) over the domain, a time where it
-    is reached), found by sampling every segment and refining each local maximum by
+    """(largest ``|ω|`` (order 1), ``|dω/dt|`` (2) or ``|d²ω/dt²|`` (3) over the domain, a
+    time where it is reached), found by sampling every segment and refining each local maximum by
     golden-section search; the same in the world and body frames.
 
     Examples
@@ -128,7 +128,7 @@ def retime(
     *,
     shrink: bool = False,
 ) -> Reparameterized:
-    """Stretch time uniformly so |ω| ≤ ``max_angular_velocity`` and |dω/dt| ≤
+    """Stretch time uniformly so ``|ω|`` ≤ ``max_angular_velocity`` and ``|dω/dt|`` ≤
     ``max_angular_acceleration`` everywhere (global stretch, see the module doc).
 
     Parameters
