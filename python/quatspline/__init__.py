@@ -36,6 +36,7 @@ from .dualquat import (
     dq_transform_point,
     sclerp,
 )
+from .fit import FittedPose, FittedSpline, MinimumEnergySpline, fit
 from .interpolate import lerp, lin_euler, lin_mat, nlerp, slerp
 from .keyframe import Hermite, KochanekBartels
 from .metrics import angle_between
@@ -128,4 +129,8 @@ __all__ = [
     "to_scipy",
     "angle_between",
     "ops",
+    "FittedPose",
+    "FittedSpline",
+    "MinimumEnergySpline",
+    "fit",
 ]

@@ -8,6 +8,7 @@
 
 mod algebra;
 mod arrays;
+mod fit;
 mod keyframe;
 mod spline;
 
@@ -18,6 +19,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     algebra::register(m)?;
     spline::register(m)?;
+    fit::register(m)?;
     keyframe::register(m)?;
     Ok(())
 }
