@@ -892,8 +892,11 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
 }
 
 /// Minimum-energy interpolation through keys (MATH.md §13): the minimum-penalty curve of a
-/// uniform cumulative B-spline space through every key, knots `per_interval` times denser than
-/// the shortest key interval (at most `max_knots` intervals); see [`fit`] with λ = 0.
+/// uniform cumulative B-spline space through every key, with `per_interval` knot intervals per
+/// base interval, the base interval being the span divided by the number of key intervals
+/// (the mean key spacing), doubled until no knot interval holds more than two keys. Refining
+/// `per_interval` by an integer factor nests the spline spaces, so the energy can only
+/// decrease. See [`fit`] with λ = 0.
 pub fn min_energy(
     times: &[f64],
     quats: &[Quat],
@@ -911,22 +914,35 @@ pub fn min_energy(
     let data = validate(times, quats, None, m + 1, &format!("for penalty={:?}", pen_name(penalty)))?;
     let n = data.t.len();
     let span = data.t[n - 1] - data.t[0];
-    let hmin = data.t.windows(2).map(|w| w[1] - w[0]).fold(f64::INFINITY, f64::min);
-    let want = (span / hmin * per_interval as f64).ceil();
-    let limit = (64 * n).max(1000) as f64;
-    if want > limit {
-        return Err(Error::invalid(
-            "times",
-            format!(
-                "key spacing too uneven for a uniform knot grid: the shortest interval {hmin:e} needs {want:e} knot intervals (limit {limit})"
-            ),
-        ));
+    // Knot intervals: per_interval × (key intervals), doubled until no knot interval holds
+    // more than two keys (uneven keys; interpolation is then well posed), at most 64 per key.
+    let crowded = |segs: usize| {
+        let h = span / segs as f64;
+        let mut count = vec![0u8; segs];
+        data.t.iter().any(|&t| {
+            let i = (((t - data.t[0]) / h) as usize).min(segs - 1);
+            count[i] += 1;
+            count[i] > 2
+        })
+    };
+    let mut segs = (n - 1) * per_interval;
+    while crowded(segs) {
+        if segs > 64 * n {
+            return Err(Error::invalid(
+                "times",
+                format!(
+                    "key spacing too uneven for a uniform knot grid ({} knot intervals would be needed)",
+                    2 * segs
+                ),
+            ));
+        }
+        segs *= 2;
     }
     let opts = FitOptions {
         penalty,
         order: None,
         smoothing: Smoothing::Fixed(0.0),
-        knots: Knots::Spacing(span / want),
+        knots: Knots::Spacing(span / segs as f64),
         robust: Robust::None,
         robust_scale: None,
         max_iter: 2000,
