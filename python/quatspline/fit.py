@@ -408,7 +408,7 @@ class MinimumEnergySpline(FittedSpline):
     this optimum: its energy is an upper bound.
 
     Construction: the minimum-penalty curve through the keys in a uniform cumulative B-spline
-    space (order 4 or 6) with ``resolution`` knot intervals per shortest key interval, solved by
+    space (order 4 or 6) with ``resolution`` knot intervals per mean key interval, solved by
     Gauss–Newton with Bregman iteration until every key is met to 1e-11 rad. This is a
     discrete (Sping-like, numerical) approximation of the continuous optimum (Spicv, analytic
     in seed 003's terms); refining ``resolution`` converges to it — the energy decreases
@@ -424,7 +424,8 @@ class MinimumEnergySpline(FittedSpline):
     penalty : {"acceleration", "jerk"}
     ends : {"natural"}
     resolution : int
-        Knot intervals per shortest key interval (1 … 64; default 4).
+        Knot intervals per mean key interval (1 … 64; default 8), doubled where keys crowd
+        (no knot interval holds more than two keys).
     extrapolate : {"raise", "clamp"}
 
     Examples
@@ -448,7 +449,7 @@ class MinimumEnergySpline(FittedSpline):
         times=None,
         penalty: str = "acceleration",
         ends: str = "natural",
-        resolution: int = 4,
+        resolution: int = 8,
         extrapolate: str = "raise",
         progress=None,
     ):

@@ -299,7 +299,7 @@ METHODS: dict[str, Method] = {
             "C2 (C4 with penalty=jerk)",
             {
                 "penalty": Param(str, "acceleration", "acceleration | jerk"),
-                "resolution": Param(int, 4, "knot intervals per key interval"),
+                "resolution": Param(int, 8, "knot intervals per key interval"),
             },
         ),
         Method(
