@@ -36,7 +36,7 @@ from .dualquat import (
     dq_transform_point,
     sclerp,
 )
-from .fit import FittedPose, FittedSpline, MinimumEnergySpline, fit
+from .fit import FittedPose, FittedSpline, MinimumEnergySpline, fit, fit_trajectory
 from .interpolate import lerp, lin_euler, lin_mat, nlerp, slerp
 from .keyframe import Hermite, KochanekBartels
 from .metrics import angle_between
@@ -133,4 +133,5 @@ __all__ = [
     "FittedSpline",
     "MinimumEnergySpline",
     "fit",
+    "fit_trajectory",
 ]

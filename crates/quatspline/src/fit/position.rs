@@ -146,6 +146,7 @@ pub fn fit_positions(
     let mut c_rob = f64::INFINITY;
     let mut prev: Option<Vec<[f64; 3]>> = None;
     let mut it = 0;
+    let mut last_move = f64::INFINITY;
     loop {
         it += 1;
         if it > 500 {
@@ -248,7 +249,8 @@ pub fn fit_positions(
                 .fold(0.0, f64::max),
         };
         let scale = cs.iter().flat_map(|v| v.iter()).map(|v| v.abs()).fold(1e-300, f64::max);
-        let done = robust == Robust::None || (robust_on && moved <= 1e-10 * scale);
+        last_move = moved / scale;
+        let done = robust == Robust::None || (robust_on && moved <= 1e-9 * scale);
         if done {
             let rw = (0..n).map(|s| if robust_on { robust.weight(res[s], c_rob) } else { 1.0 }).collect();
             return Ok(PositionFit {
