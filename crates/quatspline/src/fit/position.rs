@@ -149,12 +149,12 @@ pub fn fit_positions(
     let mut last_move = f64::INFINITY;
     loop {
         it += 1;
-        if it > 500 {
+        if it > 1000 {
             return Err(Error::NotConverged {
                 what: "fit (positions, IRLS)",
-                iterations: 500,
-                step: f64::NAN,
-                tol: 1e-12,
+                iterations: 1000,
+                step: last_move,
+                tol: 1e-9,
             });
         }
         let mut g = Band::zeros(nc, k - 1);
