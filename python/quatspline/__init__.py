@@ -36,6 +36,7 @@ from .dualquat import (
     dq_transform_point,
     sclerp,
 )
+from .fit import FittedPose, FittedSpline, MinimumEnergySpline, fit, fit_trajectory
 from .integrate import integrate
 from .interpolate import lerp, lin_euler, lin_mat, nlerp, slerp
 from .keyframe import Hermite, KochanekBartels
@@ -136,6 +137,11 @@ __all__ = [
     "to_scipy",
     "angle_between",
     "ops",
+    "FittedPose",
+    "FittedSpline",
+    "MinimumEnergySpline",
+    "fit",
+    "fit_trajectory",
     "integrate",
     "MeanInfo",
     "mean",

@@ -123,6 +123,55 @@ def cmd_sample(args) -> int:
     return 0
 
 
+# ---- fit ------------------------------------------------------------------------------------
+def cmd_fit(args) -> int:
+    """``quatspline fit``: least-squares fitting spline through noisy measurements (thin: the
+    work is :func:`quatspline.fit_trajectory`)."""
+    from .fit import fit_trajectory
+
+    _check_output(args)
+    _guard_output(Path(args.output), [Path(args.input)], args.force)
+    traj = _read(args)
+    times = None
+    if args.at is not None:
+        at = Path(args.at)
+        from .io._common import check_regular_input
+
+        check_regular_input(at)
+        try:
+            times = np.loadtxt(at, ndmin=1, comments="#")
+        except (OSError, ValueError) as e:
+            raise ValueError(f"{at}: cannot read times ({e})") from None
+    smoothing = args.smoothing
+    if smoothing != "auto":
+        try:
+            smoothing = float(smoothing)
+        except ValueError:
+            raise UsageError(f"--smoothing: expected auto or a number, got {smoothing!r}") from None
+    out, f = fit_trajectory(
+        traj,
+        rate=args.rate,
+        count=args.count,
+        times=times,
+        smoothing=smoothing,
+        penalty=args.penalty,
+        robust=args.robust,
+        knots=args.knots,
+        derivatives=args.derivatives,
+        max_samples=args.max_samples,
+        progress=True if len(traj) >= 20_000 else None,
+    )
+    _write_trajectory(args, out)
+    rms = float(np.degrees(np.sqrt(np.mean(f.residuals**2))))
+    print(
+        f"wrote {'standard output' if args.output == '-' else args.output}: {len(out)} samples "
+        f"of a fit to {len(traj)} measurements (λ = {f.smoothing:.4g}, effective dof "
+        f"{f.effective_dof:.1f}, RMS residual {rms:.3f}°, {f.iterations} iterations)",
+        file=sys.stderr if args.output == "-" else sys.stdout,
+    )
+    return 0
+
+
 # ---- compare --------------------------------------------------------------------------------
 def cmd_compare(args) -> int:
     traj = _read(args)
@@ -271,6 +320,29 @@ def build_parser() -> argparse.ArgumentParser:
     )
     s.add_argument("--force", action="store_true", help="allow overwriting the input file")
     s.set_defaults(func=cmd_sample)
+
+    ft = sub.add_parser("fit", help="fit a smooth spline to noisy measurements and sample it")
+    _input_options(ft)
+    ft.add_argument("-o", "--output", required=True, help="output file, or - (as sample)")
+    ft.add_argument("--format", choices=sorted(qio.FORMATS), help="output format")
+    ft.add_argument("--smoothing", default="auto", help="λ: auto (GCV, default) or a number ≥ 0")
+    ft.add_argument("--penalty", choices=("acceleration", "jerk"), default="acceleration")
+    ft.add_argument("--robust", choices=("huber", "cauchy"), help="robust loss against glitches")
+    ft.add_argument("--knots", type=float, metavar="SPACING", help="knot spacing (default: data)")
+    g = ft.add_mutually_exclusive_group(required=True)
+    g.add_argument("--rate", type=float, help="samples per time unit")
+    g.add_argument("--count", type=int, help="number of samples")
+    g.add_argument("--at", metavar="TIMES_FILE", help="file of times to sample at")
+    ft.add_argument("--derivatives", action="store_true", help="add ω, α and jerk columns")
+    ft.add_argument(
+        "--max-samples",
+        type=int,
+        default=ops.DEFAULT_MAX_SAMPLES,
+        metavar="N",
+        help="refuse to write more than N samples",
+    )
+    ft.add_argument("--force", action="store_true", help="allow overwriting the input file")
+    ft.set_defaults(func=cmd_fit)
 
     c = sub.add_parser("compare", help="compare methods on a recording")
     _input_options(c)

@@ -1,7 +1,9 @@
 """Continuity certificates: what is true at every joint of a spline.
 
 ``continuity(spline)`` returns one :class:`JointContinuity` per interior joint with the jumps
-of q, q', q'', q''' (absolute and relative), the parametric order C^k reached, and the fitted
+of q, q', q'', q''' (absolute and relative; with ``order=4`` or ``5`` also the 4th and 5th
+derivatives, so C⁴ splines such as the jerk-penalised fit can be certified), the parametric
+order C^k reached, and the fitted
 geometric constraints G¹ (R₁ = ξ L₁) and G² (R₂ = ξ² L₂ + δ L₁) with their residuals. For a
 ``BetaSpline`` it adds the residuals of the paper's own constraints with ξ = β_{i,1},
 δ = β_{i,2} (in the local parameter) and of the corrected Theorem-2 condition: the library
@@ -53,7 +55,7 @@ class JointContinuity:
     time: float
     """Time of the joint."""
     jump_abs: np.ndarray
-    """``|R_m − L_m|`` for m = 0 … 3 (time derivatives)."""
+    """``|R_m − L_m|`` for m = 0 … max(3, order) (time derivatives)."""
     jump_rel: np.ndarray
     """Jumps relative to ``max(|L_m|, |R_m|, 1e-4 × the largest |q^(m)|)`` at joints and
     midpoints."""
@@ -76,7 +78,8 @@ class JointContinuity:
 def continuity(spline: Spline, order: int = 3, tol: float = 1e-9) -> list[JointContinuity]:
     """The continuity certificate of every interior joint of a spline.
 
-    At each joint q and its first three time derivatives are evaluated from the
+    At each joint q and its first three (with ``order`` 4 or 5: five) time derivatives are
+    evaluated from the
     two segments' own formulas (exact, not finite differences) and compared; the geometric
     conditions G¹ (``s_i' = ξ s_{i−1}'``) and G² are fitted, and for a :class:`BetaSpline`
     the Beta paper's own residuals are reported.
@@ -85,8 +88,9 @@ def continuity(spline: Spline, order: int = 3, tol: float = 1e-9) -> list[JointC
     ----------
     spline : Spline
         Any spline.
-    order : {0, 1, 2, 3}, default 3
-        Highest derivative order to compare.
+    order : {0, 1, 2, 3, 4, 5}, default 3
+        Highest derivative order to compare (4 and 5 certify C⁴ splines such as the
+        jerk-penalised fit and ``MinimumEnergySpline(penalty="jerk")``).
     tol : float, default 1e-9
         A jump counts as zero when its relative size is at most ``tol``.
 
@@ -98,7 +102,7 @@ def continuity(spline: Spline, order: int = 3, tol: float = 1e-9) -> list[JointC
     Raises
     ------
     ValueError
-        If ``order`` is not 0–3 or ``tol`` is not a positive finite number.
+        If ``order`` is not 0–5 or ``tol`` is not a positive finite number.
 
     Examples
     --------
@@ -113,8 +117,8 @@ def continuity(spline: Spline, order: int = 3, tol: float = 1e-9) -> list[JointC
     >>> j.time, j.order, bool(j.jump_rel[1] > 0.1)  # slerp: the velocity jumps
     (1.0, 0, True)
     """
-    if order not in (0, 1, 2, 3):
-        raise ValueError(f"order: expected 0, 1, 2 or 3, got {order!r}")
+    if order not in (0, 1, 2, 3, 4, 5):
+        raise ValueError(f"order: expected 0 … 5, got {order!r}")
     if not (np.isfinite(tol) and tol > 0):
         raise ValueError(f"tol: expected a finite positive tolerance, got {tol!r}")
     beta = spline._core.beta_residuals()

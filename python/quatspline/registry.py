@@ -159,6 +159,8 @@ def _build(name, q, times, p):
         return sp.NaturalSpline(q, times, ends=p["ends"])
     if name == "c3":
         return sp.C3Spline(q, times, alpha=p["alpha"], beta=p["beta"], variant=p["variant"])
+    if name in ("fit", "min_energy"):
+        return _fitted(name, q, times, p)
     t = _times_or_default(times, len(q))
     if len(t) != len(q):
         raise ValueError(f"times: expected {len(q)} times (one per key), got {len(t)}")
@@ -180,6 +182,36 @@ def _build(name, q, times, p):
     if name == "beta":
         return sp.BetaSpline(_pad(q), beta1=p["beta1"], beta2=p["beta2"], times=t)
     raise AssertionError(name)
+
+
+def smoothing_spec(v):
+    """λ of ``fit``: "auto" or a number ≥ 0 (CLI strings converted)."""
+    if isinstance(v, str) and v.strip().lower() == "auto":
+        return "auto"
+    return float(v)
+
+
+def str_or_none(v):
+    """A string, or None for None / "none"."""
+    if v is None or (isinstance(v, str) and v.strip().lower() == "none"):
+        return None
+    return str(v)
+
+
+def _fitted(name, q, times, p):
+    from .fit import MinimumEnergySpline, fit
+
+    t = _times_or_default(times, len(q))
+    if name == "fit":
+        return fit(
+            t,
+            q,
+            smoothing=p["smoothing"],
+            penalty=p["penalty"],
+            robust=p["robust"],
+            knots=p["knots"],
+        )
+    return MinimumEnergySpline(q, t, penalty=p["penalty"], resolution=p["resolution"])
 
 
 #: Every method by name: ``Method`` records with the class, whether it interpolates, and its
@@ -273,6 +305,28 @@ METHODS: dict[str, Method] = {
             {},
         ),
         Method(
+            "fit",
+            "least-squares fitting spline on SO(3) with a roughness penalty (noisy data)",
+            False,
+            "C2 (C4 with penalty=jerk)",
+            {
+                "smoothing": Param(smoothing_spec, "auto", "λ: auto (GCV) | a number ≥ 0"),
+                "penalty": Param(str, "acceleration", "acceleration | jerk"),
+                "robust": Param(str_or_none, None, "none | huber | cauchy"),
+                "knots": Param(float_or_none, None, "knot spacing (default: the data rate)"),
+            },
+        ),
+        Method(
+            "min_energy",
+            "minimum-energy interpolating spline (least ∫|ω̇|² or ∫|ω̈|² through the keys)",
+            True,
+            "C2 (C4 with penalty=jerk)",
+            {
+                "penalty": Param(str, "acceleration", "acceleration | jerk"),
+                "resolution": Param(int, 8, "knot intervals per key interval"),
+            },
+        ),
+        Method(
             "beta",
             "Beta quaternion spline with the keys as vertices",
             False,
@@ -307,9 +361,10 @@ def spline(
     ----------
     method : str
         A name of :data:`METHODS`: ``slerp``, ``nlerp``, ``lin_euler``, ``lin_mat``,
-        ``squad``, ``catmull_rom``, ``natural``, ``c3`` (interpolating), or ``bezier``,
-        ``cumulative_bezier``, ``bspline``, ``beta`` (approximating; fitted to keys at times
-        as the module documentation describes).
+        ``squad``, ``catmull_rom``, ``natural``, ``c3``, ``min_energy`` (interpolating), or
+        ``bezier``, ``cumulative_bezier``, ``bspline``, ``beta`` (approximating; fitted to keys
+        at times as the module documentation describes), or ``fit`` (least squares through
+        noisy samples, :func:`quatspline.fit`).
     quats : array_like, shape (N, 4)
         Keys (w, x, y, z) or a scipy ``Rotation``.
     times : array_like, shape (N,), optional

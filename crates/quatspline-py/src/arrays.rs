@@ -12,7 +12,7 @@ use rayon::prelude::*;
 /// `ValueError` for everything the caller can fix.
 pub fn to_py(e: Error) -> PyErr {
     match e {
-        Error::Internal(_) => PyRuntimeError::new_err(e.to_string()),
+        Error::Internal(_) | Error::NotConverged { .. } => PyRuntimeError::new_err(e.to_string()),
         _ => PyValueError::new_err(e.to_string()),
     }
 }

@@ -8,6 +8,7 @@
 
 mod algebra;
 mod arrays;
+mod fit;
 mod keyframe;
 mod simd;
 mod spline;
@@ -20,6 +21,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     algebra::register(m)?;
     spline::register(m)?;
+    fit::register(m)?;
     keyframe::register(m)?;
     toolkit::register(m)?;
     simd::register(m)?;

@@ -233,14 +233,16 @@ impl PySpline {
     }
 
     /// Continuity certificate: one tuple per interior joint
-    /// (index, time, jump_abs[4], jump_rel[4], order, g1_xi, g1_residual, g2_delta, g2_residual).
+    /// (index, time, jump_abs[max(4, order+1)], jump_rel[…], order, g1_xi, g1_residual, g2_delta,
+    /// g2_residual).
     #[allow(clippy::type_complexity)]
     fn continuity_report(
         &self,
         py: Python<'_>,
         order: usize,
         tol: f64,
-    ) -> PyResult<Vec<(usize, f64, [f64; 4], [f64; 4], i32, f64, f64, f64, f64)>> {
+    ) -> PyResult<Vec<(usize, f64, Vec<f64>, Vec<f64>, i32, f64, f64, f64, f64)>> {
+        let width = (order + 1).clamp(4, 6);
         let s = Arc::clone(&self.inner);
         let r = guarded(py, "continuity", move || Ok(quatspline::analysis::continuity(&*s, order, tol)))?;
         Ok(r.into_iter()
@@ -248,8 +250,8 @@ impl PySpline {
                 (
                     j.index,
                     j.time,
-                    j.jump_abs,
-                    j.jump_rel,
+                    j.jump_abs[..width].to_vec(),
+                    j.jump_rel[..width].to_vec(),
                     j.order,
                     j.g1_xi,
                     j.g1_residual,

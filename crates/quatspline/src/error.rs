@@ -17,6 +17,8 @@ pub enum Error {
     OutOfDomain { index: usize, t: f64, start: f64, end: f64 },
     /// An invariant of the library itself was broken (a bug): reported, never a panic.
     Internal(String),
+    /// An iterative solver stopped before reaching its tolerance.
+    NotConverged { what: &'static str, iterations: usize, step: f64, tol: f64 },
 }
 
 impl Error {
@@ -42,6 +44,11 @@ impl fmt::Display for Error {
                  (use extrapolate=\"clamp\" to clamp)"
             ),
             Error::Internal(m) => write!(f, "internal error (please report): {m}"),
+            Error::NotConverged { what, iterations, step, tol } => write!(
+                f,
+                "{what}: did not converge in {iterations} iterations (last step {step:.3e}, \
+                 tolerance {tol:.1e})"
+            ),
         }
     }
 }

@@ -21,7 +21,8 @@ use crate::special::{atan2_over, sinc};
 
 use std::ops::{Add, Mul, Neg, Sub};
 
-/// Taylor coefficients of a scalar at one instant (N ≤ 4 is what the library uses).
+/// Taylor coefficients of a scalar at one instant. N ≤ 6 (value and five derivatives): the
+/// splines use N ≤ 4 for evaluation and N = 6 for the continuity certificate up to C⁴.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Jet<const N: usize>(pub [f64; N]);
 
@@ -64,7 +65,7 @@ impl<const N: usize> Jet<N> {
     /// The k-th derivative (k! cₖ).
     #[inline(always)]
     pub fn derivative(self, k: usize) -> f64 {
-        const FACT: [f64; 5] = [1.0, 1.0, 2.0, 6.0, 24.0];
+        const FACT: [f64; 6] = [1.0, 1.0, 2.0, 6.0, 24.0, 120.0];
         self.0[k] * FACT[k]
     }
 
@@ -91,7 +92,12 @@ impl<const N: usize> Jet<N> {
             return Jet::constant(r);
         }
         let x = self.0[0];
-        self.compose(take([r, 0.5 / r, -0.25 / (r * x), 0.375 / (r * x * x)]))
+        // d^n/dx^n √x = (1/2)(−1/2)⋯(3/2 − n) x^(1/2 − n)
+        let mut d = [r; MAXN];
+        for n in 1..N {
+            d[n] = d[n - 1] * (1.5 - n as f64) / x;
+        }
+        self.compose(take(d))
     }
 
     #[inline(always)]
@@ -100,7 +106,12 @@ impl<const N: usize> Jet<N> {
         if N == 1 {
             return Jet::constant(i);
         }
-        self.compose(take([i, -i * i, 2.0 * i * i * i, -6.0 * i * i * i * i]))
+        // d^n/dx^n x⁻¹ = (−1)ⁿ n! x^(−1−n)
+        let mut d = [i; MAXN];
+        for n in 1..N {
+            d[n] = -d[n - 1] * n as f64 * i;
+        }
+        self.compose(take(d))
     }
 
     #[inline(always)]
@@ -109,13 +120,16 @@ impl<const N: usize> Jet<N> {
         if N == 1 {
             return (Jet::constant(s), Jet::constant(c));
         }
-        (self.compose(take([s, c, -s, -c])), self.compose(take([c, -s, -c, s])))
+        (self.compose(take([s, c, -s, -c, s, c])), self.compose(take([c, -s, -c, s, c, -s])))
     }
 }
 
-/// The first N of four derivative values.
+/// The largest jet length supported by the transcendental pieces.
+pub const MAXN: usize = 6;
+
+/// The first N of six derivative values.
 #[inline(always)]
-fn take<const N: usize>(d: [f64; 4]) -> [f64; N] {
+fn take<const N: usize>(d: [f64; MAXN]) -> [f64; N] {
     std::array::from_fn(|k| d[k])
 }
 
@@ -157,7 +171,15 @@ impl<const N: usize> Mul for Jet<N> {
     /// The truncated Cauchy product (Leibniz rule).
     #[inline(always)]
     fn mul(self, b: Self) -> Self {
-        Jet(std::array::from_fn(|k| (0..=k).map(|i| self.0[i] * b.0[k - i]).sum()))
+        let mut out = [0.0; N];
+        for k in 0..N {
+            let mut acc = self.0[0] * b.0[k];
+            for i in 1..=k {
+                acc += self.0[i] * b.0[k - i];
+            }
+            out[k] = acc;
+        }
+        Jet(out)
     }
 }
 
@@ -172,15 +194,18 @@ impl<const N: usize> Mul<f64> for Jet<N> {
 /// Below this x = |u|², C and S take their derivatives from series.
 const CS_SERIES: f64 = 0.5;
 
-/// Derivatives 0..3 of C(x) = cos√x and S(x) = sin√x/√x at x ≥ 0 (values exact by libm).
+/// Derivatives 0..5 of C(x) = cos√x and S(x) = sin√x/√x at x ≥ 0 (values exact by libm).
+/// Closed forms: C^(n) = −S^(n−1)/2, S^(n) = (C^(n−1) − (2n − 1) S^(n−1))/(2x).
 fn cos_sinc_sqrt<const N: usize>(x: f64) -> ([f64; N], [f64; N]) {
     let r = x.sqrt();
     let (sr, c0) = crate::special::sin_cos(r);
     let s0 = if r < crate::special::SINC_SWITCH { sinc(r) } else { sr / r };
+    let (mut c, mut s) = ([0.0; MAXN], [0.0; MAXN]);
+    c[0] = c0;
+    s[0] = s0;
     if N == 1 {
-        return (take([c0, 0.0, 0.0, 0.0]), take([s0, 0.0, 0.0, 0.0]));
+        return (take(c), take(s));
     }
-    let (mut c, mut s) = ([c0, 0.0, 0.0, 0.0], [s0, 0.0, 0.0, 0.0]);
     if x < CS_SERIES {
         // S^(n)(x) = Σ_{k≥n} (−1)^k k!/(k−n)! x^(k−n)/(2k+1)!, C likewise with (2k)!:
         // coefficient tables CS_TABLE[n − 1][m] for k = n + m.
@@ -195,24 +220,22 @@ fn cos_sinc_sqrt<const N: usize>(x: f64) -> ([f64; N], [f64; N]) {
             s[n] = ss;
         }
     } else {
-        s[1] = (c0 - s0) / (2.0 * x);
-        c[1] = -0.5 * s0;
-        s[2] = (c[1] - 3.0 * s[1]) / (2.0 * x);
-        c[2] = -0.5 * s[1];
-        s[3] = (c[2] - 5.0 * s[2]) / (2.0 * x);
-        c[3] = -0.5 * s[2];
+        for n in 1..N {
+            s[n] = (c[n - 1] - (2 * n - 1) as f64 * s[n - 1]) / (2.0 * x);
+            c[n] = -0.5 * s[n - 1];
+        }
     }
     (take(c), take(s))
 }
 
 const CS_TERMS: usize = 12;
 
-/// Series coefficients of C^(n) and S^(n), n = 1..3 (computed once, at compile time).
-const CS_TABLE: ([[f64; CS_TERMS]; 3], [[f64; CS_TERMS]; 3]) = {
-    let mut c = [[0.0; CS_TERMS]; 3];
-    let mut s = [[0.0; CS_TERMS]; 3];
+/// Series coefficients of C^(n) and S^(n), n = 1..5 (computed once, at compile time).
+const CS_TABLE: ([[f64; CS_TERMS]; 5], [[f64; CS_TERMS]; 5]) = {
+    let mut c = [[0.0; CS_TERMS]; 5];
+    let mut s = [[0.0; CS_TERMS]; 5];
     let mut n = 1;
-    while n <= 3 {
+    while n <= 5 {
         let mut m = 0;
         while m < CS_TERMS {
             let k = n + m;
@@ -253,18 +276,18 @@ const G_SERIES: f64 = 0.05;
 
 const G_TERMS: usize = 20;
 
-/// a_k = a_{k−1} k/(2k+1), a₀ = 1, times k!/(k−n)!, for n = 1..3 and k = n + m.
-const G_TABLE: [[f64; G_TERMS]; 3] = {
-    let mut a = [0.0; G_TERMS + 3];
+/// a_k = a_{k−1} k/(2k+1), a₀ = 1, times k!/(k−n)!, for n = 1..5 and k = n + m.
+const G_TABLE: [[f64; G_TERMS]; 5] = {
+    let mut a = [0.0; G_TERMS + 5];
     a[0] = 1.0;
     let mut k = 1;
-    while k < G_TERMS + 3 {
+    while k < G_TERMS + 5 {
         a[k] = a[k - 1] * k as f64 / (2 * k + 1) as f64;
         k += 1;
     }
-    let mut t = [[0.0; G_TERMS]; 3];
+    let mut t = [[0.0; G_TERMS]; 5];
     let mut n = 1;
-    while n <= 3 {
+    while n <= 5 {
         let mut m = 0;
         while m < G_TERMS {
             let k = n + m;
@@ -276,15 +299,17 @@ const G_TABLE: [[f64; G_TERMS]; 3] = {
     t
 };
 
-/// Derivatives 0..3 in w of g(w) = θ/sin θ (w = cos θ) for a unit quaternion with scalar
-/// part `w` and vector norm `s` = sin θ.
+/// Derivatives 0..5 in w of g(w) = θ/sin θ (w = cos θ) for a unit quaternion with scalar
+/// part `w` and vector norm `s` = sin θ. Closed form (differentiating (1−w²)g' = wg − 1):
+/// (1−w²)g^(n) = (2n − 1) w g^(n−1) + (n − 1)² g^(n−2).
 fn theta_over_sin<const N: usize>(w: f64, s: f64) -> [f64; N] {
     let g0 = if s == 0.0 && w > 0.0 { 1.0 / w } else { atan2_over(s, w) };
+    let mut g = [0.0; MAXN];
+    g[0] = g0;
     if N == 1 {
-        return take([g0, 0.0, 0.0, 0.0]);
+        return take(g);
     }
     let y = if w > 0.0 { s * s / (1.0 + w) } else { 1.0 - w };
-    let mut g = [g0, 0.0, 0.0, 0.0];
     if y < G_SERIES {
         // g^(n)(w) = (−1)^n Σ_{k≥n} k!/(k−n)! a_k y^(k−n): tables G_TABLE[n − 1][m], k = n + m.
         for (n, gn) in g.iter_mut().enumerate().take(N).skip(1) {
@@ -298,8 +323,10 @@ fn theta_over_sin<const N: usize>(w: f64, s: f64) -> [f64; N] {
     } else {
         let s2 = s * s;
         g[1] = (w * g0 - 1.0) / s2;
-        g[2] = (3.0 * w * g[1] + g0) / s2;
-        g[3] = (5.0 * w * g[2] + 4.0 * g[1]) / s2;
+        for n in 2..N {
+            let m = (n - 1) as f64;
+            g[n] = ((2 * n - 1) as f64 * w * g[n - 1] + m * m * g[n - 2]) / s2;
+        }
     }
     take(g)
 }

@@ -15,6 +15,7 @@ pub mod analysis;
 pub mod convert;
 pub mod dual_quat;
 mod error;
+pub mod fit;
 pub mod integrate;
 pub mod interp;
 pub mod jet;

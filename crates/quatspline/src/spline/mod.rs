@@ -97,6 +97,11 @@ pub trait Spline: Send + Sync {
     fn segment_jet3(&self, seg: usize, t: f64) -> JQuat<3>;
     /// q, q', q'', q''' on segment `seg` at time `t`.
     fn segment_jet4(&self, seg: usize, t: f64) -> JQuat<4>;
+    /// q … q^(5) on segment `seg` at time `t` (for the continuity certificate beyond C³);
+    /// `None` for a spline that does not provide it (`segment_jets!` provides it).
+    fn segment_jet6(&self, _seg: usize, _t: f64) -> Option<JQuat<6>> {
+        None
+    }
 
     /// (first joint, last joint).
     fn domain(&self) -> (f64, f64) {
@@ -154,6 +159,9 @@ macro_rules! segment_jets {
         }
         fn segment_jet4(&self, seg: usize, t: f64) -> $crate::jet::JQuat<4> {
             self.segment::<4>(seg, t)
+        }
+        fn segment_jet6(&self, seg: usize, t: f64) -> Option<$crate::jet::JQuat<6>> {
+            Some(self.segment::<6>(seg, t))
         }
     };
 }

@@ -1,0 +1,206 @@
+//! Bindings of the fitting solvers (`quatspline::fit`): argument conversion, GIL release,
+//! error mapping, progress callbacks. Nothing else.
+
+use crate::arrays::{guarded, Rows};
+use numpy::{IntoPyArray, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use quatspline::fit::{self, position, FitOptions, Knots, Penalty, Robust, Smoothing};
+use quatspline::Quat;
+
+fn vec1(a: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
+    a.as_array().iter().copied().collect()
+}
+
+fn knots_of(spacing: Option<f64>, array: Option<PyReadonlyArray1<'_, f64>>) -> Knots {
+    match (spacing, array) {
+        (_, Some(a)) => Knots::Array(vec1(&a)),
+        (Some(h), None) => Knots::Spacing(h),
+        (None, None) => Knots::Default,
+    }
+}
+
+fn smoothing_of(s: Option<f64>) -> Smoothing {
+    match s {
+        None => Smoothing::Auto,
+        Some(v) => Smoothing::Fixed(v),
+    }
+}
+
+/// Calls the Python progress callable (if any) with (stage, iteration, step); an exception
+/// raised by it (e.g. KeyboardInterrupt) cancels the fit.
+fn reporter(cb: Option<Py<PyAny>>) -> impl FnMut(&str, usize, f64) -> bool + Send {
+    move |stage, it, step| match &cb {
+        None => true,
+        Some(f) => Python::attach(|py| f.call1(py, (stage, it, step)).is_ok() && py.check_signals().is_ok()),
+    }
+}
+
+fn quats_rows(q: &PyReadonlyArray2<'_, f64>, name: &'static str) -> PyResult<Vec<Quat>> {
+    let rows = Rows::new(q, name, 4)?;
+    Ok((0..rows.len()).map(|i| rows.quat(i)).collect())
+}
+
+/// Orientation fit; returns a dict of the result fields.
+#[pyfunction]
+#[pyo3(signature = (times, quats, weights, penalty, order, smoothing, knots_spacing, knots_array,
+                    robust, robust_scale, max_iter, tol, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn fit_rotations<'py>(
+    py: Python<'py>,
+    times: PyReadonlyArray1<'py, f64>,
+    quats: PyReadonlyArray2<'py, f64>,
+    weights: Option<PyReadonlyArray1<'py, f64>>,
+    penalty: &str,
+    order: Option<usize>,
+    smoothing: Option<f64>,
+    knots_spacing: Option<f64>,
+    knots_array: Option<PyReadonlyArray1<'py, f64>>,
+    robust: Option<&str>,
+    robust_scale: Option<f64>,
+    max_iter: usize,
+    tol: f64,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let t = vec1(&times);
+    let q = quats_rows(&quats, "quats")?;
+    let w = weights.as_ref().map(vec1);
+    let opts = FitOptions {
+        penalty: Penalty::parse(penalty).map_err(crate::arrays::to_py)?,
+        order,
+        smoothing: smoothing_of(smoothing),
+        knots: knots_of(knots_spacing, knots_array),
+        robust: Robust::parse(robust).map_err(crate::arrays::to_py)?,
+        robust_scale,
+        max_iter,
+        tol,
+    };
+    let mut rep = reporter(progress);
+    let r = guarded(py, "fit", move || fit::fit(&t, &q, w.as_deref(), &opts, &mut rep))?;
+    let d = PyDict::new(py);
+    let ctrl: Vec<f64> = r.ctrl.iter().flat_map(|q| q.to_wxyz()).collect();
+    d.set_item("ctrl", ctrl.into_pyarray(py).reshape([r.ctrl.len(), 4])?)?;
+    d.set_item("dt", r.dt)?;
+    d.set_item("t0", r.t0)?;
+    d.set_item("order", r.order)?;
+    d.set_item("residuals", r.residuals.into_pyarray(py))?;
+    d.set_item("robust_weights", r.robust_weights.into_pyarray(py))?;
+    d.set_item("robust_scale", r.robust_scale)?;
+    d.set_item("smoothing", r.lambda)?;
+    d.set_item("effective_dof", r.edf)?;
+    d.set_item("score", r.score)?;
+    d.set_item("iterations", r.iterations)?;
+    d.set_item("final_step", r.final_step)?;
+    d.set_item("converged", r.converged)?;
+    Ok(d)
+}
+
+/// Minimum-energy interpolation; returns the same dict as `fit_rotations`.
+#[pyfunction]
+#[pyo3(signature = (times, quats, penalty, resolution, progress=None))]
+fn min_energy<'py>(
+    py: Python<'py>,
+    times: PyReadonlyArray1<'py, f64>,
+    quats: PyReadonlyArray2<'py, f64>,
+    penalty: &str,
+    resolution: usize,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let t = vec1(&times);
+    let q = quats_rows(&quats, "quats")?;
+    let pen = Penalty::parse(penalty).map_err(crate::arrays::to_py)?;
+    let mut rep = reporter(progress);
+    let r = guarded(py, "MinimumEnergySpline", move || fit::min_energy(&t, &q, pen, resolution, &mut rep))?;
+    let d = PyDict::new(py);
+    let ctrl: Vec<f64> = r.ctrl.iter().flat_map(|q| q.to_wxyz()).collect();
+    d.set_item("ctrl", ctrl.into_pyarray(py).reshape([r.ctrl.len(), 4])?)?;
+    d.set_item("dt", r.dt)?;
+    d.set_item("t0", r.t0)?;
+    d.set_item("order", r.order)?;
+    d.set_item("residuals", r.residuals.into_pyarray(py))?;
+    d.set_item("iterations", r.iterations)?;
+    d.set_item("final_step", r.final_step)?;
+    Ok(d)
+}
+
+/// Position fit; returns a dict (ctrl (n, 3), dt, t0, order, residuals, robust_weights,
+/// smoothing, effective_dof, score, iterations).
+#[pyfunction]
+#[pyo3(signature = (times, positions, weights, penalty, order, smoothing, knots_spacing,
+                    knots_array, robust, robust_scale))]
+#[allow(clippy::too_many_arguments)]
+fn fit_positions<'py>(
+    py: Python<'py>,
+    times: PyReadonlyArray1<'py, f64>,
+    positions: PyReadonlyArray2<'py, f64>,
+    weights: Option<PyReadonlyArray1<'py, f64>>,
+    penalty: &str,
+    order: Option<usize>,
+    smoothing: Option<f64>,
+    knots_spacing: Option<f64>,
+    knots_array: Option<PyReadonlyArray1<'py, f64>>,
+    robust: Option<&str>,
+    robust_scale: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let t = vec1(&times);
+    let rows = Rows::new(&positions, "positions", 3)?;
+    let x: Vec<[f64; 3]> = (0..rows.len()).map(|i| std::array::from_fn(|c| rows.view[[i, c]])).collect();
+    let w = weights.as_ref().map(vec1);
+    let pen = Penalty::parse(penalty).map_err(crate::arrays::to_py)?;
+    let rob = Robust::parse(robust).map_err(crate::arrays::to_py)?;
+    let knots = knots_of(knots_spacing, knots_array);
+    let sm = smoothing_of(smoothing);
+    let r = guarded(py, "fit (positions)", move || {
+        position::fit_positions(&t, &x, w.as_deref(), pen, order, sm, &knots, rob, robust_scale)
+    })?;
+    let d = PyDict::new(py);
+    let ctrl: Vec<f64> = r.ctrl.iter().flat_map(|p| p.iter().copied()).collect();
+    d.set_item("ctrl", ctrl.into_pyarray(py).reshape([r.ctrl.len(), 3])?)?;
+    d.set_item("dt", r.dt)?;
+    d.set_item("t0", r.t0)?;
+    d.set_item("order", r.order)?;
+    d.set_item("residuals", r.residuals.into_pyarray(py))?;
+    d.set_item("robust_weights", r.robust_weights.into_pyarray(py))?;
+    d.set_item("smoothing", r.lambda)?;
+    d.set_item("effective_dof", r.edf)?;
+    d.set_item("score", r.score)?;
+    d.set_item("iterations", r.iterations)?;
+    Ok(d)
+}
+
+/// (M, 12): p, p', p'', p''' of a position B-spline at t.
+#[pyfunction]
+fn position_bspline_eval<'py>(
+    py: Python<'py>,
+    ctrl: PyReadonlyArray2<'py, f64>,
+    dt: f64,
+    t0: f64,
+    order: usize,
+    t: PyReadonlyArray1<'py, f64>,
+) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+    let rows = Rows::new(&ctrl, "ctrl", 3)?;
+    let c: Vec<[f64; 3]> = (0..rows.len()).map(|i| std::array::from_fn(|k| rows.view[[i, k]])).collect();
+    if !(2..=fit::model::MAXK).contains(&order) || c.len() < order {
+        return Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "order: expected 2 … {} with at least order control points, got order {order} and {} points",
+            fit::model::MAXK,
+            c.len()
+        )));
+    }
+    let tv = vec1(&t);
+    let m = tv.len();
+    let out = guarded(py, "position_bspline_eval", move || {
+        let mut out = vec![0.0; 12 * m];
+        position::evaluate(&c, dt, t0, order, &tv, &mut out)?;
+        Ok(out)
+    })?;
+    out.into_pyarray(py).reshape([m, 12])
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(fit_rotations, m)?)?;
+    m.add_function(wrap_pyfunction!(fit_positions, m)?)?;
+    m.add_function(wrap_pyfunction!(min_energy, m)?)?;
+    m.add_function(wrap_pyfunction!(position_bspline_eval, m)?)?;
+    Ok(())
+}

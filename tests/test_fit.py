@@ -1,0 +1,343 @@
+"""quatspline.fit: fitting splines on SO(3) (issue 2.2). The Jacobians against finite
+differences, the banded solver and the selected inverse are tested in Rust
+(``crates/quatspline/src/fit``); here: the fit's behaviour end to end."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import quatspline as qs
+
+
+def angle(a, b):
+    """Rotation angle between quaternion arrays (sign-invariant)."""
+    r = qs.multiply(qs.conjugate(qs.normalize(a)), qs.normalize(b))
+    return 2 * np.arctan2(np.linalg.norm(r[..., 1:], axis=-1), np.abs(r[..., 0]))
+
+
+def smooth_motion(t):
+    rv = np.stack([0.6 * np.sin(0.9 * t), 0.4 * np.cos(0.6 * t) - 0.4, 0.3 * t], axis=1)
+    return qs.from_rotvec(rv)
+
+
+def noisy(t, deg, seed=0):
+    rng = np.random.default_rng(seed)
+    axis = rng.normal(size=(len(t), 3))
+    axis /= np.linalg.norm(axis, axis=1, keepdims=True)
+    ang = rng.normal(size=len(t)) * np.deg2rad(deg)
+    return qs.multiply(smooth_motion(t), qs.from_rotvec(axis * ang[:, None]))
+
+
+T = np.linspace(0.0, 8.0, 401)
+
+
+# ---- exact recovery and limits ------------------------------------------------------------
+
+
+@pytest.mark.parametrize("penalty", ["acceleration", "jerk"])
+def test_exact_recovery_of_a_spline_in_the_fits_own_space(penalty):
+    order = 4 if penalty == "acceleration" else 6
+    rng = np.random.default_rng(3)
+    n_ctrl = 12
+    knots = np.linspace(0.0, 5.0, n_ctrl - order + 2)
+    ctrl = qs.from_rotvec(np.cumsum(rng.normal(scale=0.4, size=(n_ctrl, 3)), axis=0))
+    truth = qs.CumulativeBSpline(ctrl, dt=knots[1] - knots[0], t0=0.0, order=order)
+    t = np.linspace(0.0, 5.0, 200)
+    f = qs.fit(t, truth(t), smoothing=1e-12, penalty=penalty, knots=knots)
+    dense = np.linspace(0.0, 5.0, 2001)
+    assert np.max(angle(f(dense), truth(dense))) < 1e-9
+    assert np.max(f.residuals) < 1e-9
+    assert np.allclose(f.knots, knots)
+
+
+def test_lambda_to_infinity_acceleration_gives_constant_angular_velocity():
+    q = noisy(T, 2.0)
+    prev = None
+    for lam in (1e5, 1e7, 1e9):
+        f = qs.fit(T, q, smoothing=lam)
+        w = f.angular_velocity(T, frame="body")
+        a = np.max(np.linalg.norm(f.angular_acceleration(T, frame="body"), axis=1))
+        spread = np.max(np.abs(w - w.mean(axis=0)))
+        if prev is not None:  # |ω̇| and the spread of ω fall as 1/λ
+            assert a < 0.02 * prev[0] and spread < 0.02 * prev[1]
+        prev = (a, spread)
+    assert prev[0] < 1e-6 and prev[1] < 1e-6
+    # The limit is the least-squares constant-velocity rotation: λ beyond that moves nothing.
+    g = qs.fit(T, q, smoothing=1e10)
+    assert np.max(angle(f(T), g(T))) < 1e-6
+    with pytest.raises(ValueError, match="smoothing: λ = 1e20 is beyond"):
+        qs.fit(T, q, smoothing=1e20)
+
+
+def test_lambda_to_infinity_jerk_gives_zero_jerk():
+    q = noisy(T, 2.0)
+    jerks = []
+    for lam in (1e2, 1e4, 1e6):
+        f = qs.fit(T, q, smoothing=lam, penalty="jerk")
+        jerks.append(np.max(np.linalg.norm(f.jerk(T, frame="body"), axis=1)))
+    a = np.max(np.linalg.norm(f.angular_acceleration(T, frame="body"), axis=1))
+    assert jerks[2] < 0.2 * jerks[1] < 0.2**2 * jerks[0]
+    assert jerks[2] < 0.02 * a  # ω̈ → 0 while ω̇ stays: ω tends to a linear function of time
+
+
+def test_smoothing_zero_interpolates_every_sample():
+    t = np.linspace(0.0, 4.0, 41)
+    q = noisy(t, 3.0, seed=5)
+    f = qs.fit(t, q, smoothing=0)
+    assert np.max(f.residuals) < 1e-10
+    assert np.max(angle(f(t), q)) < 1e-10
+    assert f.smoothing == 0.0
+
+
+def test_smoothing_zero_with_too_few_knots_is_a_clear_error():
+    t = np.linspace(0.0, 4.0, 41)
+    with pytest.raises(ValueError, match="interpolat"):
+        qs.fit(t, noisy(t, 1.0), smoothing=0, knots=0.5)
+
+
+# ---- noise, λ selection ---------------------------------------------------------------------
+
+
+def test_fit_beats_the_noise_and_auto_lambda_minimises_gcv():
+    q = noisy(T, 1.0)
+    f = qs.fit(T, q)
+    truth = smooth_motion(T)
+    err = np.sqrt(np.mean(angle(f(T), truth) ** 2))
+    noise = np.sqrt(np.mean(angle(q, truth) ** 2))
+    assert err < 0.35 * noise
+    assert 3 < f.effective_dof < 3 * len(T)
+    assert f.converged and f.iterations >= 1 and f.final_step <= 1e-10
+    # GCV at the chosen λ is no worse than at λ/10 and 10λ (fixed-λ fits report their GCV).
+    lo = qs.fit(T, q, smoothing=f.smoothing / 10)
+    hi = qs.fit(T, q, smoothing=f.smoothing * 10)
+    assert f.score <= lo.score * (1 + 1e-6) and f.score <= hi.score * (1 + 1e-6)
+    # Residuals are rotation angles per sample.
+    assert np.allclose(f.residuals, angle(f(T), q), atol=1e-12)
+
+
+def test_weights_zero_drops_a_sample_and_scaling_weights_changes_nothing():
+    q = noisy(T, 1.0).copy()
+    q[200] = qs.multiply(q[200], qs.from_rotvec([0.0, 0.5, 0.0]))
+    w = np.ones(len(T))
+    w[200] = 0.0
+    a = qs.fit(T, q, weights=w, smoothing=1e-3)
+    clean = np.delete(np.arange(len(T)), 200)
+    lam = 1e-3 * (len(T) - 1) / len(T)  # weights are normalised to mean 1
+    b = qs.fit(T[clean], q[clean], smoothing=lam, knots=a.knots[1] - a.knots[0])
+    assert np.max(angle(a(T), b(T))) < 1e-6
+    c = qs.fit(T, q, weights=7.5 * w, smoothing=1e-3)
+    assert np.max(angle(a(T), c(T))) < 1e-12
+
+
+# ---- invariances ----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("smoothing", [1e-3, "auto"])
+def test_left_and_right_multiplication_transform_the_fit_the_same_way(smoothing):
+    q = noisy(T, 1.0, seed=2)
+    a = qs.from_rotvec([0.3, -1.2, 2.0])
+    b = qs.from_rotvec([-0.7, 0.4, 0.1])
+    f = qs.fit(T, q, smoothing=smoothing)
+    g = qs.fit(T, qs.multiply(qs.multiply(a, q), b), smoothing=smoothing)
+    dense = np.linspace(0, 8, 999)
+    expect = qs.multiply(qs.multiply(a, f(dense)), b)
+    assert np.max(angle(g(dense), expect)) < 1e-8
+    assert np.isclose(f.smoothing, g.smoothing, rtol=1e-6)
+
+
+def test_sign_flips_per_sample_change_nothing():
+    q = noisy(T, 1.0, seed=4)
+    flip = np.where(np.random.default_rng(0).random(len(T)) < 0.5, -1.0, 1.0)
+    f = qs.fit(T, q, smoothing=1e-3)
+    g = qs.fit(T, q * flip[:, None], smoothing=1e-3)
+    assert np.max(angle(f(T), g(T))) < 1e-12
+    assert np.allclose(f.residuals, g.residuals, atol=1e-12)
+
+
+# ---- derivatives and continuity ------------------------------------------------------------
+
+
+@pytest.mark.parametrize("penalty", ["acceleration", "jerk"])
+def test_angular_rates_match_finite_differences(penalty):
+    f = qs.fit(T, noisy(T, 1.0), smoothing=1e-3, penalty=penalty)
+    k = f.knots
+    t = (k[:-1] + 0.37 * (k[1] - k[0]))[::11]  # inside segments: the stencil stays in one
+    h = 1e-4
+
+    def num(fun):
+        return (fun(t - 2 * h) - 8 * fun(t - h) + 8 * fun(t + h) - fun(t + 2 * h)) / (12 * h)
+
+    for frame in ("world", "body"):
+        a = f.angular_acceleration(t, frame)
+        j = f.jerk(t, frame)
+        a_fd = num(lambda s, fr=frame: f.angular_velocity(s, fr))
+        j_fd = num(lambda s, fr=frame: f.angular_acceleration(s, fr))
+        assert np.allclose(a, a_fd, atol=1e-7 * (1 + np.abs(a).max()))
+        assert np.allclose(j, j_fd, atol=2e-6 * (1 + np.abs(j).max()))
+    # ω from the orientations themselves: 2 q' q*.
+    qd = num(f)
+    w_fd = 2 * qs.multiply(qd, qs.conjugate(f(t)))[:, 1:]
+    assert np.allclose(f.angular_velocity(t), w_fd, atol=1e-8)
+
+
+@pytest.mark.parametrize(("penalty", "order"), [("acceleration", 2), ("jerk", 4)])
+def test_continuity_certificate_at_knots(penalty, order):
+    f = qs.fit(T[:120], noisy(T[:120], 1.0), smoothing=1e-3, penalty=penalty)
+    assert f.continuity == order
+    cert = qs.continuity(f, order=order + 1)
+    assert len(cert) == len(f.knots) - 2
+    for j in cert:
+        assert j.order == order, (j.order, j.jump_rel)
+        assert np.all(j.jump_rel[: order + 1] <= 1e-9)
+        assert j.jump_rel[order + 1] > 1e-6
+
+
+# ---- robust losses ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("loss", ["huber", "cauchy"])
+def test_robust_loss_rejects_injected_outliers(loss):
+    rng = np.random.default_rng(8)
+    clean = noisy(T, 0.5, seed=8)
+    q = clean.copy()
+    bad = rng.choice(len(T), size=8, replace=False)
+    axis = rng.normal(size=(len(bad), 3))
+    axis /= np.linalg.norm(axis, axis=1, keepdims=True)
+    q[bad] = qs.multiply(q[bad], qs.from_rotvec(axis * np.deg2rad(20)))
+    truth = smooth_motion(T)
+    plain = qs.fit(T, q)
+    rob = qs.fit(T, q, robust=loss)
+    ref = qs.fit(T, clean)
+    e_plain = np.sqrt(np.mean(angle(plain(T), truth) ** 2))
+    e_rob = np.sqrt(np.mean(angle(rob(T), truth) ** 2))
+    e_ref = np.sqrt(np.mean(angle(ref(T), truth) ** 2))
+    assert e_rob < 0.5 * e_plain
+    assert e_rob < 1.5 * e_ref
+    assert np.all(rob.robust_weights[bad] < 0.2)
+    assert np.median(rob.robust_weights) > 0.9
+    assert np.isfinite(rob.robust_scale) and rob.robust_scale > 0
+    assert rob.residuals[bad].min() > np.deg2rad(15)
+
+
+def test_robust_scale_given_is_used():
+    q = noisy(T, 1.0)
+    f = qs.fit(T, q, robust="huber", robust_scale=0.01, smoothing=1e-3)
+    assert f.robust_scale == 0.01
+    assert np.allclose(f.robust_weights, np.minimum(1, 0.01 / np.maximum(f.residuals, 1e-300)))
+
+
+# ---- positions ----------------------------------------------------------------------------
+
+
+def test_positions_recover_a_known_cubic():
+    t = np.linspace(-1.0, 2.0, 61)
+    p = np.stack([1 + 2 * t - t**2 + 0.5 * t**3, -(t**3) + 0.25 * t, 3 - t**2], axis=1)
+    f = qs.fit(t, smooth_motion(t), positions=p, smoothing=1e-12, knots=0.25)
+    assert isinstance(f, qs.FittedPose)
+    d = np.linspace(-1.0, 2.0, 777)
+    pd = np.stack([1 + 2 * d - d**2 + 0.5 * d**3, -(d**3) + 0.25 * d, 3 - d**2], axis=1)
+    vd = np.stack([2 - 2 * d + 1.5 * d**2, -3 * d**2 + 0.25, -2 * d], axis=1)
+    ad = np.stack([-2 + 3 * d, -6 * d, -2 + 0 * d], axis=1)
+    assert np.max(np.abs(f.position(d) - pd)) < 1e-9
+    assert np.max(np.abs(f.linear_velocity(d) - vd)) < 1e-7
+    assert np.max(np.abs(f.linear_acceleration(d) - ad)) < 1e-5
+    # a cubic has zero acceleration penalty... only for a straight line; λ → ∞ gives the
+    # least-squares line.
+    g = qs.fit(t, smooth_motion(t), positions=p, smoothing=(1e-6, 1e8), knots=0.25)
+    line = np.polynomial.polynomial.polyfit(t, p, 1)
+    assert np.max(np.abs(g.position(d) - np.polynomial.polynomial.polyval(d, line).T)) < 1e-5
+    assert f.position_residuals.shape == (61,) and np.max(f.position_residuals) < 1e-9
+
+
+def test_positions_with_auto_lambda_and_huber():
+    rng = np.random.default_rng(1)
+    t = np.linspace(0, 10, 501)
+    truth = np.stack([np.sin(t), np.cos(0.5 * t), 0.1 * t**2], axis=1)
+    p = truth + rng.normal(scale=0.01, size=truth.shape)
+    p[[50, 300]] += 1.0
+    f = qs.fit(t, smooth_motion(t), positions=p, robust="huber")
+    err = np.sqrt(np.mean(np.sum((f.position(t) - truth) ** 2, axis=1)))
+    assert err < 0.01
+    assert f.position_robust_weights[50] < 0.1 and f.position_robust_weights[300] < 0.1
+    o, x = f(t[:3])
+    assert o.shape == (3, 4) and x.shape == (3, 3)
+    assert f.transform_points(t[:2], [[1.0, 0, 0]]).shape == (2, 1, 3)
+
+
+# ---- bad input ----------------------------------------------------------------------------
+
+GOOD_T = np.linspace(0, 1, 20)
+GOOD_Q = smooth_motion(GOOD_T)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "exc", "match"),
+    [
+        (dict(times=[0.0], quats=[[1, 0, 0, 0]]), ValueError, "at least 2 samples"),
+        (dict(times=[0, 1], quats=GOOD_Q[:2], penalty="jerk"), ValueError, "at least 3 samples"),
+        (dict(weights=-np.ones(20)), ValueError, "negative weight"),
+        (dict(weights=np.r_[np.ones(19), np.nan]), ValueError, "weights: non-finite.*19"),
+        (dict(weights=np.zeros(20)), ValueError, "all weights are zero"),
+        (dict(weights=np.ones(3)), ValueError, "weights: expected shape"),
+        (dict(smoothing=-1.0), ValueError, "smoothing"),
+        (dict(smoothing=np.inf), ValueError, "smoothing"),
+        (dict(smoothing=np.nan), ValueError, "smoothing"),
+        (dict(smoothing="gcv"), ValueError, "smoothing"),
+        (dict(smoothing=[1.0]), TypeError, "smoothing"),
+        (dict(penalty="snap"), ValueError, "penalty: unknown"),
+        (dict(penalty=2), TypeError, "penalty"),
+        (dict(robust="tukey"), ValueError, "robust: unknown"),
+        (dict(robust_scale=-1.0), ValueError, "robust_scale"),
+        (dict(robust_scale="x"), TypeError, "robust_scale"),
+        (dict(knots=[0.0, 0.5, 2.0]), ValueError, "knots"),
+        (dict(knots=[-1.0, 0.0, 1.0]), ValueError, "knots"),
+        (dict(knots=[0.0, 0.6, 0.5, 1.0]), ValueError, "knots: not strictly increasing"),
+        (dict(knots=-0.1), ValueError, "knots"),
+        (dict(knots=5.0), ValueError, "knots: spacing"),
+        (dict(knots="x"), TypeError, "knots"),
+        (dict(times=np.r_[GOOD_T[:10], GOOD_T[9], GOOD_T[11:]]), ValueError, "duplicate time.*10"),
+        (dict(times=GOOD_T[::-1]), ValueError, "times: not increasing"),
+        (dict(times=np.r_[GOOD_T[:-1], np.nan]), ValueError, "times: non-finite"),
+        (dict(quats=GOOD_Q[:5]), ValueError, "quats: expected shape"),
+        (dict(quats=np.zeros((20, 4))), ValueError, "zero"),
+        (dict(positions=np.ones((20, 2))), ValueError, "positions"),
+        (dict(positions=np.r_[np.ones((19, 3)), [[np.inf, 0, 0]]]), ValueError, "non.*19"),
+        (dict(smoothing=(1.0, 2.0)), ValueError, "needs positions"),
+        (dict(max_iter=0), ValueError, "max_iter"),
+        (dict(order=3), ValueError, "order"),
+    ],
+)
+def test_bad_input_is_a_one_line_error(kwargs, exc, match):
+    args = dict(times=GOOD_T, quats=GOOD_Q)
+    args.update(kwargs)
+    t, q = args.pop("times"), args.pop("quats")
+    with pytest.raises(exc, match=match) as info:
+        qs.fit(t, q, **args)
+    assert "\n" not in str(info.value)
+
+
+def test_q_and_minus_q_samples_are_fine():
+    q = GOOD_Q.copy()
+    q[5] = -q[5]
+    q2 = np.insert(q, 6, -q[6], axis=0)  # not a duplicate time: separate check below
+    f = qs.fit(GOOD_T, q, smoothing=1e-6)
+    assert np.max(f.residuals) < 1e-4
+    assert q2.shape == (21, 4)
+
+
+def test_unconverged_fit_raises_with_iterations_and_step():
+    q = noisy(T, 1.0)
+    with pytest.raises(RuntimeError, match=r"did not converge in 1 iterations \(last step"):
+        qs.fit(T, q, smoothing=1e-3, max_iter=1)
+
+
+def test_progress_callback_and_cancel():
+    calls = []
+    f = qs.fit(T, noisy(T, 1.0), smoothing=1e-3, progress=lambda *a: calls.append(a))
+    assert len(calls) == f.iterations and calls[0][0] == "fit"
+
+    def stop(*a):
+        raise KeyboardInterrupt
+
+    with pytest.raises(ValueError, match="cancelled"):
+        qs.fit(T, noisy(T, 1.0), smoothing=1e-3, progress=stop)
