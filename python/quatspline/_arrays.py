@@ -30,7 +30,20 @@ def rotation_to_wxyz(r) -> np.ndarray:
 
 
 def as_real(x, name: str) -> np.ndarray:
-    """``x`` as a float64 array, or a ValueError naming ``name``."""
+    """``x`` as a float64 array, or a ValueError naming ``name``.
+
+    A masked array with masked elements is refused (its mask would otherwise be silently
+    dropped); one without masked elements is read as its data.
+    """
+    if isinstance(x, np.ma.MaskedArray):
+        m = np.ma.getmaskarray(x)
+        if m.any():
+            k = int(np.argmax(m.reshape(-1)))
+            raise ValueError(
+                f"{name}: masked array with {int(m.sum())} masked element(s) (first at flat "
+                f"index {k}); fill or drop them first (e.g. x.filled(...) or x.compressed())"
+            )
+        x = np.ma.getdata(x)
     try:
         a = np.asarray(x)
     except (ValueError, TypeError) as e:  # ragged lists and the like
