@@ -1097,7 +1097,8 @@ class NaturalSpline(Spline):
     ):
         q = _keys(quats, "quats")
         t = _times(times, len(q))
-        ends = choice(ends, "ends", ("natural", "clamped"))
+        if not isinstance(ends, str):
+            raise TypeError(f"ends: expected a string, got {type(ends).__name__}")
         if ends == "natural":
             for name, r in (("start_rate", start_rate), ("end_rate", end_rate)):
                 if r is not None:

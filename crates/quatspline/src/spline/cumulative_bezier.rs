@@ -65,13 +65,16 @@ impl CumulativeBezier {
         // factor j's weight B̃_j = Σ_{l≥j} B_{l,n}: Bernstein coefficients 1 from l = j on
         // (only for degrees the kernels take: building the forms costs O(n²) memory)
         let small = n <= crate::simd::cumulative::MAX_FACTORS;
-        let batch = small.then(|| CumulativeTable::new(&joints, Basis::Bernstein, |_| SegmentForm {
-            base: ctrl[0],
-            factors: (1..=n)
-                .map(|j| (logs[j - 1], (0..=n).map(|l| if l >= j { 1.0 } else { 0.0 }).collect()))
-                .collect(),
-        }))
-        .flatten();
+        let batch = small
+            .then(|| {
+                CumulativeTable::new(&joints, Basis::Bernstein, |_| SegmentForm {
+                    base: ctrl[0],
+                    factors: (1..=n)
+                        .map(|j| (logs[j - 1], (0..=n).map(|l| if l >= j { 1.0 } else { 0.0 }).collect()))
+                        .collect(),
+                })
+            })
+            .flatten();
         Ok(CumulativeBezier { ctrl, logs, ln_fact, joints, batch })
     }
 

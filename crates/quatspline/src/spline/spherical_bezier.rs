@@ -45,8 +45,8 @@ pub fn de_casteljau<const N: usize>(ctrl: &[Quat], logs: &[Axis], u: Jet<N>) -> 
     b[0]
 }
 
-/// The highest degree a spherical Bézier curve takes (33 control points, 528 slerps per sample).
-pub const MAX_DEGREE: usize = 32;
+/// The highest degree a spherical Bézier curve takes (65 control points, 2,080 slerps per sample).
+pub const MAX_DEGREE: usize = 64;
 
 /// One spherical Bézier curve of degree up to [`MAX_DEGREE`] on u ∈ [0, 1].
 #[derive(Debug, Clone)]
@@ -113,7 +113,7 @@ mod tests {
         assert!(SphericalBezier::new(&ok, (0.0, 1.0), false).is_ok());
         let bad = vec![Quat::IDENTITY; MAX_DEGREE + 2];
         let e = SphericalBezier::new(&bad, (0.0, 1.0), false).unwrap_err().to_string();
-        assert!(e.starts_with("control_points: 34 control points (degree 33)"), "{e}");
-        assert!(e.contains("degree 32") && e.contains("bspline"), "{e}");
+        assert!(e.starts_with("control_points: 66 control points (degree 65)"), "{e}");
+        assert!(e.contains("degree 64") && e.contains("bspline"), "{e}");
     }
 }
