@@ -95,9 +95,9 @@ FUZZ_SECONDS ?= 60
 fuzz: build
 	command -v cargo-fuzz >/dev/null || cargo install cargo-fuzz
 	mkdir -p fuzz/corpus/splines fuzz/corpus/readers
-	cd fuzz && cargo +nightly fuzz run splines corpus/splines -- -max_total_time=$(FUZZ_SECONDS) -max_len=512
+	cd fuzz && cargo +nightly fuzz run splines corpus/splines -- -max_total_time=$(FUZZ_SECONDS) -max_len=65536
 	$(VENV)/bin/python -m pip install --quiet atheris
-	$(VPY) fuzz/readers_fuzz.py fuzz/corpus/readers -max_total_time=$(FUZZ_SECONDS)
+	$(VPY) fuzz/readers_fuzz.py fuzz/corpus/readers fuzz/regressions/readers -max_total_time=$(FUZZ_SECONDS)
 
 accuracy: build $(DEV)
 	$(VPY) benchmarks/accuracy.py

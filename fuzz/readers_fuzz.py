@@ -1,9 +1,10 @@
 """Fuzz the trajectory file readers with atheris: arbitrary bytes as every supported format.
 
-A reader must return a valid trajectory (finite times strictly increasing, unit quaternions)
-or raise ValueError with a message naming the file; any other exception is a bug.
+The invariant lives in ``readers_check.py`` (shared with tests/test_fuzz_regressions.py, which
+replays every input in ``fuzz/regressions/readers``). Pass that folder as a second corpus
+directory so past findings seed each run:
 
-    python fuzz/readers_fuzz.py -max_total_time=600
+    python fuzz/readers_fuzz.py fuzz/corpus/readers fuzz/regressions/readers -max_total_time=600
 """
 
 from __future__ import annotations
@@ -14,31 +15,16 @@ import tempfile
 
 import atheris
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
 with atheris.instrument_imports():
-    import numpy as np
-    import quatspline.io as qio
+    import readers_check
 
 DIR = tempfile.mkdtemp(prefix="qs-fuzz-")
-NAMES = ["a.csv", "a.txt", "a.json", "a.npz", "a.bvh", "a.csv"]
-FORMATS = [None, None, None, None, None, "euroc"]
 
 
 def one_input(data: bytes) -> None:
-    if not data:
-        return
-    k = data[0] % len(NAMES)
-    path = os.path.join(DIR, NAMES[k])
-    with open(path, "wb") as f:
-        f.write(data[1:])
-    fmt = FORMATS[k]
-    try:
-        t = qio.read(path, format=fmt)
-    except ValueError as e:
-        assert path in str(e) or "format" in str(e), f"error does not name the file: {e}"
-        return
-    assert len(t) > 0
-    assert np.all(np.isfinite(t.times)) and np.all(np.diff(t.times) > 0)
-    assert np.all(np.abs(np.linalg.norm(t.quats, axis=1) - 1) < 1e-12)
+    readers_check.check_one(data, DIR)
 
 
 if __name__ == "__main__":

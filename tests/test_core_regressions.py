@@ -176,3 +176,307 @@ def test_output_allocation_failure_is_memory_error_naming_the_size_not_a_panic()
     with pytest.raises(MemoryError, match=r"slerp: cannot allocate .*4\.0 EiB"):
         qs.slerp([1, 0, 0, 0], [0, 1, 0, 0], t)
     assert qs.slerp([1, 0, 0, 0], [0, 1, 0, 0], 0.5).shape == (4,)  # still works
+
+
+# ---- item 4: Squad's inner slerp vs numpy-quaternion ------------------------------------------
+def _shoemake_controls(q):
+    """Shoemake's uniform-time control points sᵢ = qᵢ exp(−(log(qᵢ* qᵢ₊₁) + log(qᵢ* qᵢ₋₁))/4)."""
+    s = q.copy()
+    for i in range(1, len(q) - 1):
+        a = qs.log(qs.multiply(qs.conjugate(q[i]), q[i + 1]))
+        b = qs.log(qs.multiply(qs.conjugate(q[i]), q[i - 1]))
+        s[i] = qs.multiply(q[i], qs.exp(-(a + b) / 4))
+    return s
+
+
+@pytest.mark.parametrize("step", [0.3, 0.9, 1.2, 1.5])
+def test_squad_agrees_with_numpy_quaternion_exactly_when_its_slerps_are_short(step):
+    """README claim: on interior segments of uniformly timed keys our Squad equals
+    numpy-quaternion's ``squad`` (to 1e-13) exactly when, in every segment, both of its slerps
+    already take the short arc (sᵢ·sᵢ₊₁ ≥ 0 and Slerp(qᵢ, qᵢ₊₁; u)·Slerp(sᵢ, sᵢ₊₁; u) ≥ 0).
+    Otherwise numpy-quaternion flips a slerp's end point mid-segment and its curve jumps;
+    ours follows the S³ geodesic between the control points as designed and stays C¹."""
+    import quaternion
+
+    from .splinekit import joint_jumps, random_walk
+
+    agree = disagree = 0
+    for seed in range(12):
+        q = random_walk(10, seed, step=step)
+        t = np.arange(10.0)
+        ours_s = qs.Squad(q, t)
+        assert np.max(joint_jumps(ours_s, 1)[:, 1]) < 1e-12  # C¹ at every joint, any step
+        s = _shoemake_controls(q)
+        short = True
+        for i in range(1, 8):
+            u = np.linspace(0, 1, 201)
+            a = qs.slerp(q[i], q[i + 1], u, long_path=True)
+            b = qs.slerp(s[i], s[i + 1], u, long_path=True)
+            short &= bool(np.dot(s[i], s[i + 1]) >= 0 and np.all(np.sum(a * b, -1) >= 0))
+        x = np.linspace(1.0, 8.0, 3501)
+        ref = quaternion.as_float_array(quaternion.squad(quaternion.as_quat_array(q), t, x))
+        ours = ours_s(x)
+        diff = np.minimum(np.abs(ours - ref).max(-1), np.abs(ours + ref).max(-1)).max()
+        if short:
+            agree += 1
+            assert diff < 1e-13
+        else:
+            disagree += 1
+            assert diff > 1e-3
+
+            # numpy-quaternion's curve jumps; ours moves smoothly between samples.
+            def biggest_step(v):
+                return 2 * np.arccos(np.abs(np.sum(v[1:] * v[:-1], -1)).clip(0, 1)).max()
+
+            assert biggest_step(ref) > 10 * biggest_step(ours)
+    if step <= 0.9:
+        assert disagree == 0
+    if step >= 1.5:
+        assert disagree > 0
+
+
+# ---- item 5: CumulativeBezier with thousands of control points ---------------------------------
+def test_cumulative_bezier_thousands_of_control_points_match_mpmath_reference():
+    """On main every value and derivative was NaN from 1,024 control points on (C(n, i)
+    overflowed). Reference: the cumulative basis B̃_j(u) = Σ_{i≥j} C(n,i) uⁱ(1−u)ⁿ⁻ⁱ in mpmath
+    (40 digits), then q₀ Π exp(B̃_j log(q_{j−1}* q_j)) in numpy."""
+    import mpmath
+
+    from .splinekit import fd, random_walk
+
+    mpmath.mp.dps = 40
+    n1 = 3000
+    c = random_walk(n1, 11, step=0.06)
+    s = qs.CumulativeBezier(c)
+    logs = qs.log(qs.multiply(qs.conjugate(c[:-1]), c[1:]))
+    n = n1 - 1
+    for u in (0.0, 0.013, 0.25, 0.5, 0.731, 0.999, 1.0):
+        um = mpmath.mpf(u)
+        terms = [mpmath.binomial(n, i) * um**i * (1 - um) ** (n - i) for i in range(n + 1)]
+        cum = np.empty(n + 1)
+        acc = mpmath.mpf(0)
+        for j in range(n, 0, -1):
+            acc += terms[j]
+            cum[j] = float(acc)
+        q = c[0]
+        for j in range(1, n + 1):
+            q = qs.multiply(q, qs.exp(cum[j] * logs[j - 1]))
+        got = s(u)
+        assert np.all(np.isfinite(s.derivatives(u, 3)))
+        np.testing.assert_allclose(np.abs(np.dot(got, q)), 1.0, atol=1e-12)
+        np.testing.assert_allclose(got, q * np.sign(np.dot(got, q)), atol=1e-10)
+    # Exact derivatives against finite differences of the values, well inside the domain.
+    x = np.array([0.2, 0.5, 0.8])
+    for k in (1, 2):
+        f = s if k == 1 else (lambda t: s.derivative(t, 1))
+        np.testing.assert_allclose(s.derivative(x, k), fd(f, x, 1e-4), rtol=1e-5, atol=1e-6)
+
+
+def test_cumulative_bezier_above_its_limit_names_the_limit_and_the_alternative():
+    with pytest.raises(
+        ValueError, match=r"control_points: 4097 control points: .*at most 4096.*bspline"
+    ):
+        qs.CumulativeBezier(np.tile([1.0, 0, 0, 0], (4097, 1)))
+
+
+# ---- item 6: SphericalBezier degree cap; registry methods bounded -----------------------------
+def test_spherical_bezier_degree_above_64_is_refused_naming_the_limit_and_alternative():
+    from .splinekit import random_walk
+
+    qs.SphericalBezier(random_walk(65, 1, 0.1))  # degree 64: fine
+    with pytest.raises(
+        ValueError, match=r"control_points: 400 control points \(degree 399\).*degree 64.*bspline"
+    ):
+        qs.SphericalBezier(random_walk(400, 1, 0.1))
+    # The registry's one-curve methods inherit the limits (3,000 keys took forever before).
+    keys = random_walk(3000, 2, 0.06)
+    with pytest.raises(ValueError, match="degree 64"):
+        qs.spline("bezier", keys)
+    with pytest.raises(ValueError, match="at most 4096"):
+        qs.spline("cumulative_bezier", np.tile(keys, (2, 1)))
+    assert np.all(np.isfinite(qs.spline("cumulative_bezier", keys)(np.linspace(0, 2999, 7))))
+
+
+# ---- item 15: API inputs ----------------------------------------------------------------------
+@pytest.mark.parametrize("method", ["bezier", "cumulative_bezier", "bspline", "beta"])
+@pytest.mark.parametrize(
+    "times, msg",
+    [
+        ([0, 1, np.nan, 3, 4, 5], r"times: non-finite value .* at element 2"),
+        ([0, 2, 1, 3, 4, 5], r"times: not strictly increasing at index 2"),
+        ([0, 1, 2, 3, 4, 1e40], r"times: .*beyond the supported range"),
+        ([[0, 1, 2, 3, 4, 5]], r"times: expected 6 times"),
+    ],
+)
+def test_registry_validates_times_for_approximating_methods(method, times, msg):
+    from .splinekit import random_walk
+
+    with pytest.raises(ValueError, match=msg):
+        qs.spline(method, random_walk(6, 3), times)
+
+
+def test_splines_own_their_keys_so_reparameterize_ignores_caller_mutation():
+    from .splinekit import random_walk
+
+    q, t = random_walk(8, 4), np.arange(8.0) * 0.5
+    s = qs.spline("squad", q, t)
+    want = qs.reparameterize(s)(np.linspace(0, 3.5, 9))
+    q[:] = [1.0, 0, 0, 0]
+    t[:] = np.arange(8.0)
+    np.testing.assert_array_equal(qs.reparameterize(s)(np.linspace(0, 3.5, 9)), want)
+    assert not s.params["quats"].flags.writeable
+
+
+def test_pose_spline_refuses_unknown_extrapolate():
+    from .splinekit import random_walk
+
+    with pytest.raises(
+        ValueError, match=r"extrapolate: expected one of \('raise', 'clamp'\), got 'clmap'"
+    ):
+        qs.PoseSpline(np.arange(5.0), random_walk(5, 1), np.zeros((5, 3)), extrapolate="clmap")
+
+
+@pytest.mark.parametrize(
+    "t, exc, msg",
+    [
+        (np.nan, ValueError, r"t: expected a finite number, got nan"),
+        (1e300, ValueError, r"t: t = 1e\+300 is outside the spline's domain \[0.0, 5.0\]"),
+        ("1.0", TypeError, r"t: expected a real number, got str"),
+    ],
+)
+def test_segment_derivatives_rejects_nan_huge_and_non_numbers(t, exc, msg):
+    from .splinekit import random_walk
+
+    s = qs.Squad(random_walk(6, 1), np.arange(6.0))
+    with pytest.raises(exc, match=msg):
+        s.segment_derivatives(0, t)
+    with pytest.raises(TypeError, match=r"segment: expected an integer, got float 2.5"):
+        s.segment_derivatives(2.5, 1.0)
+    with pytest.raises(ValueError, match=r"segment: expected an integer from 0 to 4, got 5"):
+        s.segment_derivatives(5, 1.0)
+
+
+def test_sample_refuses_a_fractional_count():
+    s = qs.PiecewiseSlerp(qs.from_euler("z", [0.0, 1.0]), [0.0, 1.0])
+    with pytest.raises(TypeError, match=r"n: expected an integer, got float 2.7"):
+        s.sample(n=2.7)
+    with pytest.raises(ValueError, match=r"n: expected an integer ≥ 1, got 0"):
+        s.sample(n=0)
+    with pytest.raises(ValueError, match=r"rate: expected a finite positive number, got -2.0"):
+        s.sample(rate=-2.0)
+    assert len(s.sample(n=np.int64(3))[0]) == 3
+
+
+def test_natural_ends_refuse_a_start_or_end_rate():
+    from .splinekit import random_walk
+
+    q = random_walk(5, 2)
+    with pytest.raises(ValueError, match=r"start_rate: only used with ends='clamped'"):
+        qs.NaturalSpline(q, ends="natural", start_rate=[1.0, 0, 0])
+    with pytest.raises(ValueError, match=r"end_rate: only used with ends='clamped'"):
+        qs.NaturalSpline(q, end_rate=[1.0, 0, 0])
+    qs.NaturalSpline(q, ends="clamped", start_rate=[1.0, 0, 0])
+
+
+def test_masked_arrays_with_masked_elements_are_refused_and_unmasked_ones_read():
+    from .splinekit import random_walk
+
+    q = random_walk(5, 2)
+    m = np.ma.masked_array(q, mask=np.zeros_like(q, bool))
+    np.testing.assert_array_equal(qs.Squad(m)(1.5), qs.Squad(q)(1.5))
+    m.mask[2, 1] = True
+    with pytest.raises(ValueError, match=r"quats: masked array with 1 masked element\(s\)"):
+        qs.Squad(m)
+    with pytest.raises(ValueError, match=r"t: masked array"):
+        qs.Squad(q)(np.ma.masked_array([0.5, 1.0], mask=[False, True]))
+    with pytest.raises(ValueError, match=r"q0: masked array"):
+        qs.slerp(m, q, 0.5)
+
+
+# ---- item 16: one error convention (TypeError kind, ValueError value, argument named) ---------
+@pytest.mark.parametrize(
+    "call, exc, msg",
+    [
+        (
+            lambda s: s.derivative(1.0, order=2.0),
+            TypeError,
+            r"^order: expected an integer, got float 2.0$",
+        ),
+        (
+            lambda s: s.derivative(1.0, order=4),
+            ValueError,
+            r"^order: expected an integer from 0 to 3, got 4$",
+        ),
+        (
+            lambda s: s.derivatives(1.0, order="3"),
+            TypeError,
+            r"^order: expected an integer, got str '3'$",
+        ),
+        (
+            lambda s: qs.CumulativeBSpline(s.params["quats"], order=-1),
+            ValueError,
+            r"^order: expected 2 ≤ order ≤ 12, got -1$",
+        ),
+        (
+            lambda s: qs.CumulativeBSpline(s.params["quats"], order=4.0),
+            TypeError,
+            r"^order: expected an integer",
+        ),
+        (
+            lambda s: qs.continuity(s, tol="1e-9"),
+            TypeError,
+            r"^tol: expected a real number, got str '1e-9'$",
+        ),
+        (
+            lambda s: qs.continuity(s, tol=-1.0),
+            ValueError,
+            r"^tol: expected a finite positive number, got -1.0$",
+        ),
+        (
+            lambda s: qs.continuity(s, order=1.0),
+            TypeError,
+            r"^order: expected an integer, got float 1.0$",
+        ),
+        (
+            lambda s: qs.set_num_threads(-1),
+            ValueError,
+            r"^n: expected an integer from 0 to 1024, got -1$",
+        ),
+        (lambda s: qs.set_num_threads(2.5), TypeError, r"^n: expected an integer, got float 2.5$"),
+        (
+            lambda s: qs.rotate_points(s(0.5)[None], [[np.nan, 0, 0]]),
+            ValueError,
+            r"^points: non-finite value \(NaN or inf\) at element 0$",
+        ),
+        (
+            lambda s: qs.ScrewSpline(s.params["quats"][:3], [0, np.nan, 2], np.zeros((3, 3))),
+            ValueError,
+            r"^times: non-finite value",
+        ),
+        (
+            lambda s: qs.ScrewSpline(s.params["quats"][:3], [0, 1, 1e40], np.zeros((3, 3))),
+            ValueError,
+            r"^times: .*beyond the supported range",
+        ),
+        (
+            lambda s: qs.dlb(np.zeros((0, 8)), np.zeros(0)),
+            ValueError,
+            r"^dqs: expected at least one pose",
+        ),
+        (
+            lambda s: qs.Squad(s.params["quats"], extrapolate=1),
+            TypeError,
+            r"^extrapolate: expected one of",
+        ),
+        (lambda s: qs.from_euler(3, [0.0]), TypeError, r"^seq: expected a string"),
+    ],
+)
+def test_error_convention_typeerror_for_kind_valueerror_for_value_naming_the_argument(
+    call, exc, msg
+):
+    from .splinekit import random_walk
+
+    s = qs.Squad(random_walk(6, 1), np.arange(6.0))
+    with pytest.raises(exc, match=msg):
+        call(s)
+    qs.set_num_threads(0)

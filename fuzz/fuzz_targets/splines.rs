@@ -28,13 +28,23 @@ fn check(s: &dyn Spline, queries: &[f64]) {
     let _ = quatspline::analysis::continuity(s, 3, 1e-9);
 }
 
+/// Inputs up to `-max_len=65536` bytes: with flag 0x40 in the first byte, the next two bytes
+/// give the key count (up to 4,200, so more than 1,024 control points — the CumulativeBezier
+/// overflow — and beyond its 4,096 limit are reachable when the input is long enough: 40
+/// bytes per key); otherwise 1 … 8 keys as before.
 fuzz_target!(|data: &[u8]| {
     if data.len() < 2 {
         return;
     }
-    let (head, rest) = data.split_at(1);
+    let big = data[0] & 0x40 != 0 && data.len() >= 3;
+    let (want, rest) = if big {
+        ((u16::from_le_bytes([data[1], data[2]]) as usize % 4200) + 1, &data[3..])
+    } else {
+        ((data[0] % 8) as usize + 1, &data[1..])
+    };
+    let head = [data[0]];
     let f = floats(rest);
-    let n = ((head[0] % 8) as usize + 1).min(f.len() / 5);
+    let n = want.min(f.len() / 5);
     if n == 0 {
         return;
     }

@@ -8,7 +8,7 @@ broadcasting, conversions, the CLI, file I/O and plots.
 from __future__ import annotations
 
 from . import batch, examples, io, ops
-from ._core import __version__, get_num_threads, set_num_threads
+from ._core import __version__
 from .algebra import canonicalize, conjugate, exp, inverse, log, multiply, normalize, power, rotate
 from .continuity import JointContinuity, continuity
 from .convert import (
@@ -66,6 +66,7 @@ from .spline import (
     path_length,
     reparameterize,
 )
+from .threads import get_num_threads, set_num_threads
 
 __all__ = [
     "batch",

@@ -29,8 +29,28 @@ def rotation_to_wxyz(r) -> np.ndarray:
     return np.concatenate([xyzw[..., 3:], xyzw[..., :3]], axis=-1)
 
 
+def _unmasked(x, name: str):
+    """A masked array's data when nothing is masked; a ValueError naming ``name`` otherwise
+    (numpy would silently drop the mask)."""
+    if isinstance(x, np.ma.MaskedArray):
+        m = np.ma.getmaskarray(x)
+        if m.any():
+            k = int(np.argmax(m.reshape(-1)))
+            raise ValueError(
+                f"{name}: masked array with {int(m.sum())} masked element(s) (first at flat "
+                f"index {k}); fill or drop them first (e.g. x.filled(...) or x.compressed())"
+            )
+        return np.ma.getdata(x)
+    return x
+
+
 def as_real(x, name: str) -> np.ndarray:
-    """``x`` as a float64 array, or a ValueError naming ``name``."""
+    """``x`` as a float64 array, or a ValueError naming ``name``.
+
+    A masked array with masked elements is refused (its mask would otherwise be silently
+    dropped); one without masked elements is read as its data.
+    """
+    x = _unmasked(x, name)
     try:
         a = np.asarray(x)
     except (ValueError, TypeError) as e:  # ragged lists and the like
@@ -48,6 +68,7 @@ def as_times(x, name: str) -> np.ndarray:
     seconds since 1970-01-01T00:00 UTC; ``timedelta64`` values (pandas ``TimedeltaIndex``,
     ``Timedelta``) become seconds. ``NaT`` is rejected.
     """
+    x = _unmasked(x, name)
     tz = getattr(x, "tz", None)
     if tz is not None and hasattr(x, "tz_convert"):  # pandas, time-zone aware
         x = x.tz_convert("UTC").tz_localize(None)

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._checks import integer, real
 from .spline import Spline
 
 __all__ = ["JointContinuity", "continuity"]
@@ -101,6 +102,8 @@ def continuity(spline: Spline, order: int = 3, tol: float = 1e-9) -> list[JointC
 
     Raises
     ------
+    TypeError
+        If ``order`` is not an integer or ``tol`` not a real number.
     ValueError
         If ``order`` is not 0–5 or ``tol`` is not a positive finite number.
 
@@ -117,10 +120,8 @@ def continuity(spline: Spline, order: int = 3, tol: float = 1e-9) -> list[JointC
     >>> j.time, j.order, bool(j.jump_rel[1] > 0.1)  # slerp: the velocity jumps
     (1.0, 0, True)
     """
-    if order not in (0, 1, 2, 3, 4, 5):
-        raise ValueError(f"order: expected 0 … 5, got {order!r}")
-    if not (np.isfinite(tol) and tol > 0):
-        raise ValueError(f"tol: expected a finite positive tolerance, got {tol!r}")
+    order = integer(order, "order", 0, 5)
+    tol = real(tol, "tol", positive=True)
     beta = spline._core.beta_residuals()
     by_joint = {b[0]: b for b in beta} if beta is not None else {}
     out = []

@@ -392,6 +392,8 @@ def dlb(dqs: ArrayLike, weights: ArrayLike) -> NDArray[np.float64]:
     if d.ndim < 2:
         raise ValueError(f"dqs: expected shape (..., K, 8), got {d.shape}")
     k = d.shape[-2]
+    if k == 0:
+        raise ValueError(f"dqs: expected at least one pose (shape (..., K ≥ 1, 8)), got {d.shape}")
     w = as_real(weights, "weights")
     if w.ndim == 0 or w.shape[-1] != k:
         raise ValueError(f"weights: expected shape (..., {k}) for {k} poses, got {w.shape}")

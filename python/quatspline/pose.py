@@ -16,6 +16,7 @@ from numpy.typing import ArrayLike, NDArray
 from . import _core
 from . import spline as sp
 from ._arrays import as_times, pose_key_order, with_width
+from ._checks import choice
 from .algebra import rotate
 from .registry import spline as make_spline
 
@@ -89,6 +90,7 @@ class PoseSpline:
         extrapolate: str = "raise",
         **params,
     ):
+        choice(extrapolate, "extrapolate", ("raise", "clamp"))
         if translation not in ("cubic", "linear"):
             raise ValueError(f"translation: expected 'cubic' or 'linear', got {translation!r}")
         quats, times = pose_key_order(quats, times, "PoseSpline")

@@ -25,7 +25,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from . import _core
 from . import spline as sp
+from ._arrays import as_real, with_width
 
 __all__ = [
     "METHODS",
@@ -60,7 +62,7 @@ def _pad(q):
 
 
 def _times_or_default(times, n):
-    return np.arange(n, dtype=float) if times is None else np.asarray(times, dtype=float)
+    return np.arange(n, dtype=float) if times is None else as_real(times, "times")
 
 
 def float_or_none(v):
@@ -127,6 +129,7 @@ def _loop_times(q, times, p):
 
 
 def _build(name, q, times, p):
+    q = with_width(q, "quats", 4)
     times = _loop_times(q, times, p)
     if name == "slerp":
         return sp.PiecewiseSlerp(q, times)
@@ -162,8 +165,11 @@ def _build(name, q, times, p):
     if name in ("fit", "min_energy"):
         return _fitted(name, q, times, p)
     t = _times_or_default(times, len(q))
-    if len(t) != len(q):
-        raise ValueError(f"times: expected {len(q)} times (one per key), got {len(t)}")
+    if t.ndim != 1 or len(t) != len(q):
+        raise ValueError(f"times: expected {len(q)} times (one per key), got shape {t.shape}")
+    # Only the ends (and, for bspline, the mean spacing) are used, but the times must be as
+    # valid as for every other method: finite, strictly increasing, in range.
+    _core.check_times(np.ascontiguousarray(t), len(q))
     if name == "bezier":
         return sp.SphericalBezier(q, domain=(t[0], t[-1]))
     if name == "cumulative_bezier":

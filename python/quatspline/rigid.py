@@ -53,4 +53,7 @@ def rotate_points(orientations: ArrayLike, points: ArrayLike) -> NDArray[np.floa
         raise ValueError(f"orientations: expected shape (M, 4), got {q.shape}")
     if v.ndim != 2:
         raise ValueError(f"points: expected shape (P, 3), got {v.shape}")
+    bad = ~np.isfinite(v).all(axis=-1)
+    if bad.any():
+        raise ValueError(f"points: non-finite value (NaN or inf) at element {int(np.argmax(bad))}")
     return rotate(q[:, None, :], v[None, :, :])

@@ -32,6 +32,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import _core
 from ._arrays import as_real, as_times, with_width
+from ._checks import choice, integer, real
 
 __all__ = [
     "BetaSpline",
@@ -76,6 +77,14 @@ def _times(times, n: int):
     if t.ndim != 1:
         raise ValueError(f"times: expected shape ({n},), got {t.shape}")
     return np.ascontiguousarray(t)
+
+
+def _frozen_copy(v):
+    if isinstance(v, np.ndarray):
+        c = np.array(v, copy=True)
+        c.flags.writeable = False
+        return c
+    return v
 
 
 class Spline:
@@ -130,11 +139,12 @@ class Spline:
     """
 
     def __init__(self, core: _core.Spline, extrapolate: str = "raise", **params):
-        if extrapolate not in _EXTRAPOLATE:
-            raise ValueError(f"extrapolate: expected one of {_EXTRAPOLATE}, got {extrapolate!r}")
+        choice(extrapolate, "extrapolate", _EXTRAPOLATE)
         self._core = core
         self.extrapolate = extrapolate
-        self.params = params
+        # Own copies (read-only) of array parameters: a caller mutating its keys or times after
+        # construction must not change what reparameterize() and friends read.
+        self.params = {k: _frozen_copy(v) for k, v in params.items()}
 
     # ---- description ------------------------------------------------------------------
     @property
@@ -254,6 +264,8 @@ class Spline:
 
         Raises
         ------
+        TypeError
+            If ``order`` is not an integer (2.0 included).
         ValueError
             If ``order`` is not 0–3, or a time is not finite or outside the domain.
 
@@ -270,8 +282,7 @@ class Spline:
         >>> bool(np.isclose(np.linalg.norm(dq), np.pi / 4))
         True
         """
-        if order not in (0, 1, 2, 3):
-            raise ValueError(f"order: expected 0, 1, 2 or 3, got {order!r}")
+        order = integer(order, "order", 0, 3)
         shape, out = self._eval(t, order)
         return out[:, 4 * order :].reshape((*shape, 4))
 
@@ -291,6 +302,8 @@ class Spline:
 
         Raises
         ------
+        TypeError
+            If ``order`` is not an integer (2.0 included).
         ValueError
             If ``order`` is not 0–3, or a time is not finite or outside the domain.
 
@@ -301,8 +314,7 @@ class Spline:
         >>> s.derivatives([0.5, 1.5]).shape
         (2, 4, 4)
         """
-        if order not in (0, 1, 2, 3):
-            raise ValueError(f"order: expected 0, 1, 2 or 3, got {order!r}")
+        order = integer(order, "order", 0, 3)
         shape, out = self._eval(t, order)
         return out.reshape((*shape, order + 1, 4))
 
@@ -435,7 +447,8 @@ class Spline:
     def segment_derivatives(self, segment: int, t: float) -> NDArray[np.float64]:
         """q, q', q'', q''' of one segment's formula at time ``t``.
 
-        Gives one-sided limits at joints (each segment's own formula, also just outside it).
+        Gives one-sided limits at joints (each segment's own formula, also outside the segment
+        but inside the spline's domain).
 
         Parameters
         ----------
@@ -451,8 +464,10 @@ class Spline:
 
         Raises
         ------
+        TypeError
+            If ``segment`` is not an integer or ``t`` not a real number.
         ValueError
-            If ``segment`` is out of range or ``t`` is not finite.
+            If ``segment`` is out of range, or ``t`` is not finite or outside the domain.
 
         Examples
         --------
@@ -464,7 +479,13 @@ class Spline:
         >>> bool(np.allclose(left[0], right[0])), bool(np.allclose(left[1], right[1]))
         (True, False)
         """
-        return self._core.segment_derivatives(int(segment), float(t))
+        nseg = len(self.joints) - 1
+        segment = integer(segment, "segment", 0, nseg - 1)
+        x = real(t, "t")
+        a, b = self.domain
+        if not a <= x <= b:
+            raise ValueError(f"t: t = {x} is outside the spline's domain [{a}, {b}]")
+        return self._core.segment_derivatives(segment, x)
 
     def sample(
         self, n: int | None = None, rate: float | None = None
@@ -502,12 +523,10 @@ class Spline:
         if (n is None) == (rate is None):
             raise ValueError("sample: give exactly one of n or rate")
         if n is not None:
-            if int(n) < 1:
-                raise ValueError(f"n: expected at least 1 sample, got {n}")
-            t = np.linspace(a, b, int(n))
+            n = integer(n, "n", lo=1)
+            t = np.linspace(a, b, n)
         else:
-            if not (np.isfinite(rate) and rate > 0):
-                raise ValueError(f"rate: expected a finite positive rate, got {rate}")
+            rate = real(rate, "rate", positive=True)
             t = a + np.arange(int(np.floor((b - a) * rate + 1e-9)) + 1) / rate
         return t, self(t)
 
@@ -996,6 +1015,9 @@ class CumulativeBSpline(Spline):
         knots=None,
     ):
         q = _keys(control_quats, "control_quats")
+        order = integer(order, "order")
+        if not 2 <= order <= 12:  # the core's rule and message (-1 overflowed its usize before)
+            raise ValueError(f"order: expected 2 ≤ order ≤ 12, got {order}")
         if knots is not None or np.ndim(dt) != 0:
             # Non-uniform knots (explicit, or per-interval spacings): see bspline.py.
             from .bspline import _core_spline
@@ -1003,8 +1025,9 @@ class CumulativeBSpline(Spline):
             core = _core_spline(q, dt, t0, order, bool(canonicalize), knots)
             super().__init__(core, extrapolate)
             return
+        dt, t0 = real(dt, "dt", positive=True), real(t0, "t0")
         super().__init__(
-            _core.cumulative_bspline(q, float(dt), float(t0), int(order), bool(canonicalize)),
+            _core.cumulative_bspline(q, dt, t0, order, bool(canonicalize)),
             extrapolate,
         )
 
@@ -1074,6 +1097,15 @@ class NaturalSpline(Spline):
     ):
         q = _keys(quats, "quats")
         t = _times(times, len(q))
+        if not isinstance(ends, str):
+            raise TypeError(f"ends: expected a string, got {type(ends).__name__}")
+        if ends == "natural":
+            for name, r in (("start_rate", start_rate), ("end_rate", end_rate)):
+                if r is not None:
+                    raise ValueError(
+                        f"{name}: only used with ends='clamped' (natural ends have zero angular "
+                        "acceleration, not a given rate)"
+                    )
         rates = []
         for name, r in (("start_rate", start_rate), ("end_rate", end_rate)):
             if r is None:

@@ -13,6 +13,7 @@ mod keyframe;
 mod simd;
 mod spline;
 mod toolkit;
+mod validate;
 
 use pyo3::prelude::*;
 
@@ -25,5 +26,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     keyframe::register(m)?;
     toolkit::register(m)?;
     simd::register(m)?;
+    validate::register(m)?;
     Ok(())
 }

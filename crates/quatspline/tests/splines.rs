@@ -142,3 +142,25 @@ fn keys_closer_than_the_time_resolution_are_rejected() {
         C3Spline::new(&q, Some(&[-6e306, -5e306, -4e306]), &[0.3], &[0.0], C3Variant::Knot, true).is_err()
     );
 }
+
+/// Regression (issue 2.1 item 5): with 1,024 or more control points the cumulative Bézier
+/// curve was NaN everywhere (its binomial coefficients overflowed). Values and all three
+/// derivatives must be finite and unit across the domain at 1,100 and 4,096 control points.
+#[test]
+fn cumulative_bezier_with_thousands_of_control_points_is_finite() {
+    for &n in &[1024usize, 1100, 4096] {
+        let keys: Vec<Quat> = (0..n)
+            .map(|i| {
+                let a = 0.01 * i as f64;
+                Quat::new(1.0 + a.cos(), (0.7 * a).sin(), (1.3 * a).cos(), 0.2).normalize()
+            })
+            .collect();
+        let s = CumulativeBezier::new(&keys, (0.0, 10.0), true).unwrap();
+        for k in 0..=20 {
+            let t = 10.0 * k as f64 / 20.0;
+            let d = derivatives_on(&s, 0, t, 3);
+            assert!(d.iter().all(|q| q.is_finite()), "n {n} t {t}: {d:?}");
+            assert!((d[0].norm() - 1.0).abs() < 1e-12);
+        }
+    }
+}

@@ -5,9 +5,15 @@
 //! b₀ⁿ(u), u ∈ [0, 1]. It passes through b₀ and bₙ with end tangents q'(0) = n b₀ log(b₀* b₁),
 //! q'(1) = n bₙ log(bₙ₋₁* bₙ). One curve: C^∞ on [0, 1]. A cubic costs 6 slerps (seed 003's
 //! eq. 5.2 is misprinted). Consecutive control points are sign-aligned by default.
+//!
+//! Cost: de Casteljau takes n(n+1)/2 slerps per sample, so the degree is capped at
+//! [`MAX_DEGREE`] (a curve through 400 keys took 149 s for a 3,000-sample comparison). One
+//! Bézier curve of high degree through many keys is not a useful method anyway: it only passes
+//! through the end points and averages the rest away. For many keys use a spline with local
+//! support (`CumulativeBSpline`, registry "bspline") or `CumulativeBezier` (O(n) per sample).
 
 use super::{prepare_keys, segment_jets, Spline};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::jet::{Axis, JQuat, Jet};
 use crate::quat::Quat;
 
@@ -39,7 +45,10 @@ pub fn de_casteljau<const N: usize>(ctrl: &[Quat], logs: &[Axis], u: Jet<N>) -> 
     b[0]
 }
 
-/// One spherical Bézier curve of any degree on u ∈ [0, 1].
+/// The highest degree a spherical Bézier curve takes (65 control points, 2,080 slerps per sample).
+pub const MAX_DEGREE: usize = 64;
+
+/// One spherical Bézier curve of degree up to [`MAX_DEGREE`] on u ∈ [0, 1].
 #[derive(Debug, Clone)]
 pub struct SphericalBezier {
     ctrl: Vec<Quat>,
@@ -52,6 +61,20 @@ impl SphericalBezier {
     /// `domain` (t₀, t₁) maps u = (t − t₀)/(t₁ − t₀); (0, 1) is the plain curve.
     pub fn new(ctrl: &[Quat], domain: (f64, f64), canonicalize: bool) -> Result<Self> {
         let joints = super::check_domain(domain)?;
+        if ctrl.len() > MAX_DEGREE + 1 {
+            return Err(Error::invalid(
+                "control_points",
+                format!(
+                    "{} control points (degree {}): a spherical Bézier curve is limited to degree \
+                     {MAX_DEGREE} ({} control points), since de Casteljau costs O(n²) slerps per \
+                     sample; for many keys use the cumulative B-spline (CumulativeBSpline, method \
+                     'bspline') or CumulativeBezier (O(n) per sample)",
+                    ctrl.len(),
+                    ctrl.len() - 1,
+                    MAX_DEGREE + 1
+                ),
+            ));
+        }
         let ctrl = prepare_keys(ctrl, "control_points", 2, canonicalize)?;
         let logs = super::chain_logs(&ctrl);
         Ok(SphericalBezier { ctrl, logs, joints })
@@ -76,5 +99,21 @@ impl Spline for SphericalBezier {
     }
     fn continuity(&self) -> u8 {
         u8::MAX
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Regression (issue 2.1 item 6): degree was unbounded and cost O(n²) per sample.
+    #[test]
+    fn degree_above_the_cap_is_refused_naming_limit_and_alternative() {
+        let ok = vec![Quat::IDENTITY; MAX_DEGREE + 1];
+        assert!(SphericalBezier::new(&ok, (0.0, 1.0), false).is_ok());
+        let bad = vec![Quat::IDENTITY; MAX_DEGREE + 2];
+        let e = SphericalBezier::new(&bad, (0.0, 1.0), false).unwrap_err().to_string();
+        assert!(e.starts_with("control_points: 66 control points (degree 65)"), "{e}");
+        assert!(e.contains("degree 64") && e.contains("bspline"), "{e}");
     }
 }
