@@ -231,3 +231,29 @@ def test_sigterm_during_a_write_leaves_no_temporary_file(tmp_path):
             child.kill()
     assert rc == 128 + signal.SIGTERM
     assert list(tmp_path.iterdir()) == []
+
+
+def test_dash_output_into_a_closed_pipe_exits_quietly(tmp_path):
+    """``sample … -o - | head -c 100``: main printed ``[Errno 32] Broken pipe`` and exit 1."""
+    src = _write(tmp_path, "csv", _traj(n=50))
+    child = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "quatspline.cli",
+            "sample",
+            str(src),
+            "-o",
+            "-",
+            "--count",
+            "300000",
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    with child.stderr:
+        assert child.stdout.read(100)
+        child.stdout.close()
+        err = child.stderr.read().decode()
+    assert child.wait(timeout=300) == 141
+    assert err == ""

@@ -342,6 +342,14 @@ def main(argv: list[str] | None = None) -> int:
             raise
         print("quatspline: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # the reader of standard output went away (``-o - | head``): quiet, like SIGPIPE
+        import os
+
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+        return 128 + 13
     except Exception as e:
         if args.debug:
             import traceback
