@@ -202,3 +202,14 @@ def test_npz_with_a_corrupt_deflate_stream_is_a_value_error(tmp_path):
     with pytest.raises(ValueError) as e:
         qio.read(p)
     assert "not a valid .npz file (error: " in _one_line(e.value, p)
+
+
+def test_reader_normalises_quaternions_with_huge_components(tmp_path):
+    """Found by the writers' property test: |q|² overflowed, so main divided by inf and read
+    (0, 0, 0, 1e200) as the zero quaternion (with an overflow warning)."""
+    p = tmp_path / "huge.csv"
+    p.write_text("t,qw,qx,qy,qz\n0,0,0,3e300,1.7e308\n1,0,0,0,1e200\n")
+    t = qio.read(p)
+    np.testing.assert_allclose(t.quats[1], [0, 0, 0, 1])
+    np.testing.assert_allclose(np.linalg.norm(t.quats, axis=1), 1.0)
+    assert t.quats[0, 3] == pytest.approx(1.0) and t.quats[0, 2] == pytest.approx(3e300 / 1.7e308)

@@ -106,3 +106,11 @@ def test_sample_trajectory_argument_kinds():
         sample_trajectory(traj, "nope", count=3)
     with pytest.raises(ParameterError, match="^alpha: "):
         sample_trajectory(traj, "c3", count=3, params={"alpha": "x"})
+
+
+@pytest.mark.parametrize("rate", [1e308, 1.7976931348623157e308])
+def test_sample_count_of_an_overflowing_rate_is_refused_not_overflow_error(rate):
+    from quatspline.ops import sample_times
+
+    with pytest.raises(ParameterError, match=r"^rate: .* gives inf samples, more than max_samples"):
+        sample_times((0.0, 10.0), rate=rate)

@@ -231,3 +231,44 @@ def test_sigterm_during_a_write_leaves_no_temporary_file(tmp_path):
             child.kill()
     assert rc == 128 + signal.SIGTERM
     assert list(tmp_path.iterdir()) == []
+
+
+def test_dash_output_into_a_closed_pipe_exits_quietly(tmp_path):
+    """``sample … -o - | head -c 100``: main printed ``[Errno 32] Broken pipe`` and exit 1."""
+    src = _write(tmp_path, "csv", _traj(n=50))
+    child = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "quatspline.cli",
+            "sample",
+            str(src),
+            "-o",
+            "-",
+            "--count",
+            "300000",
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    with child.stderr:
+        assert child.stdout.read(100)
+        child.stdout.close()
+        err = child.stderr.read().decode()
+    assert child.wait(timeout=300) == 141
+    assert err == ""
+
+
+def test_euroc_round_trip_keeps_integer_nanosecond_stamps(tmp_path):
+    """Stamps of 1.4e18 ns do not survive seconds in float64 (±128 ns): the writer uses the
+    integer stamps the reader kept."""
+    p = tmp_path / "in.csv"
+    stamps = [1403715273262142976, 1403715273267142912, 1403715273272142848]
+    header = (
+        "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],"
+        "q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []\n"
+    )
+    p.write_text(header + "".join(f"{s},0,0,0,1,0,0,0\n" for s in stamps))
+    out = tmp_path / "out.csv"
+    qio.write(out, qio.read(p), format="euroc")
+    assert [int(line.split(",")[0]) for line in out.read_text().splitlines()[1:]] == stamps

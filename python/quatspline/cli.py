@@ -74,10 +74,21 @@ def _write_trajectory(args, traj: qio.Trajectory) -> None:
     with tempfile.TemporaryDirectory(prefix="quatspline-") as d:
         tmp = Path(d) / "stdout"
         qio.write(tmp, traj, format=args.format or "csv")
-        with open(tmp, "rb") as f:
+        sys.stdout.flush()
+        binary = getattr(sys.stdout, "buffer", None)
+        if binary is not None:
+            with open(tmp, "rb") as f:
+                shutil.copyfileobj(f, binary)
+            binary.flush()
+        else:  # a text-only stream (an embedding, a test harness): text formats only
+            try:
+                text = tmp.read_text(encoding="utf-8")
+            except UnicodeDecodeError:
+                raise UsageError(
+                    f"-o -: standard output takes text only here; {args.format} is binary"
+                ) from None
+            sys.stdout.write(text)
             sys.stdout.flush()
-            shutil.copyfileobj(f, sys.stdout.buffer)
-            sys.stdout.buffer.flush()
 
 
 def _guard_output(out: Path, inputs: list[Path], force: bool) -> None:
@@ -414,6 +425,14 @@ def main(argv: list[str] | None = None) -> int:
             raise
         print("quatspline: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # the reader of standard output went away (``-o - | head``): quiet, like SIGPIPE
+        import os
+
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+        return 128 + 13
     except Exception as e:
         if args.debug:
             import traceback

@@ -150,7 +150,8 @@ def sample_times(
             raise TypeError(f"rate: expected a number, got {type(rate).__name__}") from None
         if not (rate > 0 and math.isfinite(rate)):
             raise ParameterError(f"rate: expected a positive finite rate, got {rate:g}")
-        n = math.floor((b - a) * rate + 1e-9) + 1  # a Python float: no allocation yet
+        span = (b - a) * rate  # a Python float: no allocation yet (inf for a huge rate)
+        n = math.floor(span + 1e-9) + 1 if math.isfinite(span) else math.inf
         if not n <= max_samples:
             raise ParameterError(
                 f"rate: {rate:g} samples per unit over [{a:g}, {b:g}] gives {n:.4g} samples, "

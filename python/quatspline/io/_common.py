@@ -119,6 +119,23 @@ class Trajectory:
         return from_dataframe(df, name=name)
 
 
+#: Quaternions shorter than this are refused by the readers (and so by the writers).
+MIN_QUAT_NORM = 1e-12
+
+
+def quat_norms(quats: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(norms, unit quaternions) of finite quaternions (N, 4), scaled first so that components
+    up to 1.8e308 (whose squares overflow) give the right unit quaternion; a norm beyond the
+    float range is inf. Zero rows give norm 0 (and a meaningless unit row)."""
+    scale = np.max(np.abs(quats), axis=1)
+    safe = np.where(scale > 0, scale, 1.0)
+    scaled = quats / safe[:, None]
+    n = np.linalg.norm(scaled, axis=1)
+    with np.errstate(over="ignore"):
+        norm = scale * n
+    return norm, scaled / np.where(n > 0, n, 1.0)[:, None]
+
+
 def finish(
     path,
     times,
@@ -146,11 +163,11 @@ def finish(
     if np.any(bad):
         k = int(np.argmax(bad))
         raise TrajectoryError(f"{path}:{lines[k]}: NaN or inf in this row")
-    norm = np.linalg.norm(quats, axis=1)
-    if np.any(norm < 1e-12):
-        k = int(np.argmax(norm < 1e-12))
+    norm, unit = quat_norms(quats)
+    if np.any(norm < MIN_QUAT_NORM):
+        k = int(np.argmax(norm < MIN_QUAT_NORM))
         raise TrajectoryError(f"{path}:{lines[k]}: quaternion of zero norm")
-    quats = quats / norm[:, None]
+    quats = unit
     if sort:
         order = np.argsort(times, kind="stable")
         times, quats, lines = times[order], quats[order], lines[order]
@@ -252,10 +269,13 @@ def check_for_writing(
         if not finite.all():
             k = int(np.argmax(~finite))
             raise ValueError(f"{path}: refusing to write NaN or inf ({name}, row {k})")
-    norm = np.linalg.norm(traj.quats, axis=1)
-    if np.any(norm < 1e-150):
-        k = int(np.argmax(norm < 1e-150))
-        raise ValueError(f"{path}: refusing to write a quaternion of zero norm (row {k})")
+    norm, _ = quat_norms(traj.quats)
+    if np.any(norm < MIN_QUAT_NORM):
+        k = int(np.argmax(norm < MIN_QUAT_NORM))
+        raise ValueError(
+            f"{path}: refusing to write a quaternion of (nearly) zero norm "
+            f"{float(norm[k]):.3g} < {MIN_QUAT_NORM:g} at row {k} (the reader rejects it)"
+        )
     dt = np.diff(traj.times)
     if np.any(dt <= 0):
         k = int(np.argmax(dt <= 0)) + 1

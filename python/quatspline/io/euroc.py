@@ -20,7 +20,7 @@ NAMES = ("timestamp", "p_x", "p_y", "p_z", "q_w", "q_x", "q_y", "q_z")
 
 
 def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
-    rows, times, lines = [], [], []
+    rows, times, lines, stamps = [], [], [], []
     with open(path, encoding="utf-8-sig") as f:
         header = f.readline()
         if not header.startswith("#"):
@@ -47,12 +47,16 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
                     "out of range (|t| ≤ 1e30 ns)"
                 )
             times.append(ns * 1e-9)
+            stamps.append(ns)
             rows.append([parse_float(path, line, c + 1, NAMES[c], cells[c]) for c in range(1, 8)])
             lines.append(line)
     if not rows:
         raise TrajectoryError(f"{path}: no data rows")
     a = np.array(rows)
-    return finish(path, times, a[:, 3:7], a[:, 0:3], lines, sort, dedupe)
+    exact = all(-(2**63) <= s < 2**63 for s in stamps)  # int64 stamps, kept exactly
+    return finish(
+        path, times, a[:, 3:7], a[:, 0:3], lines, sort, dedupe, stamps_ns=stamps if exact else None
+    )
 
 
 def write(path, traj: Trajectory) -> None:
@@ -60,7 +64,15 @@ def write(path, traj: Trajectory) -> None:
     refuse_extra(path, traj, "EuRoC")
     if np.max(np.abs(traj.times)) > 1e21:
         raise ValueError(f"{path}: times beyond ±1e21 s cannot be written as integer nanoseconds")
-    ns = np.round(traj.times * 1e9)
+    # exact integer stamps when the trajectory kept them (read from EuRoC or a bag)
+    ns = traj.stamps_ns if traj.stamps_ns is not None else np.round(traj.times * 1e9)
+    off = np.abs(ns * 1e-9 - traj.times) > 1e-6 * np.maximum(1.0, np.abs(traj.times))
+    if np.any(off):  # stamps_ns kept from a file but times changed since
+        k = int(np.argmax(off))
+        raise ValueError(
+            f"{path}: stamps_ns[{k}] = {int(ns[k])} disagrees with times[{k}] = "
+            f"{float(traj.times[k])!r}; set stamps_ns=None to write the times"
+        )
     if np.any(np.diff(ns) <= 0):
         k = int(np.argmax(np.diff(ns) <= 0)) + 1
         raise ValueError(
