@@ -814,9 +814,15 @@ class Squad(Spline):
     canonicalize : bool, default True
         Flip each key to the hemisphere of the previous one, so that consecutive keys are
         joined the short way.
-    extrapolate : {"raise", "clamp"}, default "raise"
-        Times outside the domain raise ``ValueError``, or are clamped to it (the end
-        orientation held, zero derivatives).
+    extrapolate : {"raise", "clamp", "linear", "periodic"}, default "raise"
+        Times outside the domain: an error, the end orientation held (zero derivatives),
+        constant angular velocity from the end, or the domain repeated.
+    ends : {"open", "rest", "closed"}, default "open"
+        ``"open"``: s₀⁺ = q₀, sₙ⁻ = qₙ. ``"rest"``: zero angular velocity at both ends.
+        ``"closed"``: a periodic loop, C¹ across the seam (see ``quatspline.keyframe``).
+    holds : bool, default True
+        Consecutive equal keys (q or −q) hold exactly still, with zero velocity at both ends
+        of the hold.
 
     Raises
     ------
@@ -839,15 +845,25 @@ class Squad(Spline):
     (True, [1, 1])
     """
 
-    def __init__(self, quats, times=None, canonicalize: bool = True, extrapolate: str = "raise"):
+    def __init__(
+        self,
+        quats,
+        times=None,
+        canonicalize: bool = True,
+        extrapolate: str = "raise",
+        ends: str = "open",
+        holds: bool = True,
+    ):
         q = _keys(quats, "quats")
         t = _times(times, len(q))
         super().__init__(
-            _core.squad(q, t, bool(canonicalize)),
+            _core.squad(q, t, bool(canonicalize), str(ends), bool(holds)),
             extrapolate,
             quats=q,
             times=t,
             canonicalize=canonicalize,
+            ends=ends,
+            holds=holds,
         )
 
 
@@ -960,9 +976,12 @@ class CumulativeBSpline(Spline):
     canonicalize : bool, default True
         Flip each key to the hemisphere of the previous one, so that consecutive keys are
         joined the short way.
-    extrapolate : {"raise", "clamp"}, default "raise"
-        Times outside the domain raise ``ValueError``, or are clamped to it (the end
-        orientation held, zero derivatives).
+    extrapolate : {"raise", "clamp", "linear", "periodic"}, default "raise"
+        Times outside the domain: an error, the end orientation held (zero derivatives),
+        constant angular velocity from the end, or the domain repeated.
+    ends : {"open", "closed"}, default "open"
+        ``"closed"``: the control rotations are used cyclically — n segments over
+        ``[t0, t0 + n·dt]``, C^(k−2) across the seam (uniform knots only).
 
     Raises
     ------
@@ -994,7 +1013,12 @@ class CumulativeBSpline(Spline):
         canonicalize: bool = True,
         extrapolate: str = "raise",
         knots=None,
+        ends: str = "open",
     ):
+        if ends not in ("open", "closed"):
+            raise ValueError(
+                f"ends: CumulativeBSpline does not support {ends!r}; supported: open, closed"
+            )
         q = _keys(control_quats, "control_quats")
         if knots is not None or np.ndim(dt) != 0:
             # Non-uniform knots (explicit, or per-interval spacings): see bspline.py.
@@ -1004,7 +1028,9 @@ class CumulativeBSpline(Spline):
             super().__init__(core, extrapolate)
             return
         super().__init__(
-            _core.cumulative_bspline(q, float(dt), float(t0), int(order), bool(canonicalize)),
+            _core.cumulative_bspline(
+                q, float(dt), float(t0), int(order), bool(canonicalize), ends == "closed"
+            ),
             extrapolate,
         )
 
@@ -1025,18 +1051,24 @@ class NaturalSpline(Spline):
         Strictly increasing key times (any unit; rates are per that unit); pandas
         ``DatetimeIndex`` and ``datetime64``/``timedelta64`` arrays become seconds. Default
         0, 1, …, N−1.
-    ends : {"natural", "clamped"}, default "natural"
+    ends : {"natural", "clamped", "rest", "closed"}, default "natural"
         ``"natural"``: zero angular acceleration at both ends. ``"clamped"``: the body
-        angular velocities ``start_rate`` and ``end_rate`` at the ends.
+        angular velocities ``start_rate`` and ``end_rate`` at the ends. ``"rest"``: zero
+        angular velocity at both ends. ``"closed"``: a periodic loop, C² across the seam
+        (see ``quatspline.keyframe``).
     start_rate, end_rate : array_like, shape (3,), optional
         Body-frame end rates for ``ends="clamped"`` (rad per time unit); by default the end
         segments' chord rates, which is exactly what scipy's ``RotationSpline`` does.
     canonicalize : bool, default True
         Flip each key to the hemisphere of the previous one, so that consecutive keys are
         joined the short way.
-    extrapolate : {"raise", "clamp"}, default "raise"
-        Times outside the domain raise ``ValueError``, or are clamped to it (the end
-        orientation held, zero derivatives).
+    extrapolate : {"raise", "clamp", "linear", "periodic"}, default "raise"
+        Times outside the domain: an error, the end orientation held (zero derivatives),
+        constant angular velocity from the end, or the domain repeated.
+    holds : bool, default True
+        Consecutive equal keys (q or −q) hold exactly still: the rates at the keys bounding
+        a hold are pinned to zero, so the curve is C¹ (not C²) there — a cubic cannot also
+        zero the acceleration (``continuity`` then reports 1).
 
     Raises
     ------
@@ -1071,6 +1103,7 @@ class NaturalSpline(Spline):
         end_rate=None,
         canonicalize: bool = True,
         extrapolate: str = "raise",
+        holds: bool = True,
     ):
         q = _keys(quats, "quats")
         t = _times(times, len(q))
@@ -1084,7 +1117,9 @@ class NaturalSpline(Spline):
                 raise ValueError(f"{name}: expected shape (3,), got {v.shape}")
             rates.append(tuple(float(x) for x in v))
         super().__init__(
-            _core.natural_spline(q, t, str(ends), rates[0], rates[1], bool(canonicalize)),
+            _core.natural_spline(
+                q, t, str(ends), rates[0], rates[1], bool(canonicalize), bool(holds)
+            ),
             extrapolate,
             quats=q,
             times=t,
@@ -1092,6 +1127,7 @@ class NaturalSpline(Spline):
             start_rate=start_rate,
             end_rate=end_rate,
             canonicalize=canonicalize,
+            holds=holds,
         )
 
 
@@ -1308,9 +1344,17 @@ class C3Spline(Spline):
     canonicalize : bool, default True
         Flip each key to the hemisphere of the previous one, so that consecutive keys are
         joined the short way.
-    extrapolate : {"raise", "clamp"}, default "raise"
-        Times outside the domain raise ``ValueError``, or are clamped to it (the end
-        orientation held, zero derivatives).
+    extrapolate : {"raise", "clamp", "linear", "periodic"}, default "raise"
+        Times outside the domain: an error, the end orientation held (zero derivatives),
+        constant angular velocity from the end, or the domain repeated.
+    ends : {"open", "rest", "closed"}, default "open"
+        ``"rest"`` (knot variant): α = β = 0 at the end keys — zero angular velocity,
+        acceleration and jerk there (the rest-to-rest manoeuvre), still C³. ``"closed"``
+        (both variants): a periodic loop, C³ across the seam (see ``quatspline.keyframe``).
+    holds : bool, optional
+        Consecutive equal keys (q or −q) hold exactly still: α = β = 0 at the keys bounding
+        the hold, all derivatives vanish at its ends and the curve stays C³. Default: True
+        for the knot variant, False for the patent one (which cannot keep it C³).
 
     Raises
     ------
@@ -1345,12 +1389,22 @@ class C3Spline(Spline):
         variant: str = "knot",
         canonicalize: bool = True,
         extrapolate: str = "raise",
+        ends: str = "open",
+        holds: bool | None = None,
     ):
         q = _keys(quats, "quats")
         t = _times(times, len(q))
+        use_holds = (variant == "knot") if holds is None else bool(holds)
         super().__init__(
             _core.c3_spline(
-                q, t, _per(alpha, "alpha"), _per(beta, "beta"), str(variant), bool(canonicalize)
+                q,
+                t,
+                _per(alpha, "alpha"),
+                _per(beta, "beta"),
+                str(variant),
+                bool(canonicalize),
+                str(ends),
+                use_holds,
             ),
             extrapolate,
             quats=q,
@@ -1359,4 +1413,6 @@ class C3Spline(Spline):
             beta=beta,
             variant=variant,
             canonicalize=canonicalize,
+            ends=ends,
+            holds=holds,
         )
