@@ -84,6 +84,13 @@ def flag(v) -> bool:
     return bool(v)
 
 
+def float_or_auto(v):
+    """A float, or "auto" (the C³ spline's ripple-free shape)."""
+    if isinstance(v, str) and v.strip().lower() == "auto":
+        return "auto"
+    return float(v)
+
+
 def flag_or_none(v):
     """None, or a bool as :func:`flag`."""
     if v is None or (isinstance(v, str) and v.strip().lower() == "none"):
@@ -281,8 +288,12 @@ METHODS: dict[str, Method] = {
             True,
             "C3",
             {
-                "alpha": Param(float, 5 / 16, "shape parameter α (q', q'', q''' at keys)"),
-                "beta": Param(float, 0.0, "shape parameter β (q''' at keys)"),
+                "alpha": Param(
+                    float_or_auto, 5 / 16, "shape parameter α (q', q'', q''' at keys) | auto"
+                ),
+                "beta": Param(
+                    float_or_none, None, "shape parameter β (q''' at keys; default 0, −3 auto)"
+                ),
                 "variant": Param(str, "knot", "knot | patent"),
                 "ends": Param(str, "open", "open | rest | closed"),
                 "holds": Param(

@@ -1316,6 +1316,23 @@ class BetaSpline(Spline):
         return np.array(self._core.control_points())
 
 
+C3_AUTO = (0.5, -3.0)
+
+
+def c3_shape(alpha, beta):
+    """Per-key (or per-segment) α, β arrays for the C³ spline; ``alpha="auto"`` is
+    (1/2, −3) (see :class:`C3Spline`), ``beta=None`` is 0, or −3 with auto."""
+    if isinstance(alpha, str):
+        if alpha != "auto":
+            raise ValueError(f"alpha: expected a number, numbers or 'auto', got {alpha!r}")
+        alpha = C3_AUTO[0]
+        if beta is None:
+            beta = C3_AUTO[1]
+    if beta is None:
+        beta = 0.0
+    return _per(alpha, "alpha"), _per(beta, "beta")
+
+
 class C3Spline(Spline):
     """The interpolating C³ spline with shape parameters α and β (Wang & Zhou 2023).
 
@@ -1332,11 +1349,17 @@ class C3Spline(Spline):
         Strictly increasing key times (any unit; rates are per that unit); pandas
         ``DatetimeIndex`` and ``datetime64``/``timedelta64`` arrays become seconds. Default
         0, 1, …, N−1.
-    alpha : float or array_like, default 5/16
+    alpha : float, array_like or "auto", default 5/16
         α: scales the key velocities and changes the first three derivatives at the keys.
         One value, or one per key (``"knot"``, N values) or per segment (``"patent"``, N−1).
-    beta : float or array_like, default 0.0
-        β: changes only the third derivative at the keys; same sizes as ``alpha``.
+        ``"auto"``: (α, β) = (1/2, −3), the only pair under which a constant-speed great
+        circle is reproduced exactly (key velocity = chord rate, α(ω_k/h_l + ω_{k+1}/h_r) =
+        2α·c; key jerk 0, 36α + 6β = 0; the degree-7 blend is then linear in time): speed
+        ripple (max/min over the interior) 1.000 against 2.125 for (5/16, 0), whose key speed
+        is 5/8 of the chord speed. Held-out accuracy in ``benchmarks/c3_auto.py``.
+    beta : float or array_like, optional
+        β: changes only the third derivative at the keys; same sizes as ``alpha``. Default
+        0, or −3 with ``alpha="auto"``.
     variant : {"knot", "patent"}, default "knot"
         ``"knot"``: parameters belong to keys and the curve is C³ in time for any key
         spacing. ``"patent"``: the patent's blending functions exactly, C³ in the local
@@ -1385,7 +1408,7 @@ class C3Spline(Spline):
         quats,
         times=None,
         alpha=5 / 16,
-        beta=0.0,
+        beta=None,
         variant: str = "knot",
         canonicalize: bool = True,
         extrapolate: str = "raise",
@@ -1395,12 +1418,13 @@ class C3Spline(Spline):
         q = _keys(quats, "quats")
         t = _times(times, len(q))
         use_holds = (variant == "knot") if holds is None else bool(holds)
+        a, b = c3_shape(alpha, beta)
         super().__init__(
             _core.c3_spline(
                 q,
                 t,
-                _per(alpha, "alpha"),
-                _per(beta, "beta"),
+                a,
+                b,
                 str(variant),
                 bool(canonicalize),
                 str(ends),
