@@ -166,7 +166,7 @@ def test_output_allocation_failure_is_memory_error_naming_the_size_not_a_panic()
     huge = np.broadcast_to(0.5, (2 * 10**9,))  # no memory behind it: stride 0
     # The binding allocates the (2e9, 16) output first: 238 GiB, refused by numpy → MemoryError.
     with pytest.raises(MemoryError, match=r"Spline\.evaluate: cannot allocate .*238\.4 GiB"):
-        s._core.evaluate(huge, 3, False)
+        s._core.evaluate(huge, 3, "raise")
     # Through the public API: broadcasting keys against 10^12 parameters (a 0-stride view).
     t = np.broadcast_to(0.5, (10**12,))
     with pytest.raises(MemoryError, match=r"slerp: cannot allocate the \(1000000000000, 4\)"):

@@ -256,7 +256,9 @@ def sample_trajectory(
                 f"times: {len(t)} samples is more than max_samples = {max_samples}"
             )
         lo, hi = t0, float(traj.times[-1])
-        bad = ~np.isfinite(t) | (t < lo) | (t > hi)
+        bad = ~np.isfinite(t)
+        if extrapolate == "raise":
+            bad |= (t < lo) | (t > hi)
         if np.any(bad):  # named on the recording's clock, not the spline's relative one
             k = int(np.argmax(bad))
             raise ValueError(
