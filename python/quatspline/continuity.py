@@ -1,6 +1,7 @@
 """Continuity certificates: what is true at every joint of a spline.
 
-``continuity(spline)`` returns one :class:`JointContinuity` per interior joint with the jumps
+``continuity(spline)`` returns one :class:`JointContinuity` per interior joint (and, for a
+closed loop, the seam: index = number of segments, the end against the start) with the jumps
 of q, q', q'', q''' (absolute and relative), the parametric order C^k reached, and the fitted
 geometric constraints G¹ (R₁ = ξ L₁) and G² (R₂ = ξ² L₂ + δ L₁) with their residuals. For a
 ``BetaSpline`` it adds the residuals of the paper's own constraints with ξ = β_{i,1},
@@ -93,7 +94,8 @@ def continuity(spline: Spline, order: int = 3, tol: float = 1e-9) -> list[JointC
     Returns
     -------
     list of JointContinuity
-        One record per interior joint, in time order (empty for a single segment).
+        One record per interior joint, in time order (empty for a single open segment); a
+        closed loop (``spline.closed``) adds the seam last, its index the number of segments.
 
     Raises
     ------
