@@ -16,6 +16,7 @@ from collections.abc import Callable
 
 import numpy as np
 import quatspline as qs
+from quatspline.keyframe import bessel_rates
 
 
 def median_ns(fn: Callable[[], object], n: int, repeat: int) -> float:
@@ -107,6 +108,8 @@ def spline_methods(n: int, keys: int, repeat: int) -> list[tuple[str, str, float
         ("BetaSpline (β₁=1.5, β₂=0.5)", qs.BetaSpline(q, beta1=1.5, beta2=0.5), tb),
         ("C3Spline (knot)", qs.C3Spline(q, times), t),
         ("C3Spline (patent)", qs.C3Spline(q, times, variant="patent"), t),
+        ("Hermite (cubic)", qs.Hermite(q, times, bessel_rates(q, times), frame="body"), t),
+        ("KochanekBartels (T=0.3)", qs.KochanekBartels(q, times, tension=0.3), t),
     ]
     for name, s, tt in cases:
         rows.append(("quatspline", name, median_ns(lambda s=s, tt=tt: s(tt), n, repeat)))
@@ -147,6 +150,21 @@ def spline_methods(n: int, keys: int, repeat: int) -> list[tuple[str, str, float
         rows.append(("scipy", "Slerp", median_ns(lambda: sl(t), n, repeat)))
     except ImportError:
         print("scipy not installed: skipped")
+    try:
+        import splines.quaternion as sq
+
+        uq = [sq.UnitQuaternion.from_unit_xyzw(v) for v in qs.as_xyzw(q)]
+        kb = sq.KochanekBartels(uq, times.tolist(), tcb=(0.3, 0.0, 0.0))
+        ts = t[:: max(1, n // 200)]  # pure Python: 200 samples suffice
+        rows.append(
+            (
+                "splines",
+                "KochanekBartels (T=0.3)",
+                median_ns(lambda: [kb.evaluate(x) for x in ts], len(ts), repeat),
+            )
+        )
+    except ImportError:
+        print("splines not installed: skipped")
     try:
         import quaternion
 

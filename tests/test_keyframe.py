@@ -453,3 +453,34 @@ def test_registry_and_cli_reach_the_new_methods(tmp_path):
     with pytest.raises(SystemExit) as e:
         main(["sample", str(src), "-o", str(out), "--count", "5", "--extrapolate", "x"])
     assert e.value.code == 2
+
+
+# ---- the C³ spline's alpha="auto" ---------------------------------------------------------
+@pytest.mark.parametrize("uniform", [True, False])
+def test_c3_auto_removes_the_ripple_on_a_constant_speed_great_circle(uniform):
+    t = np.arange(10.0) if uniform else np.r_[0.0, np.cumsum(np.linspace(0.5, 1.6, 9))]
+    f = great_circle(t)
+    q = f(t)
+    x = np.linspace(t[2], t[-3], 1501)  # interior segments (the padded ends differ)
+    auto = qs.C3Spline(q, t, alpha="auto")
+    speed = np.linalg.norm(auto.angular_velocity(x), axis=1)
+    assert np.allclose(speed, 0.9, rtol=0, atol=1e-12)
+    assert same_rotation(auto(x), f(x)).max() < 1e-14
+    default = qs.C3Spline(q, t)
+    w = np.linalg.norm(default.angular_velocity(x), axis=1)
+    # the default dips to 5/8 of the chord speed at every key
+    assert np.allclose(np.linalg.norm(default.angular_velocity(t[2:-2]), axis=1), 0.9 * 5 / 8)
+    assert w.max() / w.min() > 2.1
+    assert qs.spline("c3", q, t, alpha="auto").params["alpha"] == "auto"
+    explicit = qs.C3Spline(q, t, alpha=0.5, beta=-3.0)
+    assert np.array_equal(explicit(x), auto(x))
+
+
+def test_c3_alpha_bad_values():
+    q = random_walk(4, 1)
+    with pytest.raises(ValueError, match=r"^alpha: expected a number, numbers or 'auto'"):
+        qs.C3Spline(q, alpha="fast")
+    with pytest.raises(ValueError, match=r"^alpha: expected float_or_auto, got 'fast'"):
+        qs.spline("c3", q, alpha="fast")
+    with pytest.raises(ValueError, match=r"^alpha: non-finite value .* element 2"):
+        qs.C3Spline(q, alpha=[0.3, 0.3, np.nan, 0.3])

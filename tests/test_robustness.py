@@ -26,6 +26,16 @@ ALL = {
     "c3": lambda q, t: qs.C3Spline(q, t),
     "beta": lambda q, t: qs.BetaSpline(q, times=t[: len(q) - 2]),
     "bspline": lambda q, t: qs.CumulativeBSpline(q),
+    "hermite": lambda q, t: qs.Hermite(q, t, np.ones((len(q), 3)), np.ones((len(q), 3))),
+    "kochanek_bartels": lambda q, t: qs.KochanekBartels(q, t, tension=0.2, continuity=0.3),
+    "catmull_rom_centripetal": lambda q, t: qs.CatmullRom(q, alpha=0.5),
+    "squad_rest": lambda q, t: qs.Squad(q, t, ends="rest"),
+    "c3_auto_rest": lambda q, t: qs.C3Spline(q, t, alpha="auto", ends="rest"),
+    "natural_closed": lambda q, t: qs.NaturalSpline(q, np.r_[t, t[-1] + 1], ends="closed"),
+    "c3_closed": lambda q, t: qs.C3Spline(q, np.r_[t, t[-1] + 1], ends="closed"),
+    "kb_closed": lambda q, t: qs.KochanekBartels(q, np.r_[t, t[-1] + 1], ends="closed"),
+    "squad_closed": lambda q, t: qs.Squad(q, np.r_[t, t[-1] + 1], ends="closed"),
+    "bspline_closed": lambda q, t: qs.CumulativeBSpline(q, ends="closed"),
 }
 
 

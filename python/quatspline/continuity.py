@@ -1,6 +1,7 @@
 """Continuity certificates: what is true at every joint of a spline.
 
-``continuity(spline)`` returns one :class:`JointContinuity` per interior joint with the jumps
+``continuity(spline)`` returns one :class:`JointContinuity` per interior joint (and, for a
+closed loop, the seam: index = number of segments, the end against the start) with the jumps
 of q, q', q'', q''' (absolute and relative; with ``order=4`` or ``5`` also the 4th and 5th
 derivatives, so C⁴ splines such as the jerk-penalised fit can be certified), the parametric
 order C^k reached, and the fitted
@@ -98,7 +99,8 @@ def continuity(spline: Spline, order: int = 3, tol: float = 1e-9) -> list[JointC
     Returns
     -------
     list of JointContinuity
-        One record per interior joint, in time order (empty for a single segment).
+        One record per interior joint, in time order (empty for a single open segment); a
+        closed loop (``spline.closed``) adds the seam last, its index the number of segments.
 
     Raises
     ------

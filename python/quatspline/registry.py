@@ -6,7 +6,9 @@ approximating methods are adapted to keys at times as follows (documented choice
 - ``bezier`` / ``cumulative_bezier``: one curve with the keys as control points, over
   [t₀, t_last] (passes through the first and last key only);
 - ``bspline``: the uniform cumulative B-spline with the keys as control points, the first and
-  last key doubled so the curve spans [t₀, t_last]; it treats the key times as uniform;
+  last key doubled so the curve spans [t₀, t_last]; it treats the key times as uniform
+  (``ends="rest"``: tripled, zero velocity and acceleration at both ends; ``ends="closed"``:
+  the keys used cyclically, no padding);
 - ``nonuniform_bspline``: the cumulative cubic B-spline with the keys as control points (first
   and last doubled) and knots at the key times (extended past the ends by the end spacings),
   so non-uniform times are respected;
@@ -84,6 +86,20 @@ def flag(v) -> bool:
     return bool(v)
 
 
+def float_or_auto(v):
+    """A float, or "auto" (the C³ spline's ripple-free shape)."""
+    if isinstance(v, str) and v.strip().lower() == "auto":
+        return "auto"
+    return float(v)
+
+
+def flag_or_none(v):
+    """None, or a bool as :func:`flag`."""
+    if v is None or (isinstance(v, str) and v.strip().lower() == "none"):
+        return None
+    return flag(v)
+
+
 def rates_spec(v):
     """Hermite key rates: "bessel" (estimated from the keys), "zero", a file of N×3 values
     (text or .npy) or an (N, 3) array."""
@@ -128,6 +144,20 @@ def _loop_times(q, times, p):
     return np.r_[t, t[-1] + (t[-1] - t[0]) / (len(t) - 1)]
 
 
+def _closed_bspline(q, times, p):
+    """The closed cubic B-spline with the keys as control points, spanning the loop's times
+    (a closing key equal to the first is dropped, as for the interpolating methods)."""
+    if int(p["order"]) != 4:
+        raise ValueError("order: the registry's bspline spans the keys with order 4 only")
+    q = np.asarray(q, dtype=float)
+    t = np.arange(len(q) + 1, dtype=float) if times is None else np.asarray(times, dtype=float)
+    if len(t) == len(q):  # the last key is the closing key (see _loop_times)
+        q = q[:-1]
+    if t.ndim != 1 or len(t) != len(q) + 1:
+        raise ValueError(f"times: a closed curve expects {len(q) + 1} times, got {t.shape}")
+    return sp.CumulativeBSpline(q, dt=(t[-1] - t[0]) / len(q), t0=t[0], order=4, ends="closed")
+
+
 def _build(name, q, times, p):
     q = with_width(q, "quats", 4)
     times = _loop_times(q, times, p)
@@ -140,7 +170,7 @@ def _build(name, q, times, p):
     if name == "lin_mat":
         return sp.PiecewiseLinMat(q, times)
     if name == "squad":
-        return sp.Squad(q, times)
+        return sp.Squad(q, times, ends=p["ends"], holds=p["holds"])
     if name == "catmull_rom":
         return sp.CatmullRom(q, times, ends=p["ends"], alpha=p["alpha"], holds=p["holds"])
     if name == "hermite":
@@ -159,9 +189,19 @@ def _build(name, q, times, p):
             holds=p["holds"],
         )
     if name == "natural":
-        return sp.NaturalSpline(q, times, ends=p["ends"])
+        return sp.NaturalSpline(q, times, ends=p["ends"], holds=p["holds"])
     if name == "c3":
-        return sp.C3Spline(q, times, alpha=p["alpha"], beta=p["beta"], variant=p["variant"])
+        return sp.C3Spline(
+            q,
+            times,
+            alpha=p["alpha"],
+            beta=p["beta"],
+            variant=p["variant"],
+            ends=p["ends"],
+            holds=p["holds"],
+        )
+    if name == "bspline" and p["ends"] == "closed":
+        return _closed_bspline(q, times, p)
     if name in ("fit", "min_energy"):
         return _fitted(name, q, times, p)
     t = _times_or_default(times, len(q))
@@ -178,6 +218,14 @@ def _build(name, q, times, p):
         k = int(p["order"])
         if k != 4:
             raise ValueError("order: the registry's bspline spans the keys with order 4 only")
+        if p["ends"] == "rest":
+            # end keys tripled: zero angular velocity and acceleration at both ends
+            qq = _pad(_pad(q))
+            return sp.CumulativeBSpline(qq, dt=(t[-1] - t[0]) / (len(q) + 1), t0=t[0], order=4)
+        if p["ends"] != "open":
+            raise ValueError(
+                f"ends: bspline does not support {p['ends']!r}; supported: open, rest, closed"
+            )
         return sp.CumulativeBSpline(_pad(q), dt=(t[-1] - t[0]) / (len(q) - 1), t0=t[0], order=4)
     if name == "nonuniform_bspline":
         # keys as control points (ends doubled), joints at the key times, end knots
@@ -235,7 +283,16 @@ METHODS: dict[str, Method] = {
             {"seq": Param(str, "xyz", "Euler sequence, scipy's convention")},
         ),
         Method("lin_mat", "matrices lerped and projected (baseline)", True, "C0", {}),
-        Method("squad", "Shoemake's Squad, C¹ in time", True, "C1", {}),
+        Method(
+            "squad",
+            "Shoemake's Squad, C¹ in time",
+            True,
+            "C1",
+            {
+                "ends": Param(str, "open", "open | rest | closed"),
+                "holds": Param(flag, True, "equal consecutive keys hold still"),
+            },
+        ),
         Method(
             "catmull_rom",
             "Catmull–Rom (Gortler), C¹ in time",
@@ -254,7 +311,14 @@ METHODS: dict[str, Method] = {
             "global C² spline (scipy RotationSpline's construction)",
             True,
             "C2",
-            {"ends": Param(str, "natural", "natural | clamped (clamped = scipy's RotationSpline)")},
+            {
+                "ends": Param(
+                    str,
+                    "natural",
+                    "natural | clamped (= scipy's RotationSpline) | rest | closed",
+                ),
+                "holds": Param(flag, True, "equal consecutive keys hold still (C¹ there)"),
+            },
         ),
         Method(
             "c3",
@@ -262,9 +326,17 @@ METHODS: dict[str, Method] = {
             True,
             "C3",
             {
-                "alpha": Param(float, 5 / 16, "shape parameter α (q', q'', q''' at keys)"),
-                "beta": Param(float, 0.0, "shape parameter β (q''' at keys)"),
+                "alpha": Param(
+                    float_or_auto, 5 / 16, "shape parameter α (q', q'', q''' at keys) | auto"
+                ),
+                "beta": Param(
+                    float_or_none, None, "shape parameter β (q''' at keys; default 0, −3 auto)"
+                ),
                 "variant": Param(str, "knot", "knot | patent"),
+                "ends": Param(str, "open", "open | rest | closed"),
+                "holds": Param(
+                    flag_or_none, None, "equal consecutive keys hold still (default: knot only)"
+                ),
             },
         ),
         Method(
@@ -301,7 +373,10 @@ METHODS: dict[str, Method] = {
             "cumulative cubic B-spline with the keys as control points",
             False,
             "C2",
-            {"order": Param(int, 4, "spline order (4 = cubic)")},
+            {
+                "order": Param(int, 4, "spline order (4 = cubic)"),
+                "ends": Param(str, "open", "open | rest (end keys tripled) | closed"),
+            },
         ),
         Method(
             "nonuniform_bspline",

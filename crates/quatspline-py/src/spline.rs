@@ -415,14 +415,17 @@ fn c3_weights(
 }
 
 #[pyfunction]
-#[pyo3(signature = (quats, times, canonicalize))]
+#[pyo3(signature = (quats, times, canonicalize, ends="open", holds=false))]
 fn squad(
     quats: PyReadonlyArray2<'_, f64>,
     times: Option<PyReadonlyArray1<'_, f64>>,
     canonicalize: bool,
+    ends: &str,
+    holds: bool,
 ) -> PyResult<PySpline> {
     let q = quats_of(&quats, "quats")?;
-    wrap(sp::Squad::new(&q, times_of(&times).as_deref(), canonicalize))
+    let ends = crate::keyframe::key_ends(ends, "squad", &["open", "rest", "closed"])?;
+    wrap(sp::Squad::with_keyframes(&q, times_of(&times).as_deref(), ends, holds, canonicalize))
 }
 
 #[pyfunction]
@@ -441,15 +444,17 @@ fn catmull_rom(
 }
 
 #[pyfunction]
+#[pyo3(signature = (control_quats, dt, t0, order, canonicalize, closed=false))]
 fn cumulative_bspline(
     control_quats: PyReadonlyArray2<'_, f64>,
     dt: f64,
     t0: f64,
     order: usize,
     canonicalize: bool,
+    closed: bool,
 ) -> PyResult<PySpline> {
     let q = quats_of(&control_quats, "control_quats")?;
-    wrap(sp::CumulativeBSpline::new(&q, dt, t0, order, canonicalize))
+    wrap(sp::CumulativeBSpline::with_closed(&q, dt, t0, order, closed, canonicalize))
 }
 
 #[pyfunction]
@@ -506,7 +511,8 @@ fn beta_spline(
 }
 
 #[pyfunction]
-#[pyo3(signature = (quats, times, alpha, beta, variant, canonicalize))]
+#[pyo3(signature = (quats, times, alpha, beta, variant, canonicalize, ends="open", holds=false))]
+#[allow(clippy::too_many_arguments)]
 fn c3_spline(
     quats: PyReadonlyArray2<'_, f64>,
     times: Option<PyReadonlyArray1<'_, f64>>,
@@ -514,15 +520,20 @@ fn c3_spline(
     beta: PyReadonlyArray1<'_, f64>,
     variant: &str,
     canonicalize: bool,
+    ends: &str,
+    holds: bool,
 ) -> PyResult<PySpline> {
     let q = quats_of(&quats, "quats")?;
     let variant = c3_variant(variant)?;
-    wrap(sp::C3Spline::new(
+    let ends = crate::keyframe::key_ends(ends, "c3", &["open", "rest", "closed"])?;
+    wrap(sp::C3Spline::with_keyframes(
         &q,
         times_of(&times).as_deref(),
         &vec_of(&alpha),
         &vec_of(&beta),
         variant,
+        ends,
+        holds,
         canonicalize,
     ))
 }

@@ -41,7 +41,7 @@ impl fmt::Display for Error {
             Error::OutOfDomain { index, t, start, end } => write!(
                 f,
                 "t: t[{index}] = {t} is outside the spline's domain [{start}, {end}] \
-                 (use extrapolate=\"clamp\" to clamp)"
+                 (use extrapolate=\"clamp\", \"linear\" or \"periodic\" to evaluate outside)"
             ),
             Error::Internal(m) => write!(f, "internal error (please report): {m}"),
             Error::NotConverged { what, iterations, step, tol } => write!(

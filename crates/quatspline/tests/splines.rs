@@ -54,9 +54,30 @@ fn every_method_reaches_its_claimed_order() {
             1,
         ),
         (Box::new(NaturalSpline::with_keyframes(&q, Some(&tc), NaturalEnds::Closed, true, true).unwrap()), 2),
+        (Box::new(Squad::with_keyframes(&q, Some(&tc), KeyEnds::Closed, true, true).unwrap()), 1),
+        (
+            Box::new(
+                C3Spline::with_keyframes(
+                    &q,
+                    Some(&tc),
+                    &[0.3],
+                    &[0.1],
+                    C3Variant::Knot,
+                    KeyEnds::Closed,
+                    true,
+                    true,
+                )
+                .unwrap(),
+            ),
+            3,
+        ),
+        (Box::new(CumulativeBSpline::with_closed(&q, 0.5, 0.0, 4, true, true).unwrap()), 2),
     ]);
     for (s, claimed) in splines {
         assert_eq!(s.continuity() as i32, claimed, "{}", s.name());
+        // a closed curve's certificate includes the seam: one report per joint
+        let joints = s.joints().len();
+        assert_eq!(continuity(&*s, 3, 1e-9).len(), if s.closed() { joints - 1 } else { joints - 2 });
         for j in continuity(&*s, 3, 1e-9) {
             assert_eq!(j.order, claimed, "{} joint {}: {:?}", s.name(), j.index, j.jump_rel);
         }

@@ -16,7 +16,8 @@
 //! parameters. α changes q', q'', q''' at keys, β only q'''. Special cases: (5/16, 0) is the
 //! quintic C³ scheme; α = β = 0 is slerp with smoothstep-7 timing (zero velocity at keys).
 
-use super::{prepare_keys, prepare_times, segment_jets, Spline};
+use super::keyframe::{prepare_loop, KeyEnds};
+use super::{segment_jets, Spline};
 use crate::error::{Error, Result};
 use crate::jet::{Axis, JQuat, Jet};
 use crate::quat::Quat;
@@ -42,6 +43,7 @@ pub struct C3Spline {
     basis: Vec<[[f64; 8]; 3]>,
     /// Flat per-segment data of the batch kernels (`crate::simd::cumulative`).
     batch: Option<crate::simd::cumulative::CumulativeTable>,
+    closed: bool,
 }
 
 const BINOM7: [f64; 8] = [1.0, 7.0, 21.0, 35.0, 35.0, 21.0, 7.0, 1.0];
@@ -130,37 +132,92 @@ impl C3Spline {
         variant: C3Variant,
         canonicalize: bool,
     ) -> Result<Self> {
-        let k = prepare_keys(keys, "quats", 2, canonicalize)?;
+        Self::with_keyframes(keys, times, alpha, beta, variant, KeyEnds::Open, false, canonicalize)
+    }
+
+    /// With keyframe control (`keyframe.rs`), knot variant: `Rest` sets α = β = 0 at the end
+    /// keys (zero angular velocity, acceleration and jerk there, C³ kept); holds set α = β = 0
+    /// at the keys bounding a hold (the hold is exactly constant, all derivatives vanish at its
+    /// ends, C³ kept); `Closed` pads the keys cyclically (Q₀ = Q_{n−1}, Q_{n+1} = Q₁, …) with
+    /// cyclic spacings: C³ across the seam (at least 3 keys). The patent variant (parameters per
+    /// segment) supports `Closed` only.
+    #[allow(clippy::too_many_arguments)]
+    pub fn with_keyframes(
+        keys: &[Quat],
+        times: Option<&[f64]>,
+        alpha: &[f64],
+        beta: &[f64],
+        variant: C3Variant,
+        ends: KeyEnds,
+        holds: bool,
+        canonicalize: bool,
+    ) -> Result<Self> {
+        let closed = ends == KeyEnds::Closed;
+        let kl = prepare_loop(keys, times, closed, if closed { 3 } else { 2 }, "c3 spline", canonicalize)?;
+        let k = &kl.keys;
         let n = k.len();
-        let times = prepare_times(times, n)?;
-        let h: Vec<f64> = times.windows(2).map(|w| w[1] - w[0]).collect();
-        let mut padded = Vec::with_capacity(n + 2);
-        padded.push(k[0]);
-        padded.extend_from_slice(&k);
-        padded.push(k[n - 1]);
+        let segs = kl.segments();
+        let times = kl.times.clone();
+        let h: Vec<f64> = (0..segs).map(|i| kl.h(i)).collect();
+        let mut padded = Vec::with_capacity(n + 3);
+        if closed {
+            // Q_{n−1}, Q_0 … Q_{n−1}, Q_0, Q_1 on one sign sheet.
+            padded.push(k[n - 1].canonical_to(k[0]));
+            padded.extend_from_slice(k);
+            padded.push(k[0]);
+            padded.push(k[1]);
+            for j in n + 1..n + 3 {
+                padded[j] = padded[j].canonical_to(padded[j - 1]);
+            }
+        } else {
+            padded.push(k[0]);
+            padded.extend_from_slice(k);
+            padded.push(k[n - 1]);
+        }
         let logs: Vec<Axis> = std::iter::once(Axis::default())
             .chain(padded.windows(2).map(|w| Axis::from_log((w[0].conj() * w[1]).log().vec())))
             .collect();
+        let hold = if holds { kl.hold_keys() } else { vec![false; n] };
+        let pinned = |key: usize| hold[key] || (ends == KeyEnds::Rest && (key == 0 || key == n - 1));
         let blend: Vec<[[f64; 8]; 4]> = match variant {
             C3Variant::Patent => {
+                if ends == KeyEnds::Rest || hold.iter().any(|&x| x) {
+                    return Err(Error::invalid(
+                        if ends == KeyEnds::Rest { "ends" } else { "holds" },
+                        "the patent variant (parameters per segment) cannot keep rest ends or holds C³; \
+                         use variant=\"knot\" (or holds=False)",
+                    ));
+                }
                 let (a, b) = (
-                    per(alpha, n - 1, "alpha", "one per segment")?,
-                    per(beta, n - 1, "beta", "one per segment")?,
+                    per(alpha, segs, "alpha", "one per segment")?,
+                    per(beta, segs, "beta", "one per segment")?,
                 );
-                (0..n - 1).map(|s| patent_blending(a[s], b[s])).collect()
+                (0..segs).map(|s| patent_blending(a[s], b[s])).collect()
             }
             C3Variant::Knot => {
-                let (a, b) = (per(alpha, n, "alpha", "one per key")?, per(beta, n, "beta", "one per key")?);
+                let (mut a, mut b) =
+                    (per(alpha, n, "alpha", "one per key")?, per(beta, n, "beta", "one per key")?);
+                for key in 0..n {
+                    if pinned(key) {
+                        a[key] = 0.0;
+                        b[key] = 0.0;
+                    }
+                }
                 // τ-derivative weights (a_m, b_m, c_m), m = 1..3, of (p_{k−1}, p_k, p_{k+1}) at key k,
                 // already multiplied by h_s^m for a segment of length h_s: written with ratios
                 // of spacings so that nothing overflows or underflows for any time scale.
                 let spacing = |key: usize| -> (f64, f64) {
+                    if closed {
+                        let key = key % n;
+                        return (h[(key + segs - 1) % segs], h[key % segs]);
+                    }
                     let hl = if key == 0 { h[0] } else { h[key - 1] };
                     let hr = if key == n - 1 { h[n - 2] } else { h[key] };
                     (hl, hr)
                 };
                 let scaled = |key: usize, hs: f64| -> [[f64; 3]; 3] {
                     let (hl, hr) = spacing(key);
+                    let key = key % n;
                     let hb = 0.5 * hl + 0.5 * hr;
                     let (a1, a2, a3) = (a[key], 8.0 * a[key], 36.0 * a[key] + 6.0 * b[key]);
                     let (l, r, m) = (hs / hl, hs / hr, hs / hb);
@@ -168,7 +225,7 @@ impl C3Spline {
                     let cm = [a1 * r, a2 * r * m, a3 * r * m * m];
                     std::array::from_fn(|k| [am[k], -(am[k] + cm[k]), cm[k]])
                 };
-                (0..n - 1)
+                (0..segs)
                     .map(|s| {
                         let hs = h[s];
                         let w0 = scaled(s, hs);
@@ -206,7 +263,7 @@ impl C3Spline {
             base: padded[s],
             factors: (0..3).map(|j| (logs[s + 1 + j], basis[s][j].to_vec())).collect(),
         });
-        Ok(C3Spline { base: padded, logs, times, basis, batch })
+        Ok(C3Spline { base: padded, logs, times, basis, batch, closed })
     }
 
     /// Per segment, the power-basis coefficients of the cumulative weights C̃₁, C̃₂, C̃₃ in the
@@ -256,6 +313,9 @@ impl Spline for C3Spline {
     }
     fn batch(&self) -> Option<&dyn crate::simd::BatchKernel> {
         self.batch.as_ref().map(|b| b as &dyn crate::simd::BatchKernel)
+    }
+    fn closed(&self) -> bool {
+        self.closed
     }
 }
 

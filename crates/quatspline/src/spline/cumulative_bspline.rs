@@ -60,11 +60,26 @@ pub struct CumulativeBSpline {
     joints: Vec<f64>,
     /// Flat per-segment data of the batch kernels (`crate::simd::cumulative`).
     batch: Option<crate::simd::cumulative::CumulativeTable>,
+    closed: bool,
 }
 
 impl CumulativeBSpline {
     /// `ctrl`: n ≥ k control rotations; `dt` > 0; `order` k ≥ 2.
     pub fn new(ctrl: &[Quat], dt: f64, t0: f64, order: usize, canonicalize: bool) -> Result<Self> {
+        Self::with_closed(ctrl, dt, t0, order, false, canonicalize)
+    }
+
+    /// `closed`: a periodic B-spline — the control rotations are used cyclically (the first
+    /// k − 1 appended after the last), n segments over [t₀, t₀ + n Δt], C^(k−2) across the
+    /// seam exactly as inside (it is the same uniform B-spline). Needs n ≥ k.
+    pub fn with_closed(
+        ctrl: &[Quat],
+        dt: f64,
+        t0: f64,
+        order: usize,
+        closed: bool,
+        canonicalize: bool,
+    ) -> Result<Self> {
         if !(2..=12).contains(&order) {
             return Err(Error::invalid("order", format!("expected 2 ≤ order ≤ 12, got {order}")));
         }
@@ -74,7 +89,15 @@ impl CumulativeBSpline {
         if !t0.is_finite() {
             return Err(Error::NonFinite { arg: "t0", index: 0 });
         }
-        let ctrl = prepare_keys(ctrl, "control_quats", order, canonicalize)?;
+        let mut ctrl = prepare_keys(ctrl, "control_quats", order, canonicalize)?;
+        if closed {
+            let n = ctrl.len();
+            for j in 0..order - 1 {
+                let next = ctrl[j];
+                let prev = ctrl[n - 1 + j];
+                ctrl.push(if canonicalize { next.canonical_to(prev) } else { next });
+            }
+        }
         let segs = ctrl.len() - order + 1;
         super::check_span("dt", t0, t0 + dt, 1)?;
         super::check_span("dt", t0, t0 + segs as f64 * dt, segs)?;
@@ -86,7 +109,7 @@ impl CumulativeBSpline {
             base: ctrl[i],
             factors: (1..order).map(|j| (logs[i + j], basis[j].clone())).collect(),
         });
-        Ok(CumulativeBSpline { ctrl, logs, basis, order, joints, batch })
+        Ok(CumulativeBSpline { ctrl, logs, basis, order, joints, batch, closed })
     }
 
     #[inline(always)]
@@ -117,6 +140,9 @@ impl Spline for CumulativeBSpline {
     }
     fn batch(&self) -> Option<&dyn crate::simd::BatchKernel> {
         self.batch.as_ref().map(|b| b as &dyn crate::simd::BatchKernel)
+    }
+    fn closed(&self) -> bool {
+        self.closed
     }
 }
 

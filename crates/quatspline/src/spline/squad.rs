@@ -8,8 +8,11 @@
 //! with vᵢ the time-weighted Catmull–Rom average (hᵢ mᵢ₋₁ + hᵢ₋₁ mᵢ)/(hᵢ₋₁ + hᵢ), mₖ = ωₖ/hₖ.
 //! For uniform keys both reduce to Shoemake's sᵢ = qᵢ exp((ωᵢ₋₁ − ωᵢ)/4). Ends: s₀⁺ = q₀,
 //! sₙ⁻ = qₙ. C¹ in time (not C², seed 003 is wrong there); interpolating; 2 keys = slerp.
+//! Keyframe control (`with_keyframes`): rest ends, closed loops and holds by the same key
+//! velocity equations (zero velocity at rest ends and at the keys bounding a hold).
 
-use super::{local, prepare_keys, prepare_times, segment_jets, Spline};
+use super::keyframe::{prepare_loop, KeyEnds};
+use super::{local, segment_jets, Spline};
 use crate::error::Result;
 use crate::jet::{Axis, JQuat};
 use crate::quat::Quat;
@@ -23,33 +26,79 @@ pub struct Squad {
     logs: Vec<Axis>,
     s_out: Vec<Quat>,
     inner_logs: Vec<Axis>,
+    closed: bool,
 }
 
 impl Squad {
     pub fn new(keys: &[Quat], times: Option<&[f64]>, canonicalize: bool) -> Result<Self> {
-        let keys = prepare_keys(keys, "quats", 2, canonicalize)?;
-        let times = prepare_times(times, keys.len())?;
-        let n = keys.len();
-        let raw: Vec<[f64; 3]> = keys.windows(2).map(|w| (w[0].conj() * w[1]).log().vec()).collect();
-        let h: Vec<f64> = times.windows(2).map(|w| w[1] - w[0]).collect();
-        let mut s_out = keys.clone();
-        let mut s_in = keys.clone();
-        for i in 1..n - 1 {
-            let m0 = vec3::scale(raw[i - 1], 1.0 / h[i - 1]);
-            let m1 = vec3::scale(raw[i], 1.0 / h[i]);
-            let v = vec3::scale(
-                vec3::add(vec3::scale(m0, h[i]), vec3::scale(m1, h[i - 1])),
-                1.0 / (h[i - 1] + h[i]),
-            );
-            let lo = vec3::scale(vec3::sub(vec3::scale(v, h[i]), raw[i]), 0.5);
-            let li = vec3::scale(vec3::sub(raw[i - 1], vec3::scale(v, h[i - 1])), 0.5);
-            s_out[i] = keys[i] * Quat::pure(lo).exp();
-            s_in[i] = keys[i] * Quat::pure(li).exp();
+        Self::with_keyframes(keys, times, KeyEnds::Open, false, canonicalize)
+    }
+
+    /// With keyframe control (`keyframe.rs`): `Rest` ends (zero key velocity at both ends:
+    /// s₀⁺ = q₀ exp(−ω₀/2), sₙ⁻ = qₙ exp(ωₙ₋₁/2)), `Closed` loops (every key interior, cyclic
+    /// neighbours, at least 3 keys; C¹ across the seam), holds (zero key velocity at the keys
+    /// bounding a hold: then sᵢ⁺ = qᵢ = sᵢ₊₁⁻ on the hold and it is exactly constant).
+    pub fn with_keyframes(
+        keys: &[Quat],
+        times: Option<&[f64]>,
+        ends: KeyEnds,
+        holds: bool,
+        canonicalize: bool,
+    ) -> Result<Self> {
+        let closed = ends == KeyEnds::Closed;
+        let kl = prepare_loop(keys, times, closed, if closed { 3 } else { 2 }, "squad", canonicalize)?;
+        let n = kl.keys.len();
+        let segs = kl.segments();
+        let joint_keys: Vec<Quat> = (0..=segs).map(|j| kl.key_at_joint(j)).collect();
+        let raw: Vec<[f64; 3]> = joint_keys.windows(2).map(|w| (w[0].conj() * w[1]).log().vec()).collect();
+        let h: Vec<f64> = (0..segs).map(|i| kl.h(i)).collect();
+        let hold = if holds { kl.hold_keys() } else { vec![false; n] };
+        // Per joint j: the key velocity (q' = q v) and the incoming/outgoing control points.
+        let mut s_out = joint_keys.clone();
+        let mut s_in = joint_keys.clone();
+        for j in 0..=segs {
+            let k = kl.key_index(j);
+            let left = if j > 0 {
+                Some(j - 1)
+            } else if closed {
+                Some(segs - 1)
+            } else {
+                None
+            };
+            let right = if j < segs {
+                Some(j)
+            } else if closed {
+                Some(0)
+            } else {
+                None
+            };
+            let v = match (left, right) {
+                _ if hold[k] => Some([0.0; 3]),
+                (Some(l), Some(r)) => {
+                    let m0 = vec3::scale(raw[l], 1.0 / h[l]);
+                    let m1 = vec3::scale(raw[r], 1.0 / h[r]);
+                    Some(vec3::scale(
+                        vec3::add(vec3::scale(m0, h[r]), vec3::scale(m1, h[l])),
+                        1.0 / (h[l] + h[r]),
+                    ))
+                }
+                _ if ends == KeyEnds::Rest => Some([0.0; 3]),
+                _ => None, // open ends: s₀⁺ = q₀, sₙ⁻ = qₙ
+            };
+            let Some(v) = v else { continue };
+            if let Some(r) = right {
+                let lo = vec3::scale(vec3::sub(vec3::scale(v, h[r]), raw[r]), 0.5);
+                s_out[j] = joint_keys[j] * Quat::pure(lo).exp();
+            }
+            if let Some(l) = left {
+                let li = vec3::scale(vec3::sub(raw[l], vec3::scale(v, h[l])), 0.5);
+                s_in[j] = joint_keys[j] * Quat::pure(li).exp();
+            }
         }
         let inner_logs =
-            (0..n - 1).map(|i| Axis::from_log((s_out[i].conj() * s_in[i + 1]).log().vec())).collect();
+            (0..segs).map(|i| Axis::from_log((s_out[i].conj() * s_in[i + 1]).log().vec())).collect();
         let logs = raw.iter().map(|&v| Axis::from_log(v)).collect();
-        Ok(Squad { keys, times, logs, s_out, inner_logs })
+        Ok(Squad { keys: joint_keys, times: kl.times, logs, s_out, inner_logs, closed })
     }
 
     #[inline(always)]
@@ -75,5 +124,8 @@ impl Spline for Squad {
     }
     fn continuity(&self) -> u8 {
         1
+    }
+    fn closed(&self) -> bool {
+        self.closed
     }
 }
