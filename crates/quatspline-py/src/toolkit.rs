@@ -136,12 +136,8 @@ pub struct PyPoseCurve {
     inner: Arc<dyn PoseCurve>,
 }
 
-fn extrapolate_of(clamp: bool) -> sp::Extrapolate {
-    if clamp {
-        sp::Extrapolate::Clamp
-    } else {
-        sp::Extrapolate::Raise
-    }
+fn extrapolate_of(rule: &str) -> PyResult<sp::Extrapolate> {
+    sp::Extrapolate::parse(rule).map_err(to_py)
 }
 
 #[pymethods]
@@ -163,8 +159,9 @@ impl PyPoseCurve {
         py: Python<'py>,
         t: PyReadonlyArray1<'py, f64>,
         order: usize,
-        clamp: bool,
+        extrapolate: &str,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let ex = extrapolate_of(extrapolate)?;
         if order > 3 {
             return Err(PyValueError::new_err(format!("order: expected 0, 1, 2 or 3, got {order}")));
         }
@@ -173,7 +170,7 @@ impl PyPoseCurve {
         let w = 3 * (order + 1);
         let out = guarded(py, "positions", move || {
             let mut out = vec![0.0; tv.len() * w];
-            se3::positions_into(&*s, &tv, order, extrapolate_of(clamp), &mut out)?;
+            se3::positions_into(&*s, &tv, order, ex, &mut out)?;
             Ok(out)
         })?;
         let rows: Vec<Vec<f64>> = out.chunks_exact(w).map(|r| r.to_vec()).collect();
@@ -190,13 +187,14 @@ impl PyPoseCurve {
         t: PyReadonlyArray1<'py, f64>,
         order: usize,
         body: bool,
-        clamp: bool,
+        extrapolate: &str,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let ex = extrapolate_of(extrapolate)?;
         let tv = vec_of(&t);
         let s = self.inner.clone();
         let out = guarded(py, "twists", move || {
             let mut out = vec![0.0; tv.len() * 6];
-            se3::twists_into(&*s, &tv, order, body, extrapolate_of(clamp), &mut out)?;
+            se3::twists_into(&*s, &tv, order, body, ex, &mut out)?;
             Ok(out)
         })?;
         to_array::<6>(py, out.chunks_exact(6).map(|r| std::array::from_fn(|k| r[k])).collect())
