@@ -256,3 +256,9 @@ def test_linear_and_periodic_extrapolation(kind):
         assert np.allclose(per.twist(t + k * (b - a), order=2), s.twist(t, order=2), atol=1e-8)
     with pytest.raises(ValueError, match="extrapolate"):
         type(s)(*([Q, T, P] if "screw" in kind else [Q, P]), extrapolate="mirror")
+
+
+def test_retiming_a_pose_spline_is_refused_not_silently_rotation_only():
+    for f in (qs.arc_length, lambda s: qs.retime(s, max_angular_velocity=1.0)):
+        with pytest.raises(TypeError, match="pose spline"):
+            f(_make("screw"))
