@@ -147,3 +147,27 @@ def test_bad_input(kwargs, err, msg):
 def test_moving_mean_bad_window(window, err):
     with pytest.raises(err, match="window"):
         qs.moving_mean(random_quats(10), window)
+
+
+@pytest.mark.parametrize("method", ["chordal", "geodesic"])
+@pytest.mark.parametrize("seed", range(4))
+def test_means_are_bi_invariant(method, seed):
+    q = _cluster(15, 0.7, seed)
+    g, h = random_quats(2, seed=seed + 50)
+    m = qs.mean(q, method=method)
+    _same_rotation(qs.mean(qs.multiply(g, q), method=method), qs.multiply(g, m), 1e-12)
+    _same_rotation(qs.mean(qs.multiply(q, h), method=method), qs.multiply(m, h), 1e-12)
+
+
+def test_hard_cases_against_scipy():
+    from .conftest import HARD_CASES
+
+    q = np.array(list(HARD_CASES.values()))
+    ref = qs.from_xyzw(
+        Rotation.from_quat(qs.as_xyzw(q / np.linalg.norm(q, axis=1)[:, None])).mean().as_quat()
+    )
+    _same_rotation(qs.mean(q), ref, 1e-12)
+    # a tight cluster around π: the Karcher mean stays there (no wrap-around)
+    near_pi = qs.multiply(qs.from_rotvec([np.pi - 1e-9, 0, 0]), qs.from_rotvec(1e-3 * np.eye(3)))
+    m, info = qs.mean(near_pi, method="geodesic", return_info=True)
+    assert info.converged and abs(np.linalg.norm(qs.as_rotvec(m)) - np.pi) < 2e-3

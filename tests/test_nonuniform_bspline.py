@@ -147,3 +147,32 @@ def test_interior_knot_repeated_k_times_is_rejected():
         ValueError, match="knots: knot 4 \\(index 4\\) repeats 4 times; at most 3 inside"
     ):
         qs.CumulativeBSpline(random_walk(8, 1), knots=[0, 1, 2, 3, 4, 4, 4, 4, 5, 6, 7, 8])
+
+
+def test_cli_samples_the_nonuniform_bspline(tmp_path):
+    from quatspline.cli import main
+    from quatspline.io import Trajectory, read, write
+
+    q = random_walk(6, seed=7)
+    t = np.array([0.0, 0.2, 1.0, 1.1, 2.5, 4.0])
+    write(tmp_path / "in.csv", Trajectory(t, q))
+    out = tmp_path / "out.csv"
+    assert (
+        main(
+            [
+                "sample",
+                str(tmp_path / "in.csv"),
+                "-o",
+                str(out),
+                "--method",
+                "nonuniform_bspline",
+                "--count",
+                "9",
+            ]
+        )
+        == 0
+    )
+    got = read(out)
+    want = qs.spline("nonuniform_bspline", q, t)(np.linspace(0.0, 4.0, 9))
+    d = np.minimum(np.abs(got.quats - want).max(1), np.abs(got.quats + want).max(1))
+    assert d.max() < 1e-9

@@ -227,3 +227,38 @@ def test_pose_registry():
 def test_bad_input(make, err, msg):
     with pytest.raises(err, match=msg):
         make()
+
+
+@pytest.mark.parametrize("kind", ["screw_smooth", "pose_bspline_knots"])
+def test_linear_and_periodic_extrapolation(kind):
+    s = _make(kind)
+    a, b = s.domain
+    lin = type(s).__new__(type(s))
+    lin.__dict__.update(s.__dict__)
+    lin.extrapolate = "linear"
+    for end, x in ((b, b + np.array([0.1, 0.7, 2.0])), (a, a - np.array([0.3, 1.5]))):
+        p_e, v_e = s.position(end), s.linear_velocity(end)
+        w_e = s.angular_velocity(end, "body")
+        assert np.allclose(lin.position(x), p_e + np.outer(x - end, v_e), atol=1e-12)
+        assert np.allclose(lin.linear_velocity(x), np.tile(v_e, (len(x), 1)), atol=1e-12)
+        assert np.allclose(lin.twist(x, "body")[:, :3], np.tile(w_e, (len(x), 1)), atol=1e-12)
+        assert np.allclose(lin.linear_acceleration(x), 0, atol=1e-12)
+        h = 1e-4
+        for xi in x:
+            num = fd(lambda y: lin.position(y), xi, h)
+            assert np.allclose(num, lin.linear_velocity(xi), atol=1e-7)
+    per = type(s).__new__(type(s))
+    per.__dict__.update(s.__dict__)
+    per.extrapolate = "periodic"
+    t = np.linspace(a, b, 13)[1:-1]
+    for k in (1, -2):
+        assert np.allclose(per.position(t + k * (b - a)), s.position(t), atol=1e-10)
+        assert np.allclose(per.twist(t + k * (b - a), order=2), s.twist(t, order=2), atol=1e-8)
+    with pytest.raises(ValueError, match="extrapolate"):
+        type(s)(*([Q, T, P] if "screw" in kind else [Q, P]), extrapolate="mirror")
+
+
+def test_retiming_a_pose_spline_is_refused_not_silently_rotation_only():
+    for f in (qs.arc_length, lambda s: qs.retime(s, max_angular_velocity=1.0)):
+        with pytest.raises(TypeError, match="pose spline"):
+            f(_make("screw"))

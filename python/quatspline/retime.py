@@ -43,6 +43,13 @@ class Reparameterized(Spline):
 def _check_spline(spline) -> Spline:
     if not isinstance(spline, Spline):
         raise TypeError(f"spline: expected a quatspline.Spline, got {type(spline).__name__}")
+    from .se3 import PoseCurveSpline
+
+    if isinstance(spline, PoseCurveSpline):
+        raise TypeError(
+            f"spline: {type(spline).__name__} is a pose spline; retiming would keep only its "
+            "rotation (pose retiming is not supported yet)"
+        )
     return spline
 
 

@@ -45,7 +45,7 @@ class PoseCurveSpline(Spline):
         if order not in (0, 1, 2, 3):
             raise ValueError(f"order: expected 0, 1, 2 or 3, got {order!r}")
         shape, flat = self._flat(t)
-        out = self._pose.positions(flat, order, self.extrapolate == "clamp")
+        out = self._pose.positions(flat, order, self.extrapolate)
         return out[:, 3 * order :].reshape((*shape, 3))
 
     def _linear(self, t, order, frame):
@@ -79,7 +79,7 @@ class PoseCurveSpline(Spline):
         if order not in (1, 2, 3):
             raise ValueError(f"order: expected 1, 2 or 3, got {order!r}")
         shape, flat = self._flat(t)
-        out = self._pose.twists(flat, order, frame == "body", self.extrapolate == "clamp")
+        out = self._pose.twists(flat, order, frame == "body", self.extrapolate)
         return out.reshape((*shape, 6))
 
     def dual_quaternions(self, t) -> np.ndarray:

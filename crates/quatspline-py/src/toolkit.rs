@@ -3,7 +3,7 @@
 //! GIL release and error mapping only.
 
 use crate::arrays::{guarded, to_py, Rows};
-use numpy::{PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use quatspline::integrate::{self, RateModel};
@@ -31,11 +31,13 @@ fn to_array<'py, const W: usize>(
     py: Python<'py>,
     rows: Vec<[f64; W]>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let v: Vec<Vec<f64>> = rows.into_iter().map(|r| r.to_vec()).collect();
-    if v.is_empty() {
-        return Ok(PyArray2::zeros(py, [0, W], false));
-    }
-    PyArray2::from_vec2(py, &v).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+    let n = rows.len();
+    flat_array(py, rows.into_iter().flatten().collect(), n, W)
+}
+
+/// An (n, w) array from a flat row-major buffer (one move, no per-row allocation).
+fn flat_array<'py>(py: Python<'py>, v: Vec<f64>, n: usize, w: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    PyArray1::from_vec(py, v).reshape([n, w]).map_err(|e| PyRuntimeError::new_err(e.to_string()))
 }
 
 /// Orientations (N, 4) from rates (N, 3) at times (N,), starting at q0.
@@ -136,12 +138,8 @@ pub struct PyPoseCurve {
     inner: Arc<dyn PoseCurve>,
 }
 
-fn extrapolate_of(clamp: bool) -> sp::Extrapolate {
-    if clamp {
-        sp::Extrapolate::Clamp
-    } else {
-        sp::Extrapolate::Raise
-    }
+fn extrapolate_of(rule: &str) -> PyResult<sp::Extrapolate> {
+    sp::Extrapolate::parse(rule).map_err(to_py)
 }
 
 #[pymethods]
@@ -163,8 +161,9 @@ impl PyPoseCurve {
         py: Python<'py>,
         t: PyReadonlyArray1<'py, f64>,
         order: usize,
-        clamp: bool,
+        extrapolate: &str,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let ex = extrapolate_of(extrapolate)?;
         if order > 3 {
             return Err(PyValueError::new_err(format!("order: expected 0, 1, 2 or 3, got {order}")));
         }
@@ -173,14 +172,11 @@ impl PyPoseCurve {
         let w = 3 * (order + 1);
         let out = guarded(py, "positions", move || {
             let mut out = vec![0.0; tv.len() * w];
-            se3::positions_into(&*s, &tv, order, extrapolate_of(clamp), &mut out)?;
+            se3::positions_into(&*s, &tv, order, ex, &mut out)?;
             Ok(out)
         })?;
-        let rows: Vec<Vec<f64>> = out.chunks_exact(w).map(|r| r.to_vec()).collect();
-        if rows.is_empty() {
-            return Ok(PyArray2::zeros(py, [0, w], false));
-        }
-        PyArray2::from_vec2(py, &rows).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+        let n = out.len() / w;
+        flat_array(py, out, n, w)
     }
 
     /// (M, 6): the body or spatial twist (order 1) or its time derivatives (2, 3).
@@ -190,16 +186,18 @@ impl PyPoseCurve {
         t: PyReadonlyArray1<'py, f64>,
         order: usize,
         body: bool,
-        clamp: bool,
+        extrapolate: &str,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let ex = extrapolate_of(extrapolate)?;
         let tv = vec_of(&t);
         let s = self.inner.clone();
         let out = guarded(py, "twists", move || {
             let mut out = vec![0.0; tv.len() * 6];
-            se3::twists_into(&*s, &tv, order, body, extrapolate_of(clamp), &mut out)?;
+            se3::twists_into(&*s, &tv, order, body, ex, &mut out)?;
             Ok(out)
         })?;
-        to_array::<6>(py, out.chunks_exact(6).map(|r| std::array::from_fn(|k| r[k])).collect())
+        let n = out.len() / 6;
+        flat_array(py, out, n, 6)
     }
 }
 

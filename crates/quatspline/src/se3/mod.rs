@@ -159,9 +159,44 @@ pub trait PoseCurve: Spline {
     fn pose_jet4(&self, seg: usize, t: f64) -> JDual<4>;
 }
 
-/// Per sample: position (3) then, for order ≥ 1, p', p'', p''' (3 each) up to `order`, world
-/// coordinates. Out-of-domain times follow `ex` like [`crate::spline::evaluate_into`]
-/// (clamp holds the end pose with zero derivatives).
+/// The pose jets at a time after the extrapolation rule (see [`crate::spline::Extrapolate`]);
+/// the flag is true for a held (clamped) pose, whose derivatives are zero. `Linear`: constant
+/// body angular velocity (as the rotation splines, `spline::eval`) and constant world linear
+/// velocity from the nearest end (as `PoseSpline`); `Periodic`: t wrapped into the domain.
+fn pose_at(s: &dyn PoseCurve, i: usize, t: f64, ex: Extrapolate) -> Result<(JDual<4>, bool)> {
+    if !t.is_finite() {
+        return Err(Error::NonFinite { arg: "t", index: i });
+    }
+    let (a, b) = s.domain();
+    let at = |x: f64| s.pose_jet4(s.locate(x), x);
+    if t >= a && t <= b {
+        return Ok((at(t), false));
+    }
+    match ex {
+        Extrapolate::Raise => Err(Error::OutOfDomain { index: i, t, start: a, end: b }),
+        Extrapolate::Clamp => Ok((at(t.clamp(a, b)), true)),
+        Extrapolate::Periodic => {
+            let w = (a + (t - a).rem_euclid(b - a)).clamp(a, b);
+            Ok((at(w), false))
+        }
+        Extrapolate::Linear => {
+            let (end, seg) = if t < a { (a, 0) } else { (b, s.segments() - 1) };
+            let e = s.pose_jet4(seg, end);
+            let r0 = e.r.value();
+            let w = crate::jet::angular(&e.r.derivatives()[..2], 1, true);
+            let p = e.position();
+            let x = Jet::<4>::variable(t - end, 1.0);
+            let rot: [Jet<4>; 3] = std::array::from_fn(|c| x * (0.5 * w[c]));
+            let r = JQuat::constant(r0) * JQuat::exp_pure(rot);
+            let pos: [Jet<4>; 3] = std::array::from_fn(|c| x * p[c].0[1] + p[c].0[0]);
+            let half = JQuat { w: Jet::constant(0.0), x: pos[0] * 0.5, y: pos[1] * 0.5, z: pos[2] * 0.5 };
+            Ok((JDual { r, d: half * r }, false))
+        }
+    }
+}
+
+/// Per sample: position (3) then, for order ≥ 1, its first to third derivatives (3 each) up
+/// to `order`, world coordinates, after the rule `ex` (clamp: the end pose, zero derivatives).
 pub fn positions_into(
     s: &dyn PoseCurve,
     t: &[f64],
@@ -171,9 +206,8 @@ pub fn positions_into(
 ) -> Result<()> {
     let w = 3 * (order + 1);
     for (k, (&ti, row)) in t.iter().zip(out.chunks_exact_mut(w)).enumerate() {
-        let (tc, held) = resolve(s, k, ti, ex)?;
-        let seg = s.locate(tc);
-        let p = s.pose_jet4(seg, tc).position();
+        let (jet, held) = pose_at(s, k, ti, ex)?;
+        let p = jet.position();
         for m in 0..=order {
             for c in 0..3 {
                 row[3 * m + c] = if held && m > 0 { 0.0 } else { p[c].derivative(m) };
@@ -184,7 +218,7 @@ pub fn positions_into(
 }
 
 /// Per sample the twist (order 1) or its first (2) or second (3) time derivative, 6 numbers
-/// (angular, linear), body or spatial (see the module doc).
+/// (angular, linear), body or spatial (see the module doc), after the extrapolation rule.
 pub fn twists_into(
     s: &dyn PoseCurve,
     t: &[f64],
@@ -197,13 +231,12 @@ pub fn twists_into(
         return Err(Error::invalid("order", format!("expected 1, 2 or 3, got {order}")));
     }
     for (k, (&ti, row)) in t.iter().zip(out.chunks_exact_mut(6)).enumerate() {
-        let (tc, held) = resolve(s, k, ti, ex)?;
+        let (jet, held) = pose_at(s, k, ti, ex)?;
         if held {
             row.copy_from_slice(&[0.0; 6]);
             continue;
         }
-        let seg = s.locate(tc);
-        let d = s.pose_jet4(seg, tc).derivatives();
+        let d = jet.derivatives();
         let c = |q: DualQuat| q.conj();
         let v = match (order, body) {
             (1, true) => c(d[0]) * d[1],
@@ -216,20 +249,6 @@ pub fn twists_into(
         row.copy_from_slice(&[2.0 * v.r.x, 2.0 * v.r.y, 2.0 * v.r.z, 2.0 * v.d.x, 2.0 * v.d.y, 2.0 * v.d.z]);
     }
     Ok(())
-}
-
-fn resolve(s: &dyn PoseCurve, i: usize, t: f64, ex: Extrapolate) -> Result<(f64, bool)> {
-    if !t.is_finite() {
-        return Err(Error::NonFinite { arg: "t", index: i });
-    }
-    let (a, b) = s.domain();
-    if t >= a && t <= b {
-        return Ok((t, false));
-    }
-    match ex {
-        Extrapolate::Clamp => Ok((t.clamp(a, b), true)),
-        _ => Err(Error::OutOfDomain { index: i, t, start: a, end: b }),
-    }
 }
 
 /// The dual part of a pose curve seen as a quaternion curve, so the continuity certificate

@@ -148,6 +148,9 @@ impl Reparameterized {
             ));
         }
         let tol = 1e-13 * estimate;
+        // Memory bound: at most 256 pieces per segment on average (plus slack); beyond, the
+        // remaining pieces are kept unsplit (still 8-point Gauss–Legendre accurate).
+        let cap = 256 * (j.len() - 1) + 4096;
         let mut pieces = Vec::new();
         let mut phi = 0.0;
         let mut seg_phi = vec![0.0];
@@ -165,7 +168,12 @@ impl Reparameterized {
                 let m = 0.5 * (x0 + x1);
                 let halves = gauss(s, seg, x0, m) + gauss(s, seg, m, x1);
                 let width_share = (x1 - x0) / (b - a);
-                if (whole - halves).abs() <= tol * width_share.max(1e-6) || depth >= 40 || m <= x0 || m >= x1
+                let budget_spent = pieces.len() + stack.len() >= cap;
+                if (whole - halves).abs() <= tol * width_share.max(1e-6)
+                    || depth >= 30
+                    || budget_spent
+                    || m <= x0
+                    || m >= x1
                 {
                     pieces.push(Piece { seg, lo: x0, hi: x1, phi });
                     phi += halves;
