@@ -172,6 +172,16 @@ impl PySpline {
         })
     }
 
+    /// Which kernel evaluates this spline now: "avx2", "scalar" (batch kernels) or "jets"
+    /// (the per-sample path: no batch kernel for this method, or reference mode).
+    #[getter]
+    fn kernel(&self) -> &'static str {
+        match (self.inner.batch(), quatspline::simd::isa()) {
+            (Some(_), Some(isa)) => isa.name(),
+            _ => "jets",
+        }
+    }
+
     /// One sample's orientation (4,): the small-call fast path (no array in, no thread pool,
     /// no GIL release — for one sample those cost more than the evaluation).
     fn evaluate1<'py>(

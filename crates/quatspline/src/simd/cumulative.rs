@@ -510,13 +510,14 @@ impl BatchKernel for CumulativeTable {
         &self.locator
     }
 
-    fn evaluate(&self, isa: Isa, seg: &[u32], t: &[f64], order: usize, out: &mut [f64]) {
+    fn evaluate(&self, isa: Isa, seg: &[u32], t: &[f64], order: usize, out: &mut [f64]) -> bool {
         match order {
             0 => dispatch::<0, EVAL>(isa, self, seg, t, out),
             1 => dispatch::<1, EVAL>(isa, self, seg, t, out),
             2 => dispatch::<2, EVAL>(isa, self, seg, t, out),
             _ => dispatch::<3, EVAL>(isa, self, seg, t, out),
         }
+        true
     }
 
     fn angular(&self, isa: Isa, seg: &[u32], t: &[f64], order: usize, frame: Frame, out: &mut [f64]) -> bool {

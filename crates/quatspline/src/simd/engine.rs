@@ -80,10 +80,7 @@ pub fn evaluate(
 ) -> Option<Result<()>> {
     let k = s.batch()?;
     let isa = super::isa()?;
-    let kern = |seg: &[u32], tc: &[f64], o: &mut [f64]| {
-        k.evaluate(isa, seg, tc, order, o);
-        true
-    };
+    let kern = |seg: &[u32], tc: &[f64], o: &mut [f64]| k.evaluate(isa, seg, tc, order, o);
     Some(chunks(s, k, t, first, 4 * (order + 1), out, kern, reference))
 }
 

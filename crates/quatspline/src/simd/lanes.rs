@@ -7,11 +7,11 @@
 // fdlibm's kernel constants are kept digit for digit as published.
 #![allow(clippy::excessive_precision)]
 
-use std::ops::{Add, Mul, Neg, Sub};
+use std::ops::{Add, Div, Mul, Neg, Sub};
 
 /// A vector of `N` f64 lanes.
 pub(crate) trait Lanes:
-    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Neg<Output = Self>
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
 {
     /// The number of lanes.
     const N: usize;
@@ -40,6 +40,10 @@ pub(crate) trait Lanes:
     fn fnma(self, b: Self, c: Self) -> Self;
     /// (sin, cos) of every lane, within one ulp of libm (fdlibm kernels).
     fn sin_cos(self) -> (Self, Self);
+    /// √ of every lane.
+    fn sqrt(self) -> Self;
+    /// Per lane: `if self < b { x } else { y }`.
+    fn lt_select(self, b: Self, x: Self, y: Self) -> Self;
 }
 
 impl Lanes for f64 {
@@ -75,6 +79,18 @@ impl Lanes for f64 {
     #[inline(always)]
     fn sin_cos(self) -> (Self, Self) {
         crate::special::sin_cos(self)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f64::sqrt(self)
+    }
+    #[inline(always)]
+    fn lt_select(self, b: Self, x: Self, y: Self) -> Self {
+        if self < b {
+            x
+        } else {
+            y
+        }
     }
 }
 
@@ -112,6 +128,13 @@ mod avx2 {
         #[inline(always)]
         fn mul(self, b: Self) -> Self {
             Avx2(unsafe { _mm256_mul_pd(self.0, b.0) })
+        }
+    }
+    impl std::ops::Div for Avx2 {
+        type Output = Self;
+        #[inline(always)]
+        fn div(self, b: Self) -> Self {
+            Avx2(unsafe { _mm256_div_pd(self.0, b.0) })
         }
     }
     impl Neg for Avx2 {
@@ -284,6 +307,14 @@ mod avx2 {
         fn sin_cos(self) -> (Self, Self) {
             let (s, c) = unsafe { sin_cos4(self.0) };
             (Avx2(s), Avx2(c))
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Self {
+            Avx2(unsafe { _mm256_sqrt_pd(self.0) })
+        }
+        #[inline(always)]
+        fn lt_select(self, b: Self, x: Self, y: Self) -> Self {
+            unsafe { Avx2(_mm256_blendv_pd(y.0, x.0, _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, b.0))) }
         }
     }
 
