@@ -1,5 +1,6 @@
 """Peer benchmark: quatspline against scipy, numpy-quaternion and pytransform3d, same data,
-same run. Prints ns per sample (median of --repeat runs) and the ratio to each peer.
+same run. Prints ns per sample (best of --repeat runs) and the ratio to each peer, then the
+evaluation engine's tables (benchmarks/engine_bench.py).
 
     make bench                # builds in release mode, then runs this
     python benchmarks/bench.py --n 1000000 --repeat 5
@@ -14,19 +15,23 @@ import statistics
 import time
 from collections.abc import Callable
 
+import engine_bench
 import numpy as np
 import quatspline as qs
 from quatspline.keyframe import bessel_rates
 
 
 def median_ns(fn: Callable[[], object], n: int, repeat: int) -> float:
+    """Best (minimum) of ``repeat`` runs after a warm-up, ns per item: the machine is shared,
+    the least disturbed run is the one closest to the code's cost. (Name kept for the callers.)
+    """
     fn()  # warm up (page faults, lazy imports)
     times = []
     for _ in range(repeat):
         t0 = time.perf_counter_ns()
         fn()
         times.append(time.perf_counter_ns() - t0)
-    return statistics.median(times) / n
+    return min(times) / n
 
 
 def random_quats(n: int, seed: int) -> np.ndarray:
@@ -110,6 +115,8 @@ def spline_methods(n: int, keys: int, repeat: int) -> list[tuple[str, str, float
         ("C3Spline (patent)", qs.C3Spline(q, times, variant="patent"), t),
         ("Hermite (cubic)", qs.Hermite(q, times, bessel_rates(q, times), frame="body"), t),
         ("KochanekBartels (T=0.3)", qs.KochanekBartels(q, times, tension=0.3), t),
+        ("CumulativeBezier (8 points)", qs.CumulativeBezier(q[:8], domain=(0.0, keys - 1.0)), t),
+        ("SphericalBezier (8 points)", qs.SphericalBezier(q[:8], domain=(0.0, keys - 1.0)), t),
     ]
     for name, s, tt in cases:
         rows.append(("quatspline", name, median_ns(lambda s=s, tt=tt: s(tt), n, repeat)))
@@ -286,19 +293,21 @@ def print_table(title: str, rows: list[tuple[str, str, float]]) -> None:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=1_000_000, help="samples / pairs")
-    ap.add_argument("--repeat", type=int, default=5, help="runs per measurement (median)")
+    ap.add_argument("--repeat", type=int, default=5, help="runs per measurement (best of)")
     ap.add_argument("--quick", action="store_true", help="skip scaling, construction, memory")
     args = ap.parse_args()
     print(
         f"machine: {platform.machine()}, {os.cpu_count()} cores, {platform.python_implementation()}"
         f" {platform.python_version()}, numpy {np.__version__}, quatspline {qs.__version__}"
     )
+    print(f"CPU: {engine_bench.cpu_model()}; kernels: {qs.simd_status()[1]}")
     print_table(f"{args.n:,} independent slerp pairs", slerp_pairs(args.n, args.repeat))
     print_table(f"{args.n:,} screw interpolations (pose pairs)", sclerp_pairs(args.n, args.repeat))
     print_matrix(
         f"1,000 keys, {args.n:,} sorted samples (ratios: how many times faster quatspline is)",
         spline_methods(args.n, 1000, args.repeat),
     )
+    engine_bench.engine(args.n, args.repeat)
     if not args.quick:
         scaling(args.repeat)
         construction(args.repeat)

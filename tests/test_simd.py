@@ -33,6 +33,7 @@ BATCH = {
     "c3 knot": lambda: qs.C3Spline(Q, T),
     "c3 patent": lambda: qs.C3Spline(Q, T, alpha=0.2, beta=0.1, variant="patent"),
     "cumulative_bezier 8": lambda: qs.CumulativeBezier(Q[:8], domain=(T[0], T[-1])),
+    "natural": lambda: qs.NaturalSpline(Q, T),  # value kernel; derivatives keep the jets
 }
 TOL = {0: 1e-14, 1: 1e-14, 2: 5e-14, 3: 2e-13}  # by derivative order (see the module doc)
 
@@ -227,3 +228,28 @@ def test_vector_sin_cos_within_two_ulp_of_mpmath(isa):
     assert _ulps(c, x, mp.cos) <= 2.0
     s, c = qs._core._simd_sin_cos(np.array([np.nan, np.inf]), isa)
     assert np.isnan(s).all() and np.isnan(c).all()
+
+
+def test_small_call_fast_paths_equal_the_general_path():
+    s = BATCH["c3 knot"]()
+    a, b = s.domain
+    t = np.linspace(a, b, 7)
+    general = s(t.reshape(7, 1))[:, 0]  # 2-D input: the general path
+    np.testing.assert_array_equal(s(t), general)  # contiguous float64 vector
+    for k, v in enumerate(t):
+        np.testing.assert_array_equal(s(float(v)), general[k])  # one float
+        assert s(float(v)).shape == (4,)
+    with pytest.raises(ValueError, match="outside"):
+        s(b + 1.0)
+    with pytest.raises(ValueError, match="finite"):
+        s(float("nan"))
+    clamped = qs.C3Spline(Q, T, extrapolate="clamp")
+    # held samples take the reference path: equal to the kernel's end value within the bound
+    np.testing.assert_allclose(clamped(b + 5.0), clamped(np.array([b]))[0], rtol=0, atol=1e-15)
+    # an in-domain row does not depend on out-of-domain neighbours
+    tt = np.linspace(a, b, 300)
+    tt2 = tt.copy()
+    tt2[::7] = b + 1.0
+    keep = np.ones(300, bool)
+    keep[::7] = False
+    np.testing.assert_array_equal(clamped(tt)[keep], clamped(tt2)[keep])

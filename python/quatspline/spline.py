@@ -228,6 +228,16 @@ class Spline:
         True
         """
         if out is None:
+            # small-call fast paths: one float, or a contiguous float64 vector
+            if type(t) is float:
+                return self._core.evaluate1(t, self.extrapolate)
+            if (
+                type(t) is np.ndarray
+                and t.dtype == np.float64
+                and t.ndim == 1
+                and t.flags.c_contiguous
+            ):
+                return self._core.evaluate(t, 0, self.extrapolate)
             shape, res = self._eval(t, 0)
             return res.reshape((*shape, 4))
         if isinstance(out, (int, np.integer)) and not isinstance(out, bool):

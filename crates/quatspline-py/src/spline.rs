@@ -172,6 +172,37 @@ impl PySpline {
         })
     }
 
+    /// Which kernel evaluates this spline now: "avx2", "scalar" (batch kernels) or "jets"
+    /// (the per-sample path: no batch kernel for this method, or reference mode).
+    #[getter]
+    fn kernel(&self) -> &'static str {
+        match (self.inner.batch(), quatspline::simd::isa()) {
+            (Some(_), Some(isa)) => isa.name(),
+            _ => "jets",
+        }
+    }
+
+    /// One sample's orientation (4,): the small-call fast path (no array in, no thread pool,
+    /// no GIL release — for one sample those cost more than the evaluation).
+    fn evaluate1<'py>(
+        &self,
+        py: Python<'py>,
+        t: f64,
+        extrapolate: &str,
+    ) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+        let ex = self::extrapolate(extrapolate)?;
+        let mut row = [0.0; 4];
+        let s: &dyn sp::Spline = &*self.inner;
+        let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            sp::evaluate_into(s, &[t], 0, 0, ex, &mut row)
+        }));
+        match r {
+            Ok(Ok(())) => Ok(numpy::PyArray1::from_slice(py, &row)),
+            Ok(Err(e)) => Err(to_py(e)),
+            Err(_) => Err(PyRuntimeError::new_err("internal error in Spline.evaluate1 (please report)")),
+        }
+    }
+
     /// Like `evaluate`, into `out` (C-contiguous float64 of shape (M, 4·(order+1))).
     fn evaluate_out<'py>(
         &self,

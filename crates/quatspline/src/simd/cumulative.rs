@@ -129,7 +129,8 @@ impl CumulativeTable {
         if nj == 0 || nj > MAX_FACTORS || nd > MAX_DEGREE {
             return None;
         }
-        let stride = 6 + nj * (nd + 4);
+        // a multiple of 4, so that records can be read 4 doubles at a time
+        let stride = (6 + nj * (nd + 4)).next_multiple_of(4);
         let mut data = vec![0.0; 2 * nseg * stride];
         let mut mid = Vec::with_capacity(nseg);
         for (s, f) in forms.iter().enumerate() {
@@ -191,13 +192,18 @@ impl<V: Lanes> Src<V> for Bcast {
     }
 }
 
-struct Gather(*const f64, [usize; 4]);
-impl<V: Lanes> Src<V> for Gather {
+/// Records of the lanes transposed into vectors (4×4 transposes of plain loads: cheaper than
+/// one AVX2 gather per field).
+struct Local<'a, V>(&'a [V]);
+impl<V: Lanes> Src<V> for Local<'_, V> {
     #[inline(always)]
     unsafe fn get(&self, off: usize) -> V {
-        V::gather(self.0.add(off), &self.1)
+        *self.0.get_unchecked(off)
     }
 }
+
+/// The largest record (MAX_FACTORS, MAX_DEGREE), rounded up to a multiple of 4.
+const MAX_STRIDE: usize = (6 + MAX_FACTORS * (MAX_DEGREE + 4)).next_multiple_of(4);
 
 type V3<V> = [V; 3];
 type Q4<V> = [V; 4];
@@ -241,6 +247,30 @@ fn sub3<V: Lanes>(a: V3<V>, b: V3<V>) -> V3<V> {
 #[inline(always)]
 fn scale3<V: Lanes>(a: V3<V>, s: V) -> V3<V> {
     [a[0] * s, a[1] * s, a[2] * s]
+}
+
+#[inline(always)]
+fn add4<V: Lanes>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3]]
+}
+
+#[inline(always)]
+fn scale4<V: Lanes>(a: Q4<V>, s: V) -> Q4<V> {
+    [a[0] * s, a[1] * s, a[2] * s, a[3] * s]
+}
+
+/// e* v e for e = (c, s n): v cos 2θ − sin 2θ (n × v) + (1 − cos 2θ)(n·v) n, given
+/// s2 = sin 2θ, c2 = cos 2θ, omc = 1 − cos 2θ. (Written as functions, not closures: a closure
+/// would not inherit the caller's `target_feature`, and its vector operations would be calls.)
+#[inline(always)]
+fn rot_axis<V: Lanes>(n: V3<V>, s2: V, c2: V, omc: V, v: V3<V>) -> V3<V> {
+    let cr = cross(n, v);
+    let k = omc * n[2].fma(v[2], n[1].fma(v[1], n[0] * v[0]));
+    [
+        k.fma(n[0], s2.fnma(cr[0], c2 * v[0])),
+        k.fma(n[1], s2.fnma(cr[1], c2 * v[1])),
+        k.fma(n[2], s2.fnma(cr[2], c2 * v[2])),
+    ]
 }
 
 /// The vector rotated by the unit quaternion q: x + 2w (v × x) + 2 v × (v × x).
@@ -316,17 +346,12 @@ unsafe fn block<V: Lanes, S: Src<V>, const K: usize, const OUT: u8>(
         let s2 = two * s * c;
         let omc = two * s * s;
         let c2 = V::splat(1.0) - omc;
-        let rot = |v: V3<V>| -> V3<V> {
-            let cr = cross(n, v);
-            let k = omc * n[2].fma(v[2], n[1].fma(v[1], n[0] * v[0]));
-            std::array::from_fn(|m| k.fma(n[m], s2.fnma(cr[m], c2 * v[m])))
-        };
-        let y = rot(w);
+        let y = rot_axis(n, s2, c2, omc, w);
         if K >= 2 {
-            let z = rot(a);
+            let z = rot_axis(n, s2, c2, omc, a);
             let oy = cross(om, y);
             if K >= 3 {
-                let v = rot(jk);
+                let v = rot_axis(n, s2, c2, omc, jk);
                 let oz = cross(om, z);
                 jk = add3(sub3(sub3(v, add3(oz, oz)), cross(omd, y)), add3(cross(om, oy), omdd));
             }
@@ -340,18 +365,18 @@ unsafe fn block<V: Lanes, S: Src<V>, const K: usize, const OUT: u8>(
             o[..4].copy_from_slice(&q);
             if K >= 1 {
                 let half = V::splat(0.5);
-                let q1 = qmul_pure(q, w).map(|c| c * half);
+                let q1 = scale4(qmul_pure(q, w), half);
                 o[4..8].copy_from_slice(&q1);
                 if K >= 2 {
                     let qa = qmul_pure(q, a);
                     let q1w = qmul_pure(q1, w);
-                    let q2: Q4<V> = std::array::from_fn(|m| (q1w[m] + qa[m]) * half);
+                    let q2: Q4<V> = scale4(add4(q1w, qa), half);
                     o[8..12].copy_from_slice(&q2);
                     if K >= 3 {
                         let q2w = qmul_pure(q2, w);
                         let q1a = qmul_pure(q1, a);
                         let qj = qmul_pure(q, jk);
-                        let q3: Q4<V> = std::array::from_fn(|m| (q2w[m] + two * q1a[m] + qj[m]) * half);
+                        let q3: Q4<V> = scale4(add4(add4(q2w, add4(q1a, q1a)), qj), half);
                         o[12..16].copy_from_slice(&q3);
                     }
                 }
@@ -390,6 +415,7 @@ unsafe fn run<V: Lanes, const K: usize, const OUT: u8>(
     let w = width(K, OUT);
     let n = t.len();
     let base = tab.data.as_ptr();
+    let mut local = [V::splat(0.0); MAX_STRIDE];
     let mut i = 0;
     while i < n {
         let m = (n - i).min(V::N);
@@ -406,14 +432,25 @@ unsafe fn run<V: Lanes, const K: usize, const OUT: u8>(
         let o = if uniform {
             block::<V, _, K, OUT>(nj, nd, &Bcast(base.add(rec[0] * tab.stride)), tv)
         } else {
-            let idx = rec.map(|r| r * tab.stride);
-            block::<V, _, K, OUT>(nj, nd, &Gather(base, idx), tv)
+            let idx = [rec[0] * tab.stride, rec[1] * tab.stride, rec[2] * tab.stride, rec[3] * tab.stride];
+            V::transpose_records(base, &idx, tab.stride, local.as_mut_ptr());
+            block::<V, _, K, OUT>(nj, nd, &Local(&local[..tab.stride]), tv)
         };
         let rows = &mut out[i * w..(i + m) * w];
-        for (c, v) in o.iter().take(w).enumerate() {
-            let a = v.to_array();
-            for l in 0..m {
-                rows[l * w + c] = a[l];
+        if m == V::N && OUT == EVAL {
+            for b in 0..=K {
+                V::store_rows4(
+                    [o[4 * b], o[4 * b + 1], o[4 * b + 2], o[4 * b + 3]],
+                    rows.as_mut_ptr().add(4 * b),
+                    w,
+                );
+            }
+        } else {
+            for (c, v) in o.iter().take(w).enumerate() {
+                let a = v.to_array();
+                for l in 0..m {
+                    rows[l * w + c] = a[l];
+                }
             }
         }
         i += m;
@@ -473,13 +510,14 @@ impl BatchKernel for CumulativeTable {
         &self.locator
     }
 
-    fn evaluate(&self, isa: Isa, seg: &[u32], t: &[f64], order: usize, out: &mut [f64]) {
+    fn evaluate(&self, isa: Isa, seg: &[u32], t: &[f64], order: usize, out: &mut [f64]) -> bool {
         match order {
             0 => dispatch::<0, EVAL>(isa, self, seg, t, out),
             1 => dispatch::<1, EVAL>(isa, self, seg, t, out),
             2 => dispatch::<2, EVAL>(isa, self, seg, t, out),
             _ => dispatch::<3, EVAL>(isa, self, seg, t, out),
         }
+        true
     }
 
     fn angular(&self, isa: Isa, seg: &[u32], t: &[f64], order: usize, frame: Frame, out: &mut [f64]) -> bool {

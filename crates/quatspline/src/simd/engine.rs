@@ -1,8 +1,8 @@
 //! The batch path of `evaluate_into` / `angular_into`: chunks of samples are validated at
 //! once, located (a cursor for sorted runs, the bucket [`Locator`](super::Locator) otherwise)
-//! and handed to the spline's [`BatchKernel`]. A chunk holding any time outside the domain
-//! (or not finite) goes through the per-sample reference path, which raises, clamps and
-//! reports the first offending index exactly as before.
+//! and handed to the spline's [`BatchKernel`] in runs of in-domain samples. A time outside the
+//! domain (or not finite) goes alone through the per-sample reference path, which raises,
+//! clamps (or extrapolates) and reports the first offending index exactly as before.
 
 use super::BatchKernel;
 use crate::error::{Error, Result};
@@ -38,19 +38,31 @@ fn chunks(
     let mut cur = 0usize;
     for (c, (tc, oc)) in t.chunks(CHUNK).zip(out.chunks_mut(CHUNK * width)).enumerate() {
         let first_c = first + c * CHUNK;
-        // NaN fails both comparisons, so it lands in the reference path too
-        if !tc.iter().all(|&x| x >= lo && x <= hi) {
-            reference(tc, first_c, oc)?;
-            continue;
-        }
-        for (i, &x) in tc.iter().enumerate() {
-            if !loc.fits(cur, x) {
-                cur = if cur < last && loc.fits(cur + 1, x) { cur + 1 } else { loc.locate(x) };
+        // runs of in-domain samples go to the kernel; each other sample (outside the domain or
+        // not finite: NaN fails both comparisons) to the reference path, alone, so that no
+        // in-domain row depends on its neighbours
+        let inside = |x: f64| x >= lo && x <= hi;
+        let mut i = 0;
+        while i < tc.len() {
+            if !inside(tc[i]) {
+                reference(&tc[i..i + 1], first_c + i, &mut oc[i * width..(i + 1) * width])?;
+                i += 1;
+                continue;
             }
-            seg[i] = cur as u32;
-        }
-        if !kern(&seg[..tc.len()], tc, &mut oc[..tc.len() * width]) {
-            reference(tc, first_c, oc)?;
+            let mut j = i;
+            while j < tc.len() && inside(tc[j]) {
+                let x = tc[j];
+                if !loc.fits(cur, x) {
+                    cur = if cur < last && loc.fits(cur + 1, x) { cur + 1 } else { loc.locate(x) };
+                }
+                seg[j] = cur as u32;
+                j += 1;
+            }
+            let o = &mut oc[i * width..j * width];
+            if !kern(&seg[i..j], &tc[i..j], o) {
+                reference(&tc[i..j], first_c + i, o)?;
+            }
+            i = j;
         }
     }
     Ok(())
@@ -68,10 +80,7 @@ pub fn evaluate(
 ) -> Option<Result<()>> {
     let k = s.batch()?;
     let isa = super::isa()?;
-    let kern = |seg: &[u32], tc: &[f64], o: &mut [f64]| {
-        k.evaluate(isa, seg, tc, order, o);
-        true
-    };
+    let kern = |seg: &[u32], tc: &[f64], o: &mut [f64]| k.evaluate(isa, seg, tc, order, o);
     Some(chunks(s, k, t, first, 4 * (order + 1), out, kern, reference))
 }
 

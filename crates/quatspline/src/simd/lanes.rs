@@ -7,11 +7,11 @@
 // fdlibm's kernel constants are kept digit for digit as published.
 #![allow(clippy::excessive_precision)]
 
-use std::ops::{Add, Mul, Neg, Sub};
+use std::ops::{Add, Div, Mul, Neg, Sub};
 
 /// A vector of `N` f64 lanes.
 pub(crate) trait Lanes:
-    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Neg<Output = Self>
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
 {
     /// The number of lanes.
     const N: usize;
@@ -22,11 +22,16 @@ pub(crate) trait Lanes:
     /// # Safety
     /// `p` must be valid for `N` reads.
     unsafe fn load(p: *const f64) -> Self;
-    /// Lane l from `p[idx[l]]`.
+    /// Lane l of `out[f]` ← `p[idx[l] + f]` for f < len (records of N lanes, transposed).
     ///
     /// # Safety
-    /// Every `p[idx[l]]`, l < N, must be valid for reads.
-    unsafe fn gather(p: *const f64, idx: &[usize; 4]) -> Self;
+    /// `p[idx[l] .. idx[l] + len.next_multiple_of(4)]` valid for reads, `out` for `len` writes.
+    unsafe fn transpose_records(p: *const f64, idx: &[usize; 4], len: usize, out: *mut Self);
+    /// Stores lane l of the 4 vectors at `out + l·stride .. + 4` (rows of 4).
+    ///
+    /// # Safety
+    /// The N rows must be valid for writes.
+    unsafe fn store_rows4(v: [Self; 4], out: *mut f64, stride: usize);
     /// The lanes as an array (the first `N` entries).
     fn to_array(self) -> [f64; 4];
     /// `self · b + c` (fused where the hardware has it).
@@ -35,6 +40,10 @@ pub(crate) trait Lanes:
     fn fnma(self, b: Self, c: Self) -> Self;
     /// (sin, cos) of every lane, within one ulp of libm (fdlibm kernels).
     fn sin_cos(self) -> (Self, Self);
+    /// √ of every lane.
+    fn sqrt(self) -> Self;
+    /// Per lane: `if self < b { x } else { y }`.
+    fn lt_select(self, b: Self, x: Self, y: Self) -> Self;
 }
 
 impl Lanes for f64 {
@@ -48,8 +57,12 @@ impl Lanes for f64 {
         *p
     }
     #[inline(always)]
-    unsafe fn gather(p: *const f64, idx: &[usize; 4]) -> Self {
-        *p.add(idx[0])
+    unsafe fn transpose_records(p: *const f64, idx: &[usize; 4], len: usize, out: *mut Self) {
+        std::ptr::copy_nonoverlapping(p.add(idx[0]), out, len);
+    }
+    #[inline(always)]
+    unsafe fn store_rows4(v: [Self; 4], out: *mut f64, _stride: usize) {
+        std::ptr::copy_nonoverlapping(v.as_ptr(), out, 4);
     }
     #[inline(always)]
     fn to_array(self) -> [f64; 4] {
@@ -66,6 +79,18 @@ impl Lanes for f64 {
     #[inline(always)]
     fn sin_cos(self) -> (Self, Self) {
         crate::special::sin_cos(self)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f64::sqrt(self)
+    }
+    #[inline(always)]
+    fn lt_select(self, b: Self, x: Self, y: Self) -> Self {
+        if self < b {
+            x
+        } else {
+            y
+        }
     }
 }
 
@@ -105,6 +130,13 @@ mod avx2 {
             Avx2(unsafe { _mm256_mul_pd(self.0, b.0) })
         }
     }
+    impl std::ops::Div for Avx2 {
+        type Output = Self;
+        #[inline(always)]
+        fn div(self, b: Self) -> Self {
+            Avx2(unsafe { _mm256_div_pd(self.0, b.0) })
+        }
+    }
     impl Neg for Avx2 {
         type Output = Self;
         #[inline(always)]
@@ -137,12 +169,38 @@ mod avx2 {
         -1.135_964_755_778_819_482_65e-11,
     ];
 
+    /// 4×4 transpose: rows r0…r3 in, columns out.
+    #[inline(always)]
+    unsafe fn transpose4(
+        r0: __m256d,
+        r1: __m256d,
+        r2: __m256d,
+        r3: __m256d,
+    ) -> (__m256d, __m256d, __m256d, __m256d) {
+        let t0 = _mm256_unpacklo_pd(r0, r1);
+        let t1 = _mm256_unpackhi_pd(r0, r1);
+        let t2 = _mm256_unpacklo_pd(r2, r3);
+        let t3 = _mm256_unpackhi_pd(r2, r3);
+        (
+            _mm256_permute2f128_pd::<0x20>(t0, t2),
+            _mm256_permute2f128_pd::<0x20>(t1, t3),
+            _mm256_permute2f128_pd::<0x31>(t0, t2),
+            _mm256_permute2f128_pd::<0x31>(t1, t3),
+        )
+    }
+
+    /// A constant in every lane (a function, not a closure: closures do not inherit the
+    /// caller's `target_feature`, so the intrinsic would not be inlined into them).
+    #[inline(always)]
+    unsafe fn s1(v: f64) -> __m256d {
+        _mm256_set1_pd(v)
+    }
+
     /// (sin x, cos x) for four lanes: fdlibm's kernels after a 3-part Cody–Waite reduction by
     /// π/2, quadrant by blend and sign flips (no branch). Lanes with |x| ≥ 823549.6 or NaN
     /// are redone by libm (rare: a branch on a movemask).
     #[inline(always)]
     unsafe fn sin_cos4(x: __m256d) -> (__m256d, __m256d) {
-        let s1 = |v: f64| _mm256_set1_pd(v);
         let big = _mm256_fmadd_pd(x, s1(INV_PIO2), s1(MAGIC));
         let k = _mm256_sub_pd(big, s1(MAGIC));
         let r = _mm256_fnmadd_pd(k, s1(PIO2_1), x);
@@ -207,9 +265,29 @@ mod avx2 {
             Avx2(_mm256_loadu_pd(p))
         }
         #[inline(always)]
-        unsafe fn gather(p: *const f64, idx: &[usize; 4]) -> Self {
-            let i = _mm256_set_epi64x(idx[3] as i64, idx[2] as i64, idx[1] as i64, idx[0] as i64);
-            Avx2(_mm256_i64gather_pd::<8>(p, i))
+        unsafe fn transpose_records(p: *const f64, idx: &[usize; 4], len: usize, out: *mut Self) {
+            let mut f = 0;
+            while f < len {
+                let (a, b, c, d) = transpose4(
+                    _mm256_loadu_pd(p.add(idx[0] + f)),
+                    _mm256_loadu_pd(p.add(idx[1] + f)),
+                    _mm256_loadu_pd(p.add(idx[2] + f)),
+                    _mm256_loadu_pd(p.add(idx[3] + f)),
+                );
+                *out.add(f) = Avx2(a);
+                *out.add(f + 1) = Avx2(b);
+                *out.add(f + 2) = Avx2(c);
+                *out.add(f + 3) = Avx2(d);
+                f += 4;
+            }
+        }
+        #[inline(always)]
+        unsafe fn store_rows4(v: [Self; 4], out: *mut f64, stride: usize) {
+            let (a, b, c, d) = transpose4(v[0].0, v[1].0, v[2].0, v[3].0);
+            _mm256_storeu_pd(out, a);
+            _mm256_storeu_pd(out.add(stride), b);
+            _mm256_storeu_pd(out.add(2 * stride), c);
+            _mm256_storeu_pd(out.add(3 * stride), d);
         }
         #[inline(always)]
         fn to_array(self) -> [f64; 4] {
@@ -229,6 +307,14 @@ mod avx2 {
         fn sin_cos(self) -> (Self, Self) {
             let (s, c) = unsafe { sin_cos4(self.0) };
             (Avx2(s), Avx2(c))
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Self {
+            Avx2(unsafe { _mm256_sqrt_pd(self.0) })
+        }
+        #[inline(always)]
+        fn lt_select(self, b: Self, x: Self, y: Self) -> Self {
+            unsafe { Avx2(_mm256_blendv_pd(y.0, x.0, _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, b.0))) }
         }
     }
 

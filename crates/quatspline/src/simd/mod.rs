@@ -18,6 +18,7 @@
 pub mod cumulative;
 pub mod engine;
 pub(crate) mod lanes;
+pub mod natural;
 
 use crate::spline::Frame;
 use std::sync::atomic::{AtomicU8, Ordering};
@@ -138,7 +139,9 @@ pub trait BatchKernel: Send + Sync {
     /// The segment search for times in any order.
     fn locator(&self) -> &Locator;
     /// Rows q, q', …, q^(order) (4·(order+1) numbers) for sample t\[i\] on segment seg\[i\].
-    fn evaluate(&self, isa: Isa, seg: &[u32], t: &[f64], order: usize, out: &mut [f64]);
+    /// Returns false (writing nothing) for orders the kernel does not cover: the engine then
+    /// uses the jets.
+    fn evaluate(&self, isa: Isa, seg: &[u32], t: &[f64], order: usize, out: &mut [f64]) -> bool;
     /// Rows of angular velocity (order 1), acceleration (2) or jerk (3), 3 numbers each.
     /// Returns false (writing nothing) where the method has no closed form: the engine then
     /// uses the jets.

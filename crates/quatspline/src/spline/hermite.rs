@@ -36,6 +36,8 @@ pub(crate) struct RotvecSegments {
     /// Per segment, coefficients of ½ rᵢ: [0, c₁, …, c₅]/2 per component.
     half: Vec<[[f64; 6]; 3]>,
     degree: usize,
+    /// Flat copy for the batch kernel (`crate::simd::natural`).
+    pub(crate) batch: crate::simd::natural::RotvecTable,
 }
 
 fn mat_vec(m: &nalgebra::Matrix3<f64>, v: Vec3) -> Vec3 {
@@ -53,7 +55,7 @@ impl RotvecSegments {
         rates: &[Vec3],
         accels: Option<&[Vec3]>,
     ) -> Self {
-        let half = (0..base.len())
+        let half: Vec<[[f64; 6]; 3]> = (0..base.len())
             .map(|i| {
                 let h = times[i + 1] - times[i];
                 let a = rate_to_rotvec_dot(rho[i]);
@@ -89,7 +91,8 @@ impl RotvecSegments {
             })
             .collect();
         let degree = if accels.is_some() { 5 } else { 3 };
-        RotvecSegments { base, times, half, degree }
+        let batch = crate::simd::natural::RotvecTable::new(&times, &base, &half);
+        RotvecSegments { base, times, half, degree, batch }
     }
 
     pub(crate) fn joints(&self) -> &[f64] {
@@ -217,6 +220,9 @@ impl Spline for Hermite {
         } else {
             1
         }
+    }
+    fn batch(&self) -> Option<&dyn crate::simd::BatchKernel> {
+        Some(&self.seg.batch)
     }
     fn closed(&self) -> bool {
         self.closed

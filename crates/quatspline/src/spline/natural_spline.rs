@@ -395,6 +395,9 @@ impl Spline for NaturalSpline {
     fn continuity(&self) -> u8 {
         self.order
     }
+    fn batch(&self) -> Option<&dyn crate::simd::BatchKernel> {
+        Some(&self.seg.batch)
+    }
     fn closed(&self) -> bool {
         self.closed
     }

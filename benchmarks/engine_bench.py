@@ -1,0 +1,178 @@
+"""The evaluation engine's rows of ``make bench`` (issue 2.5): which kernel ran, 1 vs 2
+threads, sorted vs unsorted times, derivative orders and angular rates, per-call cost of small
+calls, AVX2 against the forced scalar kernels and the per-sample reference path — with scipy's
+``RotationSpline`` timed in the same run for the ratios.
+
+Every figure is the best of ``repeat`` runs (the machine is shared; the minimum is the least
+disturbed run), in ns per sample unless stated.
+"""
+
+from __future__ import annotations
+
+import platform
+import subprocess
+import time
+from collections.abc import Callable
+
+import numpy as np
+import quatspline as qs
+
+
+def best_ns(fn: Callable[[], object], n: int, repeat: int) -> float:
+    """Best (minimum) wall time of ``repeat`` runs after one warm-up, per item, in ns."""
+    fn()
+    best = float("inf")
+    for _ in range(repeat):
+        t0 = time.perf_counter_ns()
+        fn()
+        best = min(best, time.perf_counter_ns() - t0)
+    return best / n
+
+
+def cpu_model() -> str:
+    """The CPU model, family/model/stepping and flags that matter here."""
+    name, fam, model, step, flags = "unknown", "?", "?", "?", set()
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                k, _, v = line.partition(":")
+                k, v = k.strip(), v.strip()
+                if k == "model name":
+                    name = v
+                elif k == "cpu family":
+                    fam = v
+                elif k == "model":
+                    model = v
+                elif k == "stepping":
+                    step = v
+                elif k == "flags":
+                    flags = set(v.split())
+    except OSError:
+        return platform.processor() or platform.machine()
+    simd = "+".join(f for f in ("avx2", "fma", "avx512f") if f in flags) or "no avx2"
+    return f"{name} (family {fam}, model {model}, stepping {step}; {simd})"
+
+
+def _keys(n: int, seed: int) -> np.ndarray:
+    from bench import random_walk
+
+    return random_walk(n, seed)
+
+
+def _methods(keys: int):
+    q = _keys(keys, 4)
+    times = np.arange(keys, dtype=float)
+    return [
+        ("PiecewiseSlerp", qs.PiecewiseSlerp(q, times)),
+        ("CumulativeBSpline", qs.CumulativeBSpline(q)),
+        ("BetaSpline", qs.BetaSpline(q, beta1=1.5, beta2=0.5)),
+        ("C3Spline (knot)", qs.C3Spline(q, times)),
+        ("NaturalSpline", qs.NaturalSpline(q, times)),
+        ("Squad", qs.Squad(q, times)),
+        ("CatmullRom", qs.CatmullRom(q, times)),
+        ("CumulativeBezier (8 points)", qs.CumulativeBezier(q[:8], domain=(0.0, keys - 1.0))),
+        ("SphericalBezier (8 points)", qs.SphericalBezier(q[:8], domain=(0.0, keys - 1.0))),
+    ]
+
+
+def _scipy(keys: int, t: np.ndarray, n: int, repeat: int) -> tuple[float, float]:
+    try:
+        from scipy.spatial.transform import Rotation, RotationSpline
+    except ImportError:
+        return float("nan"), float("nan")
+    q = _keys(keys, 4)
+    rs = RotationSpline(np.arange(keys, dtype=float), Rotation.from_quat(qs.as_xyzw(q)))
+    return best_ns(lambda: rs(t), n, repeat), best_ns(lambda: rs(t, 1), n, repeat)
+
+
+def engine(n: int, repeat: int, keys: int = 1000) -> None:
+    """Prints the engine tables."""
+    mode, kernel = qs.simd_status()
+    print(f"\n## Evaluation engine (issue 2.5): {keys:,} keys, {n:,} samples\n")
+    print(f"CPU: {cpu_model()}")
+    print(f"engine mode {mode!r}, batch kernels run on: {kernel}; best of {repeat} runs\n")
+    rng = np.random.default_rng(0)
+    methods = _methods(keys)
+    t_all = {}
+    for name, s in methods:
+        a, b = s.domain
+        ts = np.linspace(a, b, n)
+        t_all[name] = (ts, rng.permutation(ts))
+    sc, scw = _scipy(keys, t_all["PiecewiseSlerp"][0], n, repeat)
+
+    print(
+        "| method | kernel | sorted, 1 thread | sorted, 2 threads | unsorted, 2 threads "
+        "| unsorted / sorted | jets path, 2 threads | vs scipy RotationSpline (2 threads) |"
+    )
+    print("|---|---|---:|---:|---:|---:|---:|---:|")
+    for name, s in methods:
+        ts, tu = t_all[name]
+        qs.set_num_threads(1)
+        one = best_ns(lambda s=s, ts=ts: s(ts), n, repeat)
+        qs.set_num_threads(0)
+        two = best_ns(lambda s=s, ts=ts: s(ts), n, repeat)
+        uns = best_ns(lambda s=s, tu=tu: s(tu), n, repeat)
+        qs.set_simd("reference")
+        ref = best_ns(lambda s=s, ts=ts: s(ts), n, max(1, repeat // 2))
+        qs.set_simd(mode)
+        print(
+            f"| {name} | {s._core.kernel} | {one:.1f} | {two:.1f} | {uns:.1f} | "
+            f"{uns / two:.2f}× | {ref:.1f} | {sc / two:.0f}× |"
+        )
+    print(f"| scipy RotationSpline | — | | {sc:.1f} | | | | 1× |")
+
+    print(f"\n### Derivatives and angular rates (2 threads, sorted; scipy ω {scw:.1f} ns)\n")
+    print(
+        "| method | q | q, q' | …q'' | …q''' | ω world | ω body | α world | jerk world "
+        "| α / ω | jerk / ω | ω vs scipy RotationSpline(t, 1) |"
+    )
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for name, s in methods:
+        if name not in ("CumulativeBSpline", "C3Spline (knot)", "NaturalSpline", "BetaSpline"):
+            continue
+        ts = t_all[name][0]
+        cells = [best_ns(lambda s=s, k=k, ts=ts: s.derivatives(ts, k), n, repeat) for k in range(4)]
+        w = best_ns(lambda s=s, ts=ts: s.angular_velocity(ts), n, repeat)
+        wb = best_ns(lambda s=s, ts=ts: s.angular_velocity(ts, frame="body"), n, repeat)
+        al = best_ns(lambda s=s, ts=ts: s.angular_acceleration(ts), n, repeat)
+        jk = best_ns(lambda s=s, ts=ts: s.jerk(ts), n, repeat)
+        row = " | ".join(f"{v:.1f}" for v in (*cells, w, wb, al, jk))
+        print(f"| {name} | {row} | {al / w:.2f} | {jk / w:.2f} | {scw / min(w, wb):.0f}× |")
+
+    print("\n### Small calls: µs per call (1 thread)\n")
+    print("| method | s(float) | 1 sample (array) | 10 samples | 100 samples |")
+    print("|---|---:|---:|---:|---:|")
+    qs.set_num_threads(1)
+    for name, s in methods:
+        if name not in ("CumulativeBSpline", "C3Spline (knot)", "PiecewiseSlerp", "Squad"):
+            continue
+        a, b = s.domain
+        x = float(0.37 * a + 0.63 * b)
+        cells = [best_ns(lambda s=s, x=x: s(x), 1, repeat * 200) * 1e-3]
+        for m in (1, 10, 100):
+            tm = np.linspace(a, b, m)
+            cells.append(best_ns(lambda s=s, tm=tm: s(tm), 1, repeat * 200) * 1e-3)
+        print(f"| {name} | " + " | ".join(f"{v:.2f}" for v in cells) + " |")
+    qs.set_num_threads(0)
+
+    print("\n### AVX2 against the forced scalar kernels (2 threads, sorted)\n")
+    print("| method | auto | QUATSPLINE_SIMD=scalar | scalar / auto |")
+    print("|---|---:|---:|---:|")
+    for name, s in methods:
+        if s._core.kernel == "jets":
+            continue
+        ts = t_all[name][0]
+        auto = best_ns(lambda s=s, ts=ts: s(ts), n, repeat)
+        qs.set_simd("scalar")
+        scal = best_ns(lambda s=s, ts=ts: s(ts), n, repeat)
+        qs.set_simd(mode)
+        print(f"| {name} | {auto:.1f} | {scal:.1f} | {scal / auto:.2f}× |")
+
+
+def lscpu() -> str:
+    """``lscpu``'s model line, for the README."""
+    try:
+        out = subprocess.run(["lscpu"], capture_output=True, text=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return ""
+    return next((ln for ln in out.splitlines() if ln.startswith("Model name")), "")
