@@ -41,7 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
+from ._core import __version__
 from ._atomic import atomic_write
 
 __all__ = ["OPERATIONS", "expand_inputs", "plan", "run", "summarize"]
