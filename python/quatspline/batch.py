@@ -41,8 +41,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ._core import __version__
 from ._atomic import atomic_write
+from ._core import __version__
 
 __all__ = ["OPERATIONS", "expand_inputs", "plan", "run", "summarize"]
 
