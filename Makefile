@@ -11,7 +11,7 @@ DEV     := $(VENV)/.dev-stamp
 # maturin finds zig (the pip package `ziglang`) through the venv's python on PATH
 export PATH := $(abspath $(VENV))/bin:$(PATH)
 
-.PHONY: build demo test test-rust test-python test-wheel lint typecheck docs wheel sdist \
+.PHONY: viewer-assets browser build demo test test-rust test-python test-wheel lint typecheck docs wheel sdist \
 	bench accuracy fuzz clean
 
 $(BASE):
@@ -51,7 +51,24 @@ $(TESTSTAMP): $(DEV)
 	touch $(TESTSTAMP)
 
 # Unit and property tests, and every docstring example as a doctest.
-test-python: build $(DEV) $(TESTSTAMP) $(GLTF_VALIDATOR)
+# The viewer's JavaScript (three.js, uPlot) from npm, copied into the package at build time.
+VIEWER_VENDOR := python/quatspline/viewer/static/vendor
+$(VIEWER_VENDOR)/three.module.js: viewer-js/package.json viewer-js/package-lock.json
+	cd viewer-js && npm ci --no-audit --no-fund --silent
+	mkdir -p $(VIEWER_VENDOR)
+	cp viewer-js/node_modules/three/build/three.module.js viewer-js/node_modules/three/build/three.core.js \
+		viewer-js/node_modules/uplot/dist/uPlot.iife.min.js viewer-js/node_modules/uplot/dist/uPlot.min.css \
+		$(VIEWER_VENDOR)/
+viewer-assets: $(VIEWER_VENDOR)/three.module.js
+
+# Headless Chromium for the viewer's browser tests: Debian's package, installed when root.
+browser:
+	@command -v chromium >/dev/null 2>&1 || { \
+		if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
+			apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium; \
+		else echo "make: no chromium and no way to install it here: browser tests will skip"; fi; }
+
+test-python: build $(DEV) $(TESTSTAMP) $(GLTF_VALIDATOR) viewer-assets browser
 	$(VPY) -m pytest
 	QUATSPLINE_SIMD=scalar $(VPY) -m pytest -q tests/test_simd.py tests/test_engine.py tests/test_splines.py
 
@@ -73,7 +90,7 @@ docs: build $(DEV)
 	$(VPY) -m pytest docs/test_api_reference.py -q -p no:cacheprovider
 
 # An abi3 wheel (CPython >= 3.9) for manylinux2014 (glibc 2.17), linked with zig, and an sdist.
-wheel: $(BASE)
+wheel: $(BASE) viewer-assets
 	$(VPY) -m pip install --quiet --disable-pip-version-check "ziglang>=0.11"
 	rm -f dist/quatspline-*.whl dist/quatspline-*.tar.gz
 	$(VPY) -m maturin build --release --zig --compatibility manylinux2014 --out dist --quiet

@@ -287,6 +287,14 @@ def cmd_batch(args) -> int:
     return 1 if n_bad else 0
 
 
+# ---- view -----------------------------------------------------------------------------------
+def cmd_view(args) -> int:
+    from .viewer import serve
+
+    serve(args.input, port=args.port, open_browser=not args.no_browser)
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(
         prog="quatspline",
@@ -386,6 +394,12 @@ def build_parser() -> argparse.ArgumentParser:
     b = sub.add_parser("batch", help="one operation over many files, distributed with Dask")
     add_arguments(b)
     b.set_defaults(func=cmd_batch)
+
+    v = sub.add_parser("view", help="design attitude motion in the browser (local web page)")
+    v.add_argument("input", nargs="?", help="keys file, recording or trajectory (default: example)")
+    v.add_argument("--port", type=int, default=0, help="port (default: a free one)")
+    v.add_argument("--no-browser", action="store_true", help="print the URL only")
+    v.set_defaults(func=cmd_view)
     return p
 
 

@@ -1,0 +1,321 @@
+"""Attitude design as data: one call gives everything a designer looks at for a set of keys.
+
+:func:`evaluate` builds a registry method through keys at times with the given parameters and
+returns the sampled motion, the sizes of the angular velocity, acceleration and jerk, the
+continuity certificate at every joint and the exact Python call that reproduces the curve.
+The browser viewer (``quatspline view``) only calls these functions; they are equally usable
+from a notebook.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+
+from .continuity import continuity
+from .registry import METHODS, spline
+
+__all__ = [
+    "MAX_DESIGN_KEYS",
+    "MAX_DESIGN_SAMPLES",
+    "evaluate",
+    "export_bytes",
+    "method_specs",
+    "python_call",
+    "to_json",
+]
+
+#: Limits of one design evaluation (the viewer refuses larger requests before any work).
+MAX_DESIGN_KEYS = 5_000
+MAX_DESIGN_SAMPLES = 20_000
+
+
+def _choices(help_text: str) -> list[str] | None:
+    head = help_text.split(" (")[0].split(":")[0]
+    parts = [p.strip() for p in head.split("|")]
+    if len(parts) > 1 and all(re.fullmatch(r"[A-Za-z_][\w-]*", p) for p in parts):
+        return parts
+    return None
+
+
+def method_specs() -> list[dict]:
+    """Every registry method with its parameters, in a form a user interface can render.
+
+    Returns
+    -------
+    list of dict
+        ``name``, ``summary``, ``interpolating``, ``continuity`` and ``params``: a list of
+        ``{"name", "kind", "default", "help", "choices"}`` where ``kind`` is ``"float"``,
+        ``"int"``, ``"bool"`` or ``"str"`` and ``choices`` lists the valid strings (or None).
+
+    Examples
+    --------
+    >>> from quatspline.design import method_specs
+    >>> c3 = next(m for m in method_specs() if m["name"] == "c3")
+    >>> [(p["name"], p["kind"]) for p in c3["params"]]
+    [('alpha', 'float'), ('beta', 'float'), ('variant', 'str')]
+    """
+    out = []
+    for m in METHODS.values():
+        params = []
+        for name, p in m.params.items():
+            kind = {float: "float", int: "int", str: "str"}.get(p.type)
+            if kind is None:
+                kind = "bool" if isinstance(p.default, bool) else "str"
+            default = p.default
+            if isinstance(default, float) and not math.isfinite(default):
+                default = None
+            params.append(
+                {
+                    "name": name,
+                    "kind": kind,
+                    "default": default,
+                    "help": p.help,
+                    "choices": _choices(p.help) if kind == "str" else None,
+                }
+            )
+        out.append(
+            {
+                "name": m.name,
+                "summary": m.summary,
+                "interpolating": m.interpolating,
+                "continuity": m.continuity,
+                "params": params,
+            }
+        )
+    return out
+
+
+def _check_keys(quats, times) -> tuple[np.ndarray, np.ndarray]:
+    q = np.asarray(quats, dtype=float)
+    t = np.asarray(times, dtype=float)
+    if q.ndim != 2 or q.shape[1] != 4:
+        raise ValueError(f"quats: expected shape (N, 4), got {q.shape}")
+    if t.shape != (len(q),):
+        raise ValueError(f"times: expected shape ({len(q)},), got {t.shape}")
+    if not 2 <= len(q) <= MAX_DESIGN_KEYS:
+        raise ValueError(f"quats: expected 2 … {MAX_DESIGN_KEYS} keys, got {len(q)}")
+    bad = ~np.all(np.isfinite(q), axis=1)
+    if bad.any():
+        raise ValueError(f"quats[{int(np.argmax(bad))}]: not finite")
+    if not np.all(np.isfinite(t)):
+        raise ValueError(f"times[{int(np.argmax(~np.isfinite(t)))}]: not finite")
+    d = np.diff(t)
+    if np.any(d <= 0):
+        k = int(np.argmax(d <= 0)) + 1
+        raise ValueError(
+            f"times[{k}]: key times must increase ({t[k]:g} is not after {t[k - 1]:g})"
+        )
+    return q, t
+
+
+def _fmt(x) -> str:
+    if isinstance(x, (bool, np.bool_)):
+        return "True" if x else "False"
+    if isinstance(x, (float, np.floating)):
+        return repr(float(x))
+    if isinstance(x, (int, np.integer)):
+        return str(int(x))
+    return repr(x)
+
+
+def python_call(method: str, quats, times, params: dict | None = None) -> str:
+    """The Python code that builds exactly this curve.
+
+    Parameters
+    ----------
+    method : str
+        Registry method name.
+    quats : array_like, shape (N, 4)
+        Keys (w, x, y, z).
+    times : array_like, shape (N,)
+        Key times.
+    params : dict, optional
+        The method's parameters.
+
+    Returns
+    -------
+    str
+        A runnable snippet ending in ``s = qs.spline(...)``.
+
+    Examples
+    --------
+    >>> from quatspline.design import python_call
+    >>> code = python_call("c3", [[1, 0, 0, 0], [0, 0, 0, 1]], [0, 1], {"alpha": 0.25})
+    >>> namespace = {}
+    >>> exec(code, namespace)
+    >>> namespace["s"].method
+    'c3'
+    """
+    q = np.asarray(quats, dtype=float)
+    t = np.asarray(times, dtype=float)
+    rows = ",\n    ".join("[" + ", ".join(repr(float(v)) for v in r) + "]" for r in q)
+    args = "".join(f", {k}={_fmt(v)}" for k, v in (params or {}).items())
+    return (
+        "import numpy as np\nimport quatspline as qs\n\n"
+        f"keys = np.array([\n    {rows},\n])\n"
+        f"times = np.array([{', '.join(repr(float(v)) for v in t)}])\n"
+        f"s = qs.spline({method!r}, keys, times{args})\n"
+    )
+
+
+def evaluate(
+    method: str,
+    quats,
+    times,
+    params: dict | None = None,
+    samples: int = 2000,
+) -> dict:
+    """Samples one design: motion, rate sizes, continuity certificate and the Python call.
+
+    Parameters
+    ----------
+    method : str
+        Registry method name (see :data:`quatspline.METHODS`).
+    quats : array_like, shape (N, 4)
+        Keys (w, x, y, z), 2 ≤ N ≤ :data:`MAX_DESIGN_KEYS`.
+    times : array_like, shape (N,)
+        Strictly increasing key times.
+    params : dict, optional
+        The method's parameters (unknown names are a ``ValueError`` listing the valid ones).
+    samples : int, default 2000
+        Number of evenly spaced samples over the domain, 2 … :data:`MAX_DESIGN_SAMPLES`.
+
+    Returns
+    -------
+    dict
+        ``t`` (M,), ``quats`` (M, 4), ``speed``, ``acceleration``, ``jerk`` (M,): the norms of
+        the world-frame angular velocity, acceleration and jerk; ``joints``: one dict per
+        interior joint (``time``, ``order``, ``jumps``: relative jumps of q … q'''),
+        ``continuity`` (the method's guaranteed order), ``interpolates``, ``key_times``,
+        ``domain`` and ``python`` (the code that reproduces the curve). Arrays are numpy
+        arrays; :func:`to_json` makes them lists.
+
+    Raises
+    ------
+    ValueError
+        Bad keys, times, method, parameters or sample count (the message names which).
+
+    Examples
+    --------
+    >>> import quatspline as qs
+    >>> from quatspline.design import evaluate
+    >>> keys = qs.from_euler("xyz", [[0, 0, 0], [0, 0, 90], [90, 0, 90]], degrees=True)
+    >>> d = evaluate("c3", keys, [0.0, 1.0, 2.0], {"alpha": 0.3}, samples=5)
+    >>> d["t"].tolist(), [j["order"] for j in d["joints"]]
+    ([0.0, 0.5, 1.0, 1.5, 2.0], [3])
+    """
+    q, t = _check_keys(quats, times)
+    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)):
+        raise TypeError(f"samples: expected an integer, got {type(samples).__name__}")
+    if not 2 <= samples <= MAX_DESIGN_SAMPLES:
+        raise ValueError(f"samples: expected 2 … {MAX_DESIGN_SAMPLES}, got {samples}")
+    params = dict(params or {})
+    s = spline(method, q, t, **params)
+    a, b = s.domain
+    ts = np.linspace(a, b, int(samples))
+    qs_ = s(ts)
+    w = np.linalg.norm(s.angular_velocity(ts), axis=1)
+    acc = np.linalg.norm(s.angular_acceleration(ts), axis=1)
+    jerk = np.linalg.norm(s.jerk(ts), axis=1)
+    key_quats = s(np.clip(t, a, b))
+    joints = [
+        {
+            "time": float(j.time),
+            "order": int(j.order),
+            "jumps": [float(x) for x in np.asarray(j.jump_rel, dtype=float)],
+        }
+        for j in continuity(s)
+    ]
+    c = s.continuity
+    return {
+        "method": method,
+        "params": params,
+        "t": ts,
+        "quats": qs_,
+        "speed": w,
+        "acceleration": acc,
+        "jerk": jerk,
+        "joints": joints,
+        "continuity": None if c == float("inf") else int(c),
+        "interpolates": bool(s.interpolates),
+        "key_times": t,
+        "key_quats": key_quats,
+        "domain": [float(a), float(b)],
+        "python": python_call(method, q, t, params),
+    }
+
+
+def to_json(d: dict) -> dict:
+    """``d`` with numpy arrays as lists and non-finite numbers as None (valid JSON)."""
+
+    def conv(x):
+        if isinstance(x, np.ndarray):
+            return conv(x.tolist())
+        if isinstance(x, dict):
+            return {k: conv(v) for k, v in x.items()}
+        if isinstance(x, (list, tuple)):
+            return [conv(v) for v in x]
+        if isinstance(x, (float, np.floating)):
+            return float(x) if math.isfinite(x) else None
+        if isinstance(x, np.integer):
+            return int(x)
+        return x
+
+    return conv(d)
+
+
+def export_bytes(fmt: str, method: str, quats, times, params: dict | None = None, samples=2000):
+    """One design as the bytes of a file: ``"csv"`` or ``"json"`` (the sampled motion, with
+    ω, α and jerk columns), ``"glb"`` (a glTF 2.0 animation within 0.01° of the curve) or
+    ``"keys"`` (the keys themselves as a JSON trajectory, to open again).
+
+    Parameters
+    ----------
+    fmt : {"csv", "json", "glb", "keys"}
+    method, quats, times, params, samples
+        As for :func:`evaluate`.
+
+    Returns
+    -------
+    bytes
+
+    Examples
+    --------
+    >>> from quatspline.design import export_bytes
+    >>> blob = export_bytes("csv", "slerp", [[1, 0, 0, 0], [0, 0, 0, 1]], [0, 1], samples=3)
+    >>> blob.decode().splitlines()[0].split(",")[:5]
+    ['t', 'qw', 'qx', 'qy', 'qz']
+    """
+    import tempfile
+    from pathlib import Path
+
+    from . import io as qio
+
+    q, t = _check_keys(quats, times)
+    if fmt not in ("csv", "json", "glb", "keys"):
+        raise ValueError(f"format: expected csv, json, glb or keys, got {fmt!r}")
+    with tempfile.TemporaryDirectory() as d:
+        path = Path(d) / ("keys.json" if fmt == "keys" else f"design.{fmt}")
+        if fmt == "keys":
+            qio.write(path, qio.Trajectory(t, q))
+        elif fmt == "glb":
+            from .export import to_gltf
+
+            to_gltf(qio.Trajectory(t, q), path, method=method, progress=False, **(params or {}))
+        else:
+            s = spline(method, q, t, **(params or {}))
+            if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)):
+                raise TypeError(f"samples: expected an integer, got {type(samples).__name__}")
+            if not 2 <= samples <= MAX_DESIGN_SAMPLES:
+                raise ValueError(f"samples: expected 2 … {MAX_DESIGN_SAMPLES}, got {samples}")
+            ts = np.linspace(*s.domain, int(samples))
+            extra = {
+                "omega": s.angular_velocity(ts),
+                "alpha": s.angular_acceleration(ts),
+                "jerk": s.jerk(ts),
+            }
+            qio.write(path, qio.Trajectory(ts, s(ts), extra=extra))
+        return path.read_bytes()

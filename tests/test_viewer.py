@@ -1,0 +1,376 @@
+"""``quatspline view``: the design functions, the server's security, and the page in Chromium."""
+
+from __future__ import annotations
+
+import http.client
+import json
+import os
+import shutil
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import quatspline as qs
+import quatspline.io as qio
+from quatspline import design
+
+ROOT = Path(__file__).resolve().parent.parent
+TUM = ROOT / "data" / "tum_rgbd_fr1_xyz" / "freiburg1_xyz-groundtruth.txt"
+SHOTS = ROOT / "out" / "viewer-test"
+
+
+# ---- design: the library functions the page calls -------------------------------------------
+def test_evaluate_equals_the_spline_api():
+    keys = qs.from_euler("xyz", [[0, 0, 0], [0, 0, 90], [90, 0, 90], [90, 45, 0]], degrees=True)
+    t = [0.0, 1.0, 2.5, 3.0]
+    d = design.evaluate("c3", keys, t, {"alpha": 0.2, "beta": 0.1}, samples=101)
+    s = qs.spline("c3", keys, t, alpha=0.2, beta=0.1)
+    np.testing.assert_allclose(d["quats"], s(d["t"]), atol=1e-15)
+    np.testing.assert_allclose(d["jerk"], np.linalg.norm(s.jerk(d["t"]), axis=1), rtol=1e-14)
+    assert [j["order"] for j in d["joints"]] == [j.order for j in qs.continuity(s)]
+    ns: dict = {}
+    exec(d["python"], ns)
+    np.testing.assert_allclose(ns["s"](d["t"]), d["quats"], atol=1e-15)
+    json.dumps(design.to_json(d))  # valid JSON, no NaN
+
+
+def test_method_specs_cover_the_registry():
+    names = [m["name"] for m in design.method_specs()]
+    assert names == list(qs.METHODS)
+    c3 = next(m for m in design.method_specs() if m["name"] == "c3")
+    assert next(p for p in c3["params"] if p["name"] == "variant")["choices"] == ["knot", "patent"]
+
+
+@pytest.mark.parametrize(
+    ("quats", "times", "match"),
+    [
+        ([[1, 0, 0, 0]], [0.0], "2 … 5000 keys"),
+        ([[1, 0, 0, 0], [np.nan, 0, 0, 1]], [0.0, 1.0], r"quats\[1\]: not finite"),
+        ([[1, 0, 0, 0], [0, 0, 0, 1]], [1.0, 0.5], r"times\[1\]: key times must increase"),
+        ([[1, 0, 0, 0], [0, 0, 0, 1]], [0.0, np.inf], r"times\[1\]: not finite"),
+        ([[1, 0, 0], [0, 0, 1]], [0.0, 1.0], r"quats: expected shape \(N, 4\)"),
+    ],
+)
+def test_bad_designs_are_value_errors_naming_the_argument(quats, times, match):
+    with pytest.raises(ValueError, match=match):
+        design.evaluate("c3", quats, times)
+
+
+def test_bad_samples_and_parameters():
+    k = [[1, 0, 0, 0], [0, 0, 0, 1]]
+    with pytest.raises(ValueError, match="samples: expected 2"):
+        design.evaluate("slerp", k, [0, 1], samples=10**7)
+    with pytest.raises(TypeError, match="samples: expected an integer"):
+        design.evaluate("slerp", k, [0, 1], samples=2.5)
+    with pytest.raises(ValueError, match="unknown parameter"):
+        design.evaluate("slerp", k, [0, 1], {"alpha": 1.0})
+
+
+# ---- the server --------------------------------------------------------------------------------
+pytest.importorskip("starlette", reason="the viewer extra is not installed")
+pytest.importorskip("uvicorn", reason="the viewer extra is not installed")
+
+
+class Server:
+    def __init__(self, path=None, token="test-token"):
+        import uvicorn
+        from quatspline.viewer.server import _free_port, create_app
+
+        self.port = _free_port("127.0.0.1")
+        self.token = token
+        app = create_app(path, token, self.port)
+        self.server = uvicorn.Server(
+            uvicorn.Config(app, host="127.0.0.1", port=self.port, log_level="warning")
+        )
+        self.thread = threading.Thread(target=self.server.run, daemon=True)
+
+    def __enter__(self):
+        self.thread.start()
+        for _ in range(200):
+            if self.server.started:
+                return self
+            time.sleep(0.05)
+        raise RuntimeError("the viewer server did not start")
+
+    def __exit__(self, *exc):
+        self.server.should_exit = True
+        self.thread.join(timeout=10)
+
+    @property
+    def url(self):
+        return f"http://127.0.0.1:{self.port}/?token={self.token}"
+
+    def request(self, method, path, body=None, headers=None):
+        c = http.client.HTTPConnection("127.0.0.1", self.port, timeout=30)
+        c.request(method, path, body=body, headers=headers or {})
+        r = c.getresponse()
+        data = r.read()
+        c.close()
+        return r.status, data
+
+
+@pytest.fixture(scope="module")
+def server():
+    with Server() as s:
+        yield s
+
+
+def test_no_token_is_403(server):
+    for path in ("/", "/api/state", "/static/app.js", "/?token=wrong"):
+        assert server.request("GET", path)[0] == 403, path
+    status, _ = server.request("POST", "/api/evaluate", b"{}")
+    assert status == 403
+
+
+def test_other_origin_and_foreign_host_are_403(server):
+    tok = {"X-Quatspline-Token": server.token}
+    evil = {**tok, "Origin": "http://evil.example"}
+    assert server.request("GET", "/api/state", headers=evil)[0] == 403
+    assert server.request("POST", "/api/evaluate", b"{}", headers=evil)[0] == 403
+    rebinding = {**tok, "Host": f"evil.example:{server.port}"}
+    assert server.request("GET", "/api/state", headers=rebinding)[0] == 403
+    same = {**tok, "Origin": f"http://127.0.0.1:{server.port}"}
+    assert server.request("GET", "/api/state", headers=same)[0] == 200
+
+
+@pytest.mark.parametrize(
+    "path",
+    [
+        "/static/../server.py",
+        "/static/%2e%2e/server.py",
+        "/static/..%2fserver.py",
+        "/static/vendor/../../server.py",
+        "/static//etc/passwd",
+        "/etc/passwd",
+        "/static/index.html.bak",
+        "/api/../../../../etc/passwd",
+    ],
+)
+def test_path_traversal_is_404(server, path):
+    status, body = server.request("GET", path, headers={"X-Quatspline-Token": server.token})
+    assert status == 404, (path, body[:80])
+
+
+def test_bad_edits_are_400_and_the_server_lives_on(server):
+    tok = {"X-Quatspline-Token": server.token, "Content-Type": "application/json"}
+    bad = [
+        b"not json",
+        b"[1, 2]",
+        json.dumps({"quats": [[1, 0, 0, 0], [0, 0, 0, 1]], "times": [1, 0]}).encode(),
+        json.dumps({"quats": [[1, 0, 0, 0], [0, 0, 0, 1]], "times": [0, 1], "method": 3}).encode(),
+        json.dumps({"quats": "x", "times": [0, 1]}).encode(),
+        json.dumps(
+            {"quats": [[1, 0, 0, 0], [0, 0, 0, 1]], "times": [0, 1], "samples": 1e9}
+        ).encode(),
+    ]
+    for body in bad:
+        status, data = server.request("POST", "/api/evaluate", body, headers=tok)
+        assert status == 400, body
+        assert json.loads(data)["error"]
+    good = json.dumps({"quats": [[1, 0, 0, 0], [0, 0, 0, 1]], "times": [0, 1], "samples": 3})
+    status, data = server.request("POST", "/api/evaluate", good.encode(), headers=tok)
+    assert status == 200 and len(json.loads(data)["t"]) == 3
+
+
+def test_only_the_given_file_is_served(tmp_path):
+    t = qio.read(TUM)
+    p = tmp_path / "keys.json"
+    qio.write(p, qio.Trajectory(t.times[:50:5], t.quats[:50:5]))
+    with Server(p) as s:
+        status, data = s.request("GET", "/api/state", headers={"X-Quatspline-Token": s.token})
+        state = json.loads(data)
+        assert status == 200 and state["name"] == "keys.json" and len(state["times"]) == 10
+        np.testing.assert_allclose(state["quats"], t.quats[:50:5], atol=1e-15)
+        status, _ = s.request("GET", f"/static/{p}", headers={"X-Quatspline-Token": s.token})
+        assert status == 404
+
+
+# ---- the page in a real browser -----------------------------------------------------------------
+def _chromium() -> str | None:
+    for name in ("chromium", "chromium-browser", "google-chrome"):
+        path = shutil.which(name)
+        if path:
+            return path
+    return None
+
+
+@pytest.fixture(scope="module")
+def browser():
+    exe = _chromium()
+    if exe is None:
+        pytest.skip(
+            "no Chromium installed (Debian: apt-get install chromium); `make test` installs it"
+        )
+    sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not installed")
+    from quatspline.viewer.server import missing_assets
+
+    assert not missing_assets(), "viewer JavaScript missing: run `make viewer-assets`"
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(
+            executable_path=exe,
+            args=["--no-sandbox", "--use-gl=swiftshader", "--enable-unsafe-swiftshader"],
+        )
+        yield b
+        b.close()
+
+
+def _open(browser, server):
+    page = browser.new_page(viewport={"width": 1400, "height": 1100}, accept_downloads=True)
+    errors: list[str] = []
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    page.goto(server.url)
+    page.wait_for_function("window.qsEvaluations >= 1", timeout=60_000)
+    return page, errors
+
+
+def _evaluations(page) -> int:
+    return int(page.evaluate("window.qsEvaluations"))
+
+
+def _wait_next(page, n: int):
+    page.wait_for_function(f"window.qsEvaluations > {n}", timeout=60_000)
+    page.wait_for_timeout(50)
+
+
+def _canvas_pixels(page, selector: str) -> int:
+    """Pixels of a canvas that differ from its background colour."""
+    png = page.locator(selector).screenshot()
+    import io as _io
+
+    import matplotlib.image as mpimg
+
+    img = mpimg.imread(_io.BytesIO(png))[..., :3]
+    background = img[2, 2]
+    return int(np.sum(np.any(np.abs(img - background) > 0.05, axis=-1)))
+
+
+def test_page_renders_edits_exports_in_chromium(browser, server, tmp_path):
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    page, errors = _open(browser, server)
+    page.wait_for_timeout(300)
+    assert _canvas_pixels(page, "#body3d") > 500, "the 3D body view is blank"
+    assert _canvas_pixels(page, "#sphere3d") > 500, "the sphere view is blank"
+    page.screenshot(path=str(SHOTS / "beta_example1.png"), full_page=True)
+
+    # move the α slider: the jerk plot and the certificate change
+    jerk0 = page.evaluate("Array.from(window.qsPlotData.jerk)")
+    cert0 = page.inner_html("#certificate")
+    n = _evaluations(page)
+    page.fill("#params input[type=number][name=alpha]", "0.1")
+    _wait_next(page, n)
+    jerk1 = page.evaluate("Array.from(window.qsPlotData.jerk)")
+    assert np.max(np.abs(np.subtract(jerk1, jerk0))) > 1e-3
+    assert page.inner_html("#certificate") != cert0
+    s = qs.spline("c3", *_keys(page), alpha=0.1)
+    t = np.linspace(*s.domain, len(jerk1))
+    np.testing.assert_allclose(jerk1, np.linalg.norm(s.jerk(t), axis=1), rtol=1e-9, atol=1e-9)
+
+    # edit a key: a time past its neighbour is refused in the page; a good edit is applied
+    page.click("#keytable tr.key[data-i='2']")
+    page.fill("#ed-time", "99")
+    page.click("#ed-apply-euler")
+    assert "must be before key 3" in page.inner_text("#ed-msg")
+    quats_before, times_before = _keys(page)
+    page.fill("#ed-time", str(times_before[2]))
+    page.fill("#ed-ex", "10")
+    n = _evaluations(page)
+    page.click("#ed-apply-euler")
+    _wait_next(page, n)
+    quats_after, _ = _keys(page)
+    assert not np.allclose(quats_after[2], quats_before[2])
+    np.testing.assert_allclose(quats_after[[0, 1, 3, 4]], quats_before[[0, 1, 3, 4]])
+    n = _evaluations(page)
+    page.click("#undo")
+    _wait_next(page, n)
+    np.testing.assert_allclose(_keys(page)[0], quats_before)
+    n = _evaluations(page)
+    page.click("#redo")
+    _wait_next(page, n)
+    np.testing.assert_allclose(_keys(page)[0], quats_after)
+
+    # export CSV: the same numbers as the Python API with the same parameters
+    with page.expect_download() as dl:
+        page.click("button[data-export=csv]")
+    path = tmp_path / "design.csv"
+    dl.value.save_as(path)
+    got = qio.read(path)
+    q, t_keys = _keys(page)
+    ref = qs.spline("c3", q, t_keys, alpha=0.1)
+    np.testing.assert_allclose(got.quats, ref(got.times), atol=1e-12)
+    code = page.inner_text("#python")
+    ns: dict = {}
+    exec(code, ns)
+    np.testing.assert_allclose(ns["s"](got.times), got.quats, atol=1e-12)
+
+    # comparison with a second method: three series per plot
+    n = _evaluations(page)
+    page.select_option("#compare", "natural")
+    _wait_next(page, n)
+    assert page.locator("#plot-jerk .u-legend .u-series").count() == 3
+    page.screenshot(path=str(SHOTS / "compare_natural.png"), full_page=True)
+    assert not errors, errors
+
+
+def _keys(page):
+    q = np.array(page.evaluate("window.qsState.quats"))
+    t = np.array(page.evaluate("window.qsState.times"))
+    return q, t
+
+
+def test_latency_for_100_keys_and_2000_samples_on_a_real_recording(browser, tmp_path):
+    t = qio.read(TUM)
+    idx = np.linspace(0, len(t) - 1, 100).round().astype(int)
+    p = tmp_path / "tum_100_keys.json"
+    qio.write(p, qio.Trajectory(t.times[idx], t.quats[idx]))
+    with Server(p) as s:
+        page, errors = _open(browser, s)
+        page.wait_for_timeout(300)
+        lat = []
+        for alpha in (0.2, 0.25, 0.3, 0.35, 0.4):
+            n = _evaluations(page)
+            page.fill("#params input[type=number][name=alpha]", str(alpha))
+            _wait_next(page, n)
+            lat.append(float(page.evaluate("window.qsLatency[window.qsLatency.length - 1]")))
+        SHOTS.mkdir(parents=True, exist_ok=True)
+        page.screenshot(path=str(SHOTS / "tum_fr1_xyz_100_keys.png"), full_page=True)
+        (SHOTS / "latency.txt").write_text(
+            f"slider → redrawn plots, 100 keys, 2000 samples, c3: {lat} ms "
+            f"(median {np.median(lat):.0f} ms; CPU {os.cpu_count()} cores)\n"
+        )
+        print(f"viewer latency (ms): {lat}")
+        assert len(lat) == 5 and all(x > 0 for x in lat)
+        assert not errors, errors
+
+
+def test_cli_view_prints_the_url_and_serves_with_the_token(tmp_path):
+    import subprocess
+    import sys
+
+    from quatspline.viewer.server import _free_port
+
+    port = _free_port("127.0.0.1")
+    exe = Path(sys.executable).parent / "quatspline"
+    with subprocess.Popen(
+        [str(exe), "view", "--no-browser", "--port", str(port)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+        text=True,
+    ) as proc:
+        try:
+            line = proc.stdout.readline()
+            assert line.startswith(f"quatspline view: http://127.0.0.1:{port}/?token="), line
+            token = line.split("token=", 1)[1].split()[0]
+            c = http.client.HTTPConnection("127.0.0.1", port, timeout=30)
+            c.request("GET", f"/?token={token}")
+            r = c.getresponse()
+            assert r.status == 200 and b"quatspline view" in r.read()
+            c.request("GET", "/")
+            r = c.getresponse()
+            r.read()
+            assert r.status == 403
+            c.close()
+        finally:
+            proc.terminate()
+            proc.wait(timeout=20)
