@@ -98,10 +98,11 @@ def test_demo_refuses_a_file_as_output(tmp_path):
 
 def test_compiled_functions_have_running_examples():
     import doctest
+    import inspect
 
     runner = doctest.DocTestRunner(optionflags=doctest.NORMALIZE_WHITESPACE)
     for fn in (qs.set_num_threads, qs.get_num_threads):
-        assert "Examples\n--------" in fn.__doc__
+        assert "Examples\n--------" in inspect.cleandoc(fn.__doc__)
         tests = doctest.DocTestFinder().find(fn, fn.__name__, globs={})
         assert tests and tests[0].examples
         for t in tests:
