@@ -54,25 +54,18 @@ def method_specs() -> list[dict]:
     --------
     >>> from quatspline.design import method_specs
     >>> c3 = next(m for m in method_specs() if m["name"] == "c3")
-    >>> [(p["name"], p["kind"]) for p in c3["params"]][:3]
-    [('alpha', 'float'), ('beta', 'str'), ('variant', 'str')]
+    >>> [(p["name"], p["kind"]) for p in c3["params"]]
+    [('alpha', 'float'), ('beta', 'float'), ('variant', 'str'), ('ends', 'str'), ('holds', 'bool')]
     """
     out = []
     for m in METHODS.values():
         params = []
         for name, p in m.params.items():
-            kind = {float: "float", int: "int", str: "str"}.get(p.type)
-            if kind is None:  # a parser of its own: the default's type says what to show
-                d = p.default
-                kind = (
-                    "bool"
-                    if isinstance(d, bool)
-                    else "int"
-                    if isinstance(d, int)
-                    else "float"
-                    if isinstance(d, float)
-                    else "str"
-                )
+            kind = getattr(p.type, "kind", None) or {float: "float", int: "int", str: "str"}.get(
+                p.type
+            )
+            if kind is None:
+                kind = "bool" if isinstance(p.default, bool) else "str"
             default = p.default
             if isinstance(default, float) and not math.isfinite(default):
                 default = None

@@ -42,8 +42,9 @@ class PoseSpline:
         A method name of :data:`quatspline.METHODS` (``"slerp"``, ``"natural"``, …).
     translation : {"cubic", "linear"}, default "cubic"
         Natural cubic spline or piecewise-linear positions.
-    extrapolate : {"raise", "clamp"}, default "raise"
-        Times outside the domain raise, or hold the end pose with zero rates.
+    extrapolate : {"raise", "clamp", "linear", "periodic"}, default "raise"
+        Times outside the domain raise, hold the end pose with zero rates, continue at the
+        end's angular and linear velocity (zero accelerations), or repeat the domain.
     **params
         Parameters of the rotation method (e.g. ``alpha`` for ``"c3"``).
 
@@ -90,7 +91,7 @@ class PoseSpline:
         extrapolate: str = "raise",
         **params,
     ):
-        choice(extrapolate, "extrapolate", ("raise", "clamp"))
+        choice(extrapolate, "extrapolate", sp._EXTRAPOLATE)
         if translation not in ("cubic", "linear"):
             raise ValueError(f"translation: expected 'cubic' or 'linear', got {translation!r}")
         quats, times = pose_key_order(quats, times, "PoseSpline")
@@ -98,8 +99,6 @@ class PoseSpline:
         p = with_width(positions, "positions", 3)
         if p.ndim != 2 or len(p) != len(t):
             raise ValueError(f"positions: expected shape ({len(t)}, 3), got {p.shape}")
-        if extrapolate not in sp._EXTRAPOLATE:
-            raise ValueError(f"extrapolate: expected one of {sp._EXTRAPOLATE}, got {extrapolate!r}")
         self.rotation = make_spline(rotation, quats, t, **params)
         self.rotation.extrapolate = extrapolate
         self.extrapolate = extrapolate

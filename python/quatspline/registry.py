@@ -68,8 +68,8 @@ def _times_or_default(times, n):
 
 
 def float_or_none(v):
-    """A float, or None for None / "none" (an optional parameter)."""
-    if v is None or (isinstance(v, str) and v.strip().lower() == "none"):
+    """A float, or None for None / "none" / "" (an optional parameter)."""
+    if v is None or (isinstance(v, str) and v.strip().lower() in ("none", "")):
         return None
     return float(v)
 
@@ -93,11 +93,10 @@ def float_or_auto(v):
     return float(v)
 
 
-def flag_or_none(v):
-    """None, or a bool as :func:`flag`."""
-    if v is None or (isinstance(v, str) and v.strip().lower() == "none"):
-        return None
-    return flag(v)
+# the control kind of each converter in the viewer (quatspline.design.method_specs)
+float_or_none.kind = "float"  # type: ignore[attr-defined]
+float_or_auto.kind = "float"  # type: ignore[attr-defined]
+flag.kind = "bool"  # type: ignore[attr-defined]
 
 
 def rates_spec(v):
@@ -198,7 +197,7 @@ def _build(name, q, times, p):
             beta=p["beta"],
             variant=p["variant"],
             ends=p["ends"],
-            holds=p["holds"],
+            holds=p["holds"] and p["variant"] == "knot",
         )
     if name == "bspline" and p["ends"] == "closed":
         return _closed_bspline(q, times, p)
@@ -334,9 +333,7 @@ METHODS: dict[str, Method] = {
                 ),
                 "variant": Param(str, "knot", "knot | patent"),
                 "ends": Param(str, "open", "open | rest | closed"),
-                "holds": Param(
-                    flag_or_none, None, "equal consecutive keys hold still (default: knot only)"
-                ),
+                "holds": Param(flag, True, "equal consecutive keys hold still (knot variant)"),
             },
         ),
         Method(
