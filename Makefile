@@ -44,14 +44,8 @@ GLTF_VALIDATOR := .npm/node_modules/gltf-validator/package.json
 $(GLTF_VALIDATOR):
 	npm install --prefix .npm --no-audit --no-fund --silent gltf-validator@2.0.0-dev.3.10
 
-# Test-only peers and optional extras the tests exercise (not needed by `make demo`).
-TESTSTAMP := $(VENV)/.test-deps-stamp
-$(TESTSTAMP): $(DEV)
-	$(VPY) -m pip install --quiet rosbags pygltflib pandas evo
-	touch $(TESTSTAMP)
-
 # Unit and property tests, and every docstring example as a doctest.
-test-python: build $(DEV) $(TESTSTAMP) $(GLTF_VALIDATOR)
+test-python: build $(DEV) $(GLTF_VALIDATOR)
 	$(VPY) -m pytest
 	QUATSPLINE_SIMD=scalar $(VPY) -m pytest -q tests/test_simd.py tests/test_engine.py tests/test_splines.py
 

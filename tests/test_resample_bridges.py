@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import doctest
-
 import numpy as np
 import pytest
 import quatspline as qs
@@ -126,15 +124,3 @@ def test_evo_round_trip_and_cross_read(tmp_path):
     np.testing.assert_allclose(mine.positions, e.positions, atol=1e-9)
     with pytest.raises(TypeError, match=r"pose_trajectory: expected an evo PoseTrajectory3D"):
         qio.from_evo(e)
-
-
-@pytest.mark.parametrize(
-    "module",
-    ["quatspline.resampling", "quatspline.export", "quatspline.io.pandas_bridge"],
-)
-def test_docstring_examples_run(module):
-    import importlib
-
-    mod = importlib.import_module(module)
-    res = doctest.testmod(mod, optionflags=doctest.ELLIPSIS)
-    assert res.attempted > 0 and res.failed == 0
