@@ -81,6 +81,7 @@ test-wheel: wheel $(DEV)
 bench: build
 	$(VPY) -m maturin develop --release --quiet --extras plot,bench
 	$(VPY) benchmarks/bench.py
+	$(VPY) benchmarks/readers.py
 	cargo bench -p quatspline --bench core -- --warm-up-time 0.5 --measurement-time 2
 
 # Bounded fuzzing: FUZZ_SECONDS per target (cargo-fuzz needs a nightly toolchain).

@@ -112,3 +112,24 @@ def test_kitti_times_through_cli(tmp_path):
     assert main([*argv, "--count", "7", "-o", str(out)]) == 0
     got = qio.read(out)
     assert got.times[0] == tr.times[0] and got.times[-1] == pytest.approx(tr.times[-1])
+
+
+def test_plot_rates_with_jerk_and_title_from_the_file(tmp_path, monkeypatch, capsys):
+    pytest.importorskip("matplotlib")
+    from quatspline import plot
+
+    _, src = est(tmp_path)
+    figs = []
+    orig = plot.save
+    monkeypatch.setattr(plot, "save", lambda fig, path: figs.append(fig) or orig(fig, path))
+    out = tmp_path / "r.png"
+    argv = ["plot", str(src), "-o", str(out), "--kind", "rates", "--show", "omega,jerk"]
+    assert main(argv) == 0
+    (fig,) = figs
+    assert [a.get_ylabel() for a in fig.axes] == ["|ω| (rad/s)", "|dα/dt| (rad/s³)"]
+    assert fig.get_suptitle().startswith("est.tum: ")
+    assert main([*argv[:-1], "omega,snap"]) == 2
+    assert "--show: expected some of omega, alpha, jerk" in capsys.readouterr().err
+    assert main(["plot", str(src), "-o", str(out), "--kind", "body", "--force"]) == 0
+    assert figs[-1].axes[0].get_xlabel() == "x (m)"
+    assert figs[-1].axes[0].get_title().startswith("est.tum: ")

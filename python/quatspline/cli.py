@@ -192,23 +192,29 @@ def cmd_plot(args) -> int:
 
     traj = _read(args)
     kt = traj.times - traj.times[0]
+    name = Path(args.input).name + (f" {traj.name}" if traj.name else "")
     if args.kind == "family":
         fig = plot.family(
-            _family(args, traj), title=f"{args.method}: {args.family or 'alpha sweep'}"
+            _family(args, traj),
+            title=f"{name}: {args.method}, {args.family or 'alpha sweep'}",
         )
     else:
         s = ops.build_spline(args.method, traj, _params(args.param))
         if args.kind == "sphere":
-            fig = plot.sphere(s, key_times=kt)
+            fig = plot.sphere(s, key_times=kt, name=name)
         elif args.kind == "rates":
-            fig = plot.rates(s, key_times=kt)
+            show = tuple(x.strip() for x in (args.show or "omega,alpha").split(","))
+            try:
+                fig = plot.rates(s, key_times=kt, name=name, show=show)
+            except ValueError as e:
+                raise UsageError(f"--{e}") from None
         else:
             pos = None
             if traj.positions is not None:
                 from .pose import PoseSpline
 
                 pos = PoseSpline(traj.quats, kt, traj.positions, rotation="slerp").position
-            fig = plot.body(s, positions=pos)
+            fig = plot.body(s, positions=pos, name=name)
     _guard_output(Path(args.output), [Path(args.input)], args.force)
     plot.save(fig, args.output)
     print(f"wrote {args.output}")
@@ -371,6 +377,9 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--method", default="c3", help="interpolation method (default: c3)")
     pl.add_argument("--param", action="append", metavar="NAME=VALUE", help="method parameter")
     pl.add_argument("--family", metavar="PARAM=V1,V2,…", help="family: the parameter to sweep")
+    pl.add_argument(
+        "--show", metavar="LIST", help="rates: some of omega,alpha,jerk (default: omega,alpha)"
+    )
     pl.add_argument("--force", action="store_true", help="allow overwriting the input file")
     pl.set_defaults(func=cmd_plot)
 
