@@ -37,7 +37,7 @@ def make_files(d: Path, n: int) -> dict:
     q = rng.normal(size=(n, 4))
     q /= np.linalg.norm(q, axis=1)[:, None]
     p = rng.normal(size=(n, 3))
-    ns = 1403715523912143143 + np.cumsum(rng.integers(1, 10**7, n))
+    ns = 1403715523912143143 + np.cumsum(rng.integers(10**6, 10**7, n))
     files = {}
     with open(d / "a.tum", "w") as f:
         f.write("# timestamp tx ty tz qx qy qz qw\n")

@@ -46,7 +46,7 @@ def write_file(path: Path, fmt: str, seed=0, bad_line=None, bad_text=None):
             "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],"
             "q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []"
         )
-        ns = 1403715523912143143 + np.cumsum(np.random.default_rng(seed).integers(1, 10**7, N))
+        ns = 1403715523912143143 + np.cumsum(np.random.default_rng(seed).integers(10**6, 10**7, N))
         lines += [
             f"{k}," + ",".join(repr(float(v)) for v in (*pp, *qq)) for k, pp, qq in zip(ns, p, q)
         ]  # noqa: E501
@@ -160,3 +160,17 @@ def test_real_euroc_file_round_trip(tmp_path, monkeypatch):
     same(tr, careful(src, monkeypatch))
     qio.write(tmp_path / "o.csv", tr, format="euroc")
     np.testing.assert_array_equal(qio.read(tmp_path / "o.csv").stamps_ns, tr.stamps_ns)
+
+
+def test_stamps_closer_than_float_seconds_resolve(tmp_path):
+    text = (
+        "#timestamp [ns],p_x,p_y,p_z,q_w,q_x,q_y,q_z\n"
+        "1403715523912143143,0,0,0,1,0,0,0\n"
+        "1403715523912143144,0,0,0,1,0,0,0\n"
+    )
+    (tmp_path / "d.csv").write_text(text)
+    with pytest.raises(
+        ValueError, match=r"d.csv:3: stamps 1403715523912143143 and .*144 ns are 1 ns apart"
+    ):  # noqa: E501
+        qio.read(tmp_path / "d.csv", format="euroc")
+    assert len(qio.read(tmp_path / "d.csv", format="euroc", dedupe=True)) == 1
