@@ -118,8 +118,14 @@ def resample(traj, times, method: str = "c3", extrapolate: str = "raise", **para
     t0 = a
     rel = t - t0
     if traj.positions is not None:
-        motion = PoseSpline(traj.quats, traj.times - t0, traj.positions, rotation=method, **params)
-        motion.extrapolate = extrapolate
+        motion = PoseSpline(
+            traj.quats,
+            traj.times - t0,
+            traj.positions,
+            rotation=method,
+            extrapolate=extrapolate,
+            **params,
+        )
         rot = motion.rotation
     else:
         motion = None
