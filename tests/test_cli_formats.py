@@ -62,7 +62,7 @@ def test_export_bad_bounds(tmp_path, capsys, value, match):
 
 def test_sample_at_another_trajectory(tmp_path, capsys):
     tr, src = est(tmp_path)
-    gt = qio.Trajectory(np.linspace(T0 + 0.01, T0 + 2.9, 33), random_walk(33, 2))
+    gt = qio.Trajectory(np.linspace(T0 + 0.01, T0 + 2.9, 33), random_walk(33, 2), np.zeros((33, 3)))
     qio.write(tmp_path / "gt.tum", gt)
     out = tmp_path / "on_gt.tum"
     assert main(["sample", str(src), "--at", str(tmp_path / "gt.tum"), "-o", str(out)]) == 0
@@ -77,7 +77,7 @@ def test_sample_at_another_trajectory(tmp_path, capsys):
 
 def test_sample_at_outside_names_the_first_time(tmp_path, capsys):
     _, src = est(tmp_path)
-    gt = qio.Trajectory(T0 + np.array([5.0, 6.0]), random_walk(2, 2))
+    gt = qio.Trajectory(T0 + np.array([5.0, 6.0]), random_walk(2, 2), np.zeros((2, 3)))
     qio.write(tmp_path / "gt.tum", gt)
     out = tmp_path / "x.tum"
     assert main(["sample", str(src), "--at", str(tmp_path / "gt.tum"), "-o", str(out)]) == 1
