@@ -1,4 +1,5 @@
-"""Fuzz the trajectory file readers with atheris: arbitrary bytes as every supported format.
+"""Fuzz the trajectory file readers with atheris: arbitrary bytes as every supported format
+(KITTI, glTF/GLB, ROS 1 bags and MCAP included).
 
 A reader must return a valid trajectory (finite times strictly increasing, unit quaternions)
 or raise ValueError with a message naming the file; any other exception is a bug.
@@ -19,8 +20,9 @@ with atheris.instrument_imports():
     import quatspline.io as qio
 
 DIR = tempfile.mkdtemp(prefix="qs-fuzz-")
-NAMES = ["a.csv", "a.txt", "a.json", "a.npz", "a.bvh", "a.csv"]
-FORMATS = [None, None, None, None, None, "euroc"]
+NAMES = ["a.csv", "a.txt", "a.json", "a.npz", "a.bvh", "a.csv", "k.txt", "a.glb", "a.gltf"]
+NAMES += ["a.bag", "a.mcap"]
+FORMATS = [None, None, None, None, None, "euroc", "kitti", None, None, None, None]
 
 
 def one_input(data: bytes) -> None:

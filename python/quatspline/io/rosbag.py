@@ -96,6 +96,22 @@ def _open(path, AnyReader):
         reader.close()
 
 
+def _guarded(path, messages):
+    """The bag's messages; a damaged chunk or index (rosbags raises assorted errors, even
+    AssertionError) becomes one ValueError naming the file."""
+    it = iter(messages)
+    while True:
+        try:
+            item = next(it)
+        except StopIteration:
+            return
+        except Exception as e:
+            raise TrajectoryError(
+                f"{path}: damaged bag, cannot read its messages ({type(e).__name__}: {e})"
+            ) from None
+        yield item
+
+
 def _listing(conns) -> str:
     return ", ".join(f"{c.topic} ({_short(c.msgtype)})" for c in conns) or "none"
 
@@ -166,7 +182,7 @@ def read(
         ns, quats, pos, children = [], [], [], set()
         total = sum(int(getattr(c, "msgcount", 0) or 0) for c in chosen) or None
         with progress(total=total, desc=f"reading {topic}", unit="msg") as bar:
-            for conn, bag_ns, raw in reader.messages(connections=chosen):
+            for conn, bag_ns, raw in _guarded(path, reader.messages(connections=chosen)):
                 bar.update(1)
                 try:
                     msg = reader.deserialize(raw, conn.msgtype)
