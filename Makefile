@@ -44,12 +44,6 @@ GLTF_VALIDATOR := .npm/node_modules/gltf-validator/package.json
 $(GLTF_VALIDATOR):
 	npm install --prefix .npm --no-audit --no-fund --silent gltf-validator@2.0.0-dev.3.10
 
-# Test-only peers and optional extras the tests exercise (not needed by `make demo`).
-TESTSTAMP := $(VENV)/.test-deps-stamp
-$(TESTSTAMP): $(DEV)
-	$(VPY) -m pip install --quiet rosbags pygltflib pandas evo
-	touch $(TESTSTAMP)
-
 # Unit and property tests, and every docstring example as a doctest.
 # The viewer's JavaScript (three.js, uPlot) from npm, copied into the package at build time.
 VIEWER_VENDOR := python/quatspline/viewer/static/vendor
@@ -68,7 +62,7 @@ browser:
 			apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium; \
 		else echo "make: no chromium and no way to install it here: browser tests will skip"; fi; }
 
-test-python: build $(DEV) $(TESTSTAMP) $(GLTF_VALIDATOR) viewer-assets browser
+test-python: build $(DEV) $(GLTF_VALIDATOR) viewer-assets browser
 	$(VPY) -m pytest
 	QUATSPLINE_SIMD=scalar $(VPY) -m pytest -q tests/test_simd.py tests/test_engine.py tests/test_splines.py
 
@@ -105,6 +99,7 @@ bench: build
 	$(VPY) -m maturin develop --release --quiet --extras plot,bench
 	$(VPY) benchmarks/bench.py
 	$(VPY) benchmarks/fit.py --scale 1000000
+	$(VPY) benchmarks/readers.py
 	cargo bench -p quatspline --bench core -- --warm-up-time 0.5 --measurement-time 2
 
 # Bounded fuzzing: FUZZ_SECONDS per target (cargo-fuzz needs a nightly toolchain).

@@ -1,4 +1,5 @@
-"""Fuzz the trajectory file readers with atheris: arbitrary bytes as every supported format.
+"""Fuzz the trajectory file readers with atheris: arbitrary bytes as every supported format
+(KITTI, glTF/GLB, ROS 1 bags and MCAP included).
 
 The invariant lives in ``readers_check.py`` (shared with tests/test_fuzz_regressions.py, which
 replays every input in ``fuzz/regressions/readers``). Pass that folder as a second corpus
@@ -21,6 +22,9 @@ with atheris.instrument_imports():
     import readers_check
 
 DIR = tempfile.mkdtemp(prefix="qs-fuzz-")
+NAMES = ["a.csv", "a.txt", "a.json", "a.npz", "a.bvh", "a.csv", "k.txt", "a.glb", "a.gltf"]
+NAMES += ["a.bag", "a.mcap"]
+FORMATS = [None, None, None, None, None, "euroc", "kitti", None, None, None, None]
 
 
 def one_input(data: bytes) -> None:

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import doctest
-
 import numpy as np
 import pytest
 import quatspline as qs
@@ -128,13 +126,19 @@ def test_evo_round_trip_and_cross_read(tmp_path):
         qio.from_evo(e)
 
 
-@pytest.mark.parametrize(
-    "module",
-    ["quatspline.resampling", "quatspline.export", "quatspline.io.pandas_bridge"],
-)
-def test_docstring_examples_run(module):
-    import importlib
-
-    mod = importlib.import_module(module)
-    res = doctest.testmod(mod, optionflags=doctest.ELLIPSIS)
-    assert res.attempted > 0 and res.failed == 0
+def test_linear_extrapolation_continues_at_the_end_rate():
+    e = est()
+    t_end = e.times[-1]
+    out = e.resample(np.array([t_end + 0.1, t_end + 0.2]), extrapolate="linear", method="natural")
+    s = qs.NaturalSpline(e.quats, e.times - e.times[0], extrapolate="linear")
+    np.testing.assert_allclose(out.quats, s(np.array([0.1, 0.2]) + t_end - e.times[0]), atol=1e-14)
+    # constant angular velocity beyond the end: equal steps (to the 2.4e-7 s resolution of
+    # float64 Unix times at 1.3e9 s, i.e. 2.4e-6 of a 0.1 s step)
+    w = qs.angle_between(out.quats[0], out.quats[1])
+    w0 = qs.angle_between(s(t_end - e.times[0]), out.quats[0])
+    assert w == pytest.approx(w0, rel=5e-6)
+    # positions continue linearly too
+    ps = qs.PoseSpline(e.quats, e.times - e.times[0], e.positions, rotation="natural")
+    v = ps.linear_velocity(t_end - e.times[0])
+    dt = (out.times[1] - e.times[0]) - (out.times[0] - e.times[0])  # the step as computed
+    np.testing.assert_allclose(out.positions[1] - out.positions[0], dt * v, atol=1e-12)

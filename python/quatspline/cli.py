@@ -49,6 +49,12 @@ def _read(args) -> qio.Trajectory:
         opts.update(euler=args.euler, degrees=args.degrees)
     if fmt == "bvh":
         opts.update(joint=args.joint, world=args.world, skip_frames=args.skip_frames)
+    if fmt == "rosbag":
+        opts.update(topic=getattr(args, "topic", None), frame=getattr(args, "frame", None))
+    if fmt == "gltf" and getattr(args, "node_in", None):
+        opts.update(node=args.node_in)
+    if fmt == "kitti" and getattr(args, "times", None):
+        opts.update(times=args.times)
     return qio.read(args.input, format=fmt, **opts)
 
 
@@ -91,6 +97,21 @@ def _write_trajectory(args, traj: qio.Trajectory) -> None:
             sys.stdout.flush()
 
 
+def _times_of(path: str) -> np.ndarray:
+    """The times of any trajectory file, or of a one-column file of times."""
+    p = Path(path)
+    try:
+        return qio.read(p).times
+    except ValueError as first:
+        try:
+            t = np.loadtxt(p, ndmin=1, comments="#")
+        except (OSError, ValueError):
+            raise ValueError(f"--at: {first} (and not a one-column file of times either)") from None
+        if t.ndim != 1:
+            raise ValueError(f"--at: {p}: expected a trajectory or one time per line") from None
+        return t
+
+
 def _guard_output(out: Path, inputs: list[Path], force: bool) -> None:
     if str(out) == "-":
         return
@@ -104,22 +125,34 @@ def cmd_sample(args) -> int:
     _check_output(args)
     _guard_output(Path(args.output), [Path(args.input)], args.force)
     traj = _read(args)
-    times = None
     if args.at is not None:
         at = Path(args.at)
         from .io._common import check_regular_input
 
         check_regular_input(at)
+        from .resampling import resample
+
         try:
-            times = np.loadtxt(at, ndmin=1, comments="#")
-        except (OSError, ValueError) as e:
-            raise ValueError(f"{at}: cannot read times ({e})") from None
+            out = resample(
+                traj, _times_of(args.at), method=args.method, extrapolate=args.extrapolate,
+                **_params(args.param),
+            )  # fmt: skip
+        except ValueError as e:
+            if str(e).startswith("extrapolate"):
+                raise UsageError(f"--{e}") from None
+            raise ValueError(f"--at {args.at}: {e}") from None
+        _write_trajectory(args, out)
+        if args.output != "-":
+            print(
+                f"wrote {args.output}: {len(out)} samples of {args.method} at the times of "
+                f"{args.at}"
+            )
+        return 0
     out = ops.sample_trajectory(
         traj,
         args.method,
         rate=args.rate,
         count=args.count,
-        times=times,
         params=_params(args.param),
         derivatives=args.derivatives,
         max_samples=args.max_samples,
@@ -219,26 +252,76 @@ def cmd_plot(args) -> int:
 
     traj = _read(args)
     kt = traj.times - traj.times[0]
+    name = Path(args.input).name + (f" {traj.name}" if traj.name else "")
     if args.kind == "family":
         fig = plot.family(
-            _family(args, traj), title=f"{args.method}: {args.family or 'alpha sweep'}"
+            _family(args, traj),
+            title=f"{name}: {args.method}, {args.family or 'alpha sweep'}",
         )
     else:
         s = ops.build_spline(args.method, traj, _params(args.param))
         if args.kind == "sphere":
-            fig = plot.sphere(s, key_times=kt)
+            fig = plot.sphere(s, key_times=kt, name=name)
         elif args.kind == "rates":
-            fig = plot.rates(s, key_times=kt)
+            show = tuple(x.strip() for x in (args.show or "omega,alpha").split(","))
+            try:
+                fig = plot.rates(s, key_times=kt, name=name, show=show)
+            except ValueError as e:
+                raise UsageError(f"--{e}") from None
         else:
             pos = None
             if traj.positions is not None:
                 from .pose import PoseSpline
 
                 pos = PoseSpline(traj.quats, kt, traj.positions, rotation="slerp").position
-            fig = plot.body(s, positions=pos)
+            fig = plot.body(s, positions=pos, name=name)
     _guard_output(Path(args.output), [Path(args.input)], args.force)
     plot.save(fig, args.output)
     print(f"wrote {args.output}")
+    return 0
+
+
+# ---- export ---------------------------------------------------------------------------------
+def cmd_export(args) -> int:
+    from .export import parse_angle, parse_length, to_gltf
+
+    traj = _read(args)
+    try:
+        parse_angle(args.max_error, "--max-error")
+        parse_length(args.max_position_error, "--max-position-error")
+    except (TypeError, ValueError) as e:
+        raise UsageError(str(e)) from None
+    out = Path(args.output)
+    _guard_output(out, [Path(args.input)], args.force)
+    if out.suffix.lower() == ".bvh":
+        from .resampling import resample
+
+        fps = args.fps or 1.0 / float(np.median(np.diff(traj.times)))
+        if not (np.isfinite(fps) and 0 < fps <= 10_000):
+            raise UsageError(f"--fps: expected a frame rate in (0, 10000], got {fps}")
+        n = int(np.floor((traj.times[-1] - traj.times[0]) * fps + 1e-9)) + 1
+        frames = resample(
+            traj,
+            np.minimum(traj.times[0] + np.arange(n) / fps, traj.times[-1]),
+            method=args.method,
+            **_params(args.param),
+        )
+        frames.times = np.arange(n) / fps  # BVH frames: uniform from 0
+        qio.write(out, frames, format="bvh")
+        print(f"wrote {out}: BVH joint, {n} frames at {fps:.6g} fps ({args.method} spline)")
+        return 0
+    rep = to_gltf(
+        traj,
+        out,
+        max_error=args.max_error,
+        max_position_error=args.max_position_error,
+        interpolation=args.interpolation,
+        node=args.node,
+        mesh=None if args.empty else "axes",
+        method=args.method,
+        **_params(args.param),
+    )
+    print(rep.summary())
     return 0
 
 
@@ -260,6 +343,10 @@ def _input_options(p):
     p.add_argument("--joint", help="BVH joint (default: the root)")
     p.add_argument("--world", action="store_true", help="BVH: world rotation instead of local")
     p.add_argument("--skip-frames", type=int, default=0, help="BVH: frames to drop at the start")
+    p.add_argument("--topic", help="ROS bag / MCAP: the topic (listed when missing)")
+    p.add_argument("--frame", help="ROS bag /tf topics: the child frame to follow")
+    p.add_argument("--node-in", metavar="NODE", help="glTF input: the animated node")
+    p.add_argument("--times", metavar="FILE", help="KITTI: the times file (one per line)")
     p.add_argument("--sort", action="store_true", help="sort rows by time instead of failing")
     p.add_argument("--dedupe", action="store_true", help="drop rows with a repeated time")
 
@@ -320,7 +407,9 @@ def build_parser() -> argparse.ArgumentParser:
     g = s.add_mutually_exclusive_group(required=True)
     g.add_argument("--rate", type=float, help="samples per time unit")
     g.add_argument("--count", type=int, help="number of samples")
-    g.add_argument("--at", metavar="TIMES_FILE", help="file of times to sample at")
+    g.add_argument(
+        "--at", metavar="FILE", help="sample at the times of a trajectory file (or one-column file)"
+    )
     s.add_argument("--derivatives", action="store_true", help="add ω, α and jerk columns")
     s.add_argument(
         "--max-samples",
@@ -379,8 +468,25 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--method", default="c3", help="interpolation method (default: c3)")
     pl.add_argument("--param", action="append", metavar="NAME=VALUE", help="method parameter")
     pl.add_argument("--family", metavar="PARAM=V1,V2,…", help="family: the parameter to sweep")
+    pl.add_argument(
+        "--show", metavar="LIST", help="rates: some of omega,alpha,jerk (default: omega,alpha)"
+    )
     pl.add_argument("--force", action="store_true", help="allow overwriting the input file")
     pl.set_defaults(func=cmd_plot)
+
+    e = sub.add_parser("export", help="export a motion to glTF 2.0 (error-bounded) or BVH")
+    _input_options(e)
+    e.add_argument("-o", "--output", required=True, help="motion.glb, motion.gltf or motion.bvh")
+    e.add_argument("--node", default="body", help="glTF node name (default: body)")
+    e.add_argument("--max-error", default="0.01deg", help="orientation bound (default: 0.01deg)")
+    e.add_argument("--max-position-error", default="0.1mm", help="position bound (default: 0.1mm)")
+    e.add_argument("--interpolation", choices=("linear", "cubicspline"), default="linear")
+    e.add_argument("--empty", action="store_true", help="an empty node instead of an axes mesh")
+    e.add_argument("--fps", type=float, help="BVH: frame rate (default: from the key spacing)")
+    e.add_argument("--method", default="c3", help="spline through the keys (default: c3)")
+    e.add_argument("--param", action="append", metavar="NAME=VALUE", help="method parameter")
+    e.add_argument("--force", action="store_true", help="allow overwriting the input file")
+    e.set_defaults(func=cmd_export)
 
     d = sub.add_parser(
         "demo", help="the papers' examples and a real recording through every method"

@@ -51,11 +51,10 @@ def resample(traj, times, method: str = "c3", extrapolate: str = "raise", **para
         Absolute times; a Trajectory gives its times (and its exact ``stamps_ns``).
     method : str
         Any registry method (``quatspline.METHODS``), ``params`` its parameters.
-    extrapolate : {"raise", "clamp", "linear", ...}
+    extrapolate : {"raise", "clamp", "linear", "periodic"}
         Times outside the keys' range: ``"raise"`` names the first one (index and time, as in
-        the input), ``"clamp"`` holds the end pose; the other modes of
-        ``quatspline.Spline`` (such as ``"linear"``) are passed on when the spline supports
-        them.
+        the input), ``"clamp"`` holds the end pose, ``"linear"`` continues at the end's
+        angular (and linear) velocity, ``"periodic"`` repeats the motion.
 
     Returns
     -------
@@ -81,23 +80,16 @@ def resample(traj, times, method: str = "c3", extrapolate: str = "raise", **para
     ...
     ValueError: times: times[0] = 999999999.0 is before the trajectory's first time 1000000000.0 (range [1000000000.0, 1000000002.0]; use extrapolate="clamp" or "linear")
     """  # noqa: E501
-    from . import spline as sp
     from .io import Trajectory
     from .pose import PoseSpline
     from .registry import spline as make_spline
 
     if not isinstance(traj, Trajectory):
         raise TypeError(f"traj: expected a quatspline.io.Trajectory, got {type(traj).__name__}")
-    modes = tuple(getattr(sp, "_EXTRAPOLATE", ("raise", "clamp")))
+    from .spline import _EXTRAPOLATE as modes
+
     if extrapolate not in modes:
-        raise ValueError(
-            f"extrapolate: expected one of {', '.join(modes)}, got {extrapolate!r}"
-            + (
-                " (linear extrapolation needs a newer quatspline)"
-                if extrapolate == "linear"
-                else ""
-            )
-        )
+        raise ValueError(f"extrapolate: expected one of {', '.join(modes)}, got {extrapolate!r}")
     t, ns = _as_times(times)
     a, b = float(traj.times[0]), float(traj.times[-1])
     if extrapolate == "raise":
@@ -118,8 +110,14 @@ def resample(traj, times, method: str = "c3", extrapolate: str = "raise", **para
     t0 = a
     rel = t - t0
     if traj.positions is not None:
-        motion = PoseSpline(traj.quats, traj.times - t0, traj.positions, rotation=method, **params)
-        motion.extrapolate = extrapolate
+        motion = PoseSpline(
+            traj.quats,
+            traj.times - t0,
+            traj.positions,
+            rotation=method,
+            extrapolate=extrapolate,
+            **params,
+        )
         rot = motion.rotation
     else:
         motion = None

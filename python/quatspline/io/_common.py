@@ -182,6 +182,13 @@ def finish(
     if np.any(dt <= 0):
         k = int(np.argmax(dt <= 0)) + 1
         what = "duplicate" if dt[k - 1] == 0 else "decreasing"
+        if ns is not None and ns[k] > ns[k - 1]:
+            res = float(np.spacing(abs(times[k]))) * 1e9
+            raise TrajectoryError(
+                f"{path}:{lines[k]}: stamps {int(ns[k - 1])} and {int(ns[k])} ns are "
+                f"{int(ns[k] - ns[k - 1])} ns apart, closer than float64 seconds resolve at "
+                f"this time ({res:.3g} ns); use dedupe=True (--dedupe) to drop such rows"
+            )
         raise TrajectoryError(
             f"{path}:{lines[k]}: {what} timestamp {float(times[k])!r} after "
             f"{float(times[k - 1])!r} "

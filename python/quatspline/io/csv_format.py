@@ -20,6 +20,7 @@ import re
 import numpy as np
 
 from .._atomic import atomic_write
+from . import _fast
 from ._common import Trajectory, TrajectoryError, check_for_writing, finish, fmt, parse_float
 
 TIME = ("t", "time", "timestamp", "times", "sec", "seconds")
@@ -79,9 +80,14 @@ def read(
                 )
         pos_groups = POSITIONS if names[qi[0]] != "w" else POSITIONS[:2]
         pi = _find(names, pos_groups)
+        ncol = len(header)
+        fast = _fast.table(path, delim, ncol, skip=1)
+        if fast is not None:
+            out = _from_fast(path, fast, ti, qi, pi, euler, degrees, sort, dedupe)
+            if out is not None:
+                return out
         times, rows, pos, lines = [], [], [], []
         reader = csv.reader(f, delimiter=delim)
-        ncol = len(header)
         try:
             for row in reader:
                 line = reader.line_num + 1
@@ -133,6 +139,22 @@ def _column_names(path, name: str, width: int) -> list[str]:
     if width == 1:
         return [name]
     return [f"{name}_{k}" for k in "xyz"] if width == 3 else [f"{name}_{k}" for k in range(width)]
+
+
+def _from_fast(path, a, ti, qi, pi, euler, degrees, sort, dedupe):
+    """The fast path's table through the same checks; None sends the caller to the careful
+    parser (for its messages with line numbers)."""
+    try:
+        if euler is not None:
+            from ..convert import from_euler
+
+            quats = from_euler(euler, a[:, list(qi)], degrees=degrees)
+        else:
+            quats = a[:, list(qi)]
+        pos = a[:, list(pi)] if pi is not None else None
+        return finish(path, a[:, ti], quats, pos, None, sort, dedupe)
+    except ValueError:
+        return None
 
 
 def write(path, traj: Trajectory) -> None:

@@ -13,6 +13,7 @@ with only a translation channel keeps its static rotation. Writing goes through
 from __future__ import annotations
 
 import base64
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -31,7 +32,9 @@ def _load(path):
     except ImportError as e:
         raise ImportError(HINT) from e
     try:
-        return GLTF2().load(str(path))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # pygltflib warns about unknown chunks
+            return GLTF2().load(str(path))
     except Exception as e:  # pygltflib raises assorted errors for damaged files
         raise TrajectoryError(
             f"{path}: not a readable glTF/GLB file ({type(e).__name__}: {e})"
@@ -108,7 +111,8 @@ def _accessor(path: Path, g, k: int, cache: dict) -> np.ndarray:
         offset=start,
         strides=(stride, dtype.itemsize),
     )
-    out = raw.astype(np.float64)
+    with np.errstate(invalid="ignore", over="ignore"):
+        out = raw.astype(np.float64)  # NaN / inf rows are refused by finish(), naming the key
     if acc.componentType != 5126 and acc.normalized:
         info = np.iinfo(dtype)
         out = np.maximum(out / info.max, -1.0) if info.min < 0 else out / info.max
@@ -168,6 +172,19 @@ def read(
     Trajectory
         Rotation keys (w, x, y, z) at their times, positions when the node is translated.
     """
+    try:
+        return _read(path, node, animation, sort, dedupe)
+    except TrajectoryError:
+        raise
+    except (TypeError, AttributeError, IndexError, KeyError, ValueError, OverflowError) as e:
+        # a document whose fields have the wrong types or point nowhere
+        raise TrajectoryError(
+            f"{path}: malformed glTF document ({type(e).__name__}: {e})"
+        ) from None
+
+
+def _read(path, node, animation, sort, dedupe) -> Trajectory:
+    path = Path(path)
     path = Path(path)
     g = _load(path)
     anims = g.animations or []
@@ -229,6 +246,15 @@ def read(
             raise TrajectoryError(f"{path}: sampler {k}: unknown interpolation {kind!r}")
         kt = _accessor(path, g, s.input, cache)[:, 0]
         kv = _accessor(path, g, s.output, cache)
+        bad = ~np.isfinite(kt)
+        with np.errstate(invalid="ignore"):
+            bad[1:] |= ~(np.diff(kt) > 0)
+        if np.any(bad):
+            i = int(np.argmax(bad))
+            raise TrajectoryError(
+                f"{path}: sampler {k}: key times must be finite and strictly increasing "
+                f"(key {i}: {float(kt[i])!r})"
+            )
         if len(kv) != len(kt) * (3 if kind == "CUBICSPLINE" else 1) or len(kt) == 0:
             raise TrajectoryError(
                 f"{path}: sampler {k}: {len(kt)} key times but {len(kv)} output values for {kind}"

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from .._atomic import atomic_write
+from . import _fast
 from ._common import Trajectory, TrajectoryError, finish, fmt, parse_float
 
 NAMES = ("r11", "r12", "r13", "tx", "r21", "r22", "r23", "ty", "r31", "r32", "r33", "tz")
@@ -62,6 +63,12 @@ def parse_rows(path, f, first_line: int = 1):
 
 
 def read(path, times=None, sort: bool = False, dedupe: bool = False) -> Trajectory:
+    fast = _fast.table(path, "ws", 12)
+    if fast is not None:
+        try:
+            return from_rows(path, fast, np.arange(1, len(fast) + 1), times, sort, dedupe)
+        except TrajectoryError:
+            pass  # the careful parser below gives the message with the file's line numbers
     with open(path, encoding="utf-8-sig") as f:
         rows, lines = parse_rows(path, f)
     if not rows:

@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._progress import progress
 from ._common import Trajectory, TrajectoryError, finish
 
 HINT = "ROS bags need the rosbags library: pip install 'quatspline[bag]'"
@@ -93,6 +94,22 @@ def _open(path, AnyReader):
         yield reader
     finally:
         reader.close()
+
+
+def _guarded(path, messages):
+    """The bag's messages; a damaged chunk or index (rosbags raises assorted errors, even
+    AssertionError) becomes one ValueError naming the file."""
+    it = iter(messages)
+    while True:
+        try:
+            item = next(it)
+        except StopIteration:
+            return
+        except Exception as e:
+            raise TrajectoryError(
+                f"{path}: damaged bag, cannot read its messages ({type(e).__name__}: {e})"
+            ) from None
+        yield item
 
 
 def _listing(conns) -> str:
@@ -163,35 +180,38 @@ def read(
         qpath, ppath = TYPES[msgtype]
         is_tf = msgtype == "tf2_msgs/msg/TFMessage"
         ns, quats, pos, children = [], [], [], set()
-        for conn, bag_ns, raw in reader.messages(connections=chosen):
-            try:
-                msg = reader.deserialize(raw, conn.msgtype)
-            except Exception as e:  # a corrupt message: name where it is
-                raise TrajectoryError(
-                    f"{path}: topic {topic!r}, message {len(ns) + 1}: cannot decode ({e})"
-                ) from None
-            items = msg.transforms if is_tf else [msg]
-            for item in items:
-                if is_tf or msgtype == "geometry_msgs/msg/TransformStamped":
-                    children.add(item.child_frame_id)
-                    if frame is not None and item.child_frame_id != frame:
-                        continue
-                    if is_tf and frame is None and len(children) > 1:
-                        raise TrajectoryError(
-                            f"{path}: topic {topic!r} carries several child frames "
-                            f"({', '.join(sorted(children))}); choose one with frame= "
-                            "(--frame)"
-                        )
-                if stamp == "header":
-                    st = item.header.stamp
-                    ns.append(int(st.sec) * 1_000_000_000 + int(st.nanosec))
-                else:
-                    ns.append(int(bag_ns))
-                q = _get(item, qpath)
-                quats.append((q.w, q.x, q.y, q.z))
-                if ppath is not None:
-                    p = _get(item, ppath)
-                    pos.append((p.x, p.y, p.z))
+        total = sum(int(getattr(c, "msgcount", 0) or 0) for c in chosen) or None
+        with progress(total=total, desc=f"reading {topic}", unit="msg") as bar:
+            for conn, bag_ns, raw in _guarded(path, reader.messages(connections=chosen)):
+                bar.update(1)
+                try:
+                    msg = reader.deserialize(raw, conn.msgtype)
+                except Exception as e:  # a corrupt message: name where it is
+                    raise TrajectoryError(
+                        f"{path}: topic {topic!r}, message {len(ns) + 1}: cannot decode ({e})"
+                    ) from None
+                items = msg.transforms if is_tf else [msg]
+                for item in items:
+                    if is_tf or msgtype == "geometry_msgs/msg/TransformStamped":
+                        children.add(item.child_frame_id)
+                        if frame is not None and item.child_frame_id != frame:
+                            continue
+                        if is_tf and frame is None and len(children) > 1:
+                            raise TrajectoryError(
+                                f"{path}: topic {topic!r} carries several child frames "
+                                f"({', '.join(sorted(children))}); choose one with frame= "
+                                "(--frame)"
+                            )
+                    if stamp == "header":
+                        st = item.header.stamp
+                        ns.append(int(st.sec) * 1_000_000_000 + int(st.nanosec))
+                    else:
+                        ns.append(int(bag_ns))
+                    q = _get(item, qpath)
+                    quats.append((q.w, q.x, q.y, q.z))
+                    if ppath is not None:
+                        p = _get(item, ppath)
+                        pos.append((p.x, p.y, p.z))
     if not ns:
         extra = f" with child frame {frame!r} (frames: {', '.join(sorted(children)) or 'none'})"
         raise TrajectoryError(

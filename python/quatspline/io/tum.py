@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._atomic import atomic_write
+from . import _fast
 from ._common import (
     Trajectory,
     TrajectoryError,
@@ -20,6 +21,12 @@ NAMES = ("timestamp", "tx", "ty", "tz", "qx", "qy", "qz", "qw")
 
 
 def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
+    fast = _fast.table(path, "ws", 8)
+    if fast is not None:
+        try:
+            return finish(path, fast[:, 0], fast[:, [7, 4, 5, 6]], fast[:, 1:4], None, sort, dedupe)
+        except TrajectoryError:
+            pass  # the careful parser below gives the message with the file's line numbers
     rows, lines = [], []
     with open(path, encoding="utf-8-sig") as f:
         for line, text in enumerate(f, start=1):
