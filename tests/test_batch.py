@@ -82,6 +82,20 @@ def test_sample_equals_single_file_command_bit_for_bit(tmp_path, client):
     assert (out / "summary.csv").is_file() and (out / "summary.md").is_file()
 
 
+def test_fit_equals_single_file_command_bit_for_bit(tmp_path, client):
+    inputs = _recordings(tmp_path / "in", n=2, rows=300)
+    out = tmp_path / "out"
+    table = batch.run("fit", [tmp_path / "in"], out, client=client, smoothing="auto", rate=40.0)
+    assert list(table["status"]) == ["ok", "ok"], table["error"].tolist()
+    assert (table["smoothing"] > 0).all() and (table["effective_dof"] > 0).all()
+    for p in inputs:
+        rel = p.relative_to(tmp_path / "in").with_suffix(".csv")
+        single = tmp_path / "single" / rel
+        single.parent.mkdir(parents=True, exist_ok=True)
+        assert main(["fit", str(p), "-o", str(single), "--rate", "40"]) == 0
+        assert (out / rel).read_bytes() == single.read_bytes()
+
+
 def test_corrupt_file_fails_alone(tmp_path, client):
     _recordings(tmp_path / "in", n=3)
     bad = tmp_path / "in" / "broken.txt"

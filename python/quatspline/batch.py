@@ -313,23 +313,36 @@ def _op_sample(task: Task, options: dict) -> dict:
 
 
 def _op_fit(task: Task, options: dict) -> dict:
-    """``quatspline fit IN -o OUT``: the library's fit, sampled like ``sample``."""
+    """``quatspline fit IN -o OUT``: the same read, ``fit_trajectory`` and write."""
     from . import ops
+    from .fit import fit_trajectory
 
-    if not hasattr(ops, "fit_trajectory"):
-        raise NotImplementedError("fit: this quatspline has no fitting operation")
     traj = _read(task, options)
-    fit_opts = {k: options[k] for k in ("smoothing", "penalty", "robust") if k in options}
-    out, info = ops.fit_trajectory(
+    smoothing = options.get("smoothing", "auto")
+    if smoothing != "auto":
+        try:
+            smoothing = float(smoothing)
+        except (TypeError, ValueError):
+            raise ValueError(f"smoothing: expected auto or a number, got {smoothing!r}") from None
+    out, f = fit_trajectory(
         traj,
         rate=options.get("rate"),
         count=options.get("count"),
+        smoothing=smoothing,
+        penalty=options.get("penalty", "acceleration"),
+        robust=options.get("robust"),
         derivatives=bool(options.get("derivatives")),
         max_samples=int(options.get("max_samples") or ops.DEFAULT_MAX_SAMPLES),
-        **fit_opts,
     )
     _write(task, out, options)
-    return {"samples": len(out), "keys": len(traj), **info}
+    res = np.asarray(f.residuals, dtype=float)
+    return {
+        "samples": len(out),
+        "keys": len(traj),
+        "smoothing": float(f.smoothing),
+        "effective_dof": float(f.effective_dof),
+        "rms_residual_deg": float(np.degrees(np.sqrt(np.mean(res**2)))) if res.size else 0.0,
+    }
 
 
 def _op_compare(task: Task, options: dict) -> dict:
