@@ -137,3 +137,21 @@ def test_demo_without_matplotlib(env):
     # one sample file per interpolating method, plus the Beta example
     assert len(list((out / "samples").glob("*.csv"))) == int(r.stdout) + 1
     assert sorted(p.name for p in out.parent.iterdir()) == ["demo-out"]
+
+
+def test_viewer_assets_ship_in_the_wheel_and_missing_extras_give_a_hint(env):
+    r = _run(
+        env,
+        str(env[0]),
+        "-c",
+        "from quatspline.viewer.server import missing_assets; print(missing_assets())",
+    )
+    assert r.returncode == 0 and r.stdout.strip() == "[]", (r.stdout, r.stderr)
+    # the fresh venv has neither the viewer nor the dask extra: one line naming the extra
+    r = _run(env, "quatspline", "view", "--no-browser")
+    assert r.returncode == 1 and 'pip install "quatspline[viewer]"' in r.stderr, r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1
+    r = _run(
+        env, "quatspline", "batch", "sample", str(env[2]), "-o", str(env[2] / "b"), "--count", "3"
+    )
+    assert r.returncode == 1 and 'pip install "quatspline[dask]"' in r.stderr, r.stderr

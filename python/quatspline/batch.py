@@ -483,6 +483,11 @@ def run(
     """
     if operation not in OPERATIONS:
         raise ValueError(f"operation: unknown {operation!r}; valid: {', '.join(OPERATIONS)}")
+    dd = _need_dask()
+    try:
+        import pandas as pd
+    except ImportError:
+        raise ImportError(_DASK_HINT) from None
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise ValueError(f"out_dir: {out} exists and is not a directory")
@@ -495,11 +500,6 @@ def run(
     inputs = expand_inputs(paths)
     tasks = plan(operation, inputs, out, options)
     out.mkdir(parents=True, exist_ok=True)
-    try:
-        import pandas as pd
-    except ImportError:
-        raise ImportError(_DASK_HINT) from None
-    dd = _need_dask()
     rows: list[dict] = []
     with _client(client, scheduler, workers) as c:
         futures = c.map(
