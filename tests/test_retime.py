@@ -229,3 +229,16 @@ def test_bad_bounds(kwargs, err, msg):
         qs.retime(SPLINES["squad"], **kwargs)
     with pytest.raises(TypeError, match="spline"):
         qs.retime("squad", max_angular_velocity=1.0)
+
+
+def test_arc_length_keeps_the_extrapolation_rule():
+    s = qs.NaturalSpline(KEYS, TIMES, extrapolate="linear")
+    r = qs.arc_length(s)
+    assert r.extrapolate == "linear"
+    c = r.length / r.duration
+    a, b = r.domain
+    speed = np.linalg.norm(r.angular_velocity([a - 1.0, b + 0.5, b + 3.0]), axis=1)
+    assert np.allclose(speed, c, rtol=1e-12)  # the constant speed carries on past the ends
+    p = qs.arc_length(qs.NaturalSpline(KEYS, TIMES, extrapolate="periodic"))
+    t = np.linspace(a, b, 9)[1:-1]
+    assert np.allclose(p(t + (b - a)), p(t), atol=1e-13)
