@@ -90,7 +90,7 @@ class PoseSpline:
         extrapolate: str = "raise",
         **params,
     ):
-        choice(extrapolate, "extrapolate", ("raise", "clamp"))
+        choice(extrapolate, "extrapolate", sp._EXTRAPOLATE)
         if translation not in ("cubic", "linear"):
             raise ValueError(f"translation: expected 'cubic' or 'linear', got {translation!r}")
         quats, times = pose_key_order(quats, times, "PoseSpline")
