@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import inspect
+
 from . import _core
 from ._checks import integer
 
@@ -34,3 +36,7 @@ def set_num_threads(n: int) -> None:
     >>> qs.set_num_threads(0)
     """
     _core.set_num_threads(integer(n, "n", 0, 1024))
+
+
+# Like the compiled functions' docstrings: no leading indentation (tests/test_package.py).
+set_num_threads.__doc__ = inspect.cleandoc(set_num_threads.__doc__ or "")
