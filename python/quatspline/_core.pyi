@@ -159,3 +159,36 @@ def pose_bspline(
 def set_simd(mode: str) -> None: ...
 def simd_status() -> tuple[str, str]: ...
 def _simd_sin_cos(x: _A, isa: str) -> tuple[_A, _A]: ...
+
+# Fitting splines (crates/quatspline-py/src/fit.rs)
+def fit_rotations(
+    times: _A,
+    quats: _A,
+    weights: _A | None,
+    penalty: str,
+    order: int | None,
+    smoothing: float | None,
+    knots_spacing: float | None,
+    knots_array: _A | None,
+    robust: str | None,
+    robust_scale: float | None,
+    max_iter: int,
+    tol: float,
+    progress: object = None,
+) -> dict: ...
+def fit_positions(
+    times: _A,
+    positions: _A,
+    weights: _A | None,
+    penalty: str,
+    order: int | None,
+    smoothing: float | None,
+    knots_spacing: float | None,
+    knots_array: _A | None,
+    robust: str | None,
+    robust_scale: float | None,
+) -> dict: ...
+def min_energy(
+    times: _A, quats: _A, penalty: str, resolution: int, progress: object = None
+) -> dict: ...
+def position_bspline_eval(ctrl: _A, dt: float, t0: float, order: int, t: _A) -> _A: ...
