@@ -129,6 +129,23 @@ fn human_bytes(b: f64) -> String {
     }
 }
 
+/// Runs `f` on the calling thread with the GIL held (for small calls, where releasing the
+/// GIL and entering the pool cost more than the work); a panic becomes a `RuntimeError`.
+pub fn guarded_here<T>(what: &str, f: impl FnOnce() -> Result<T, Error>) -> PyResult<T> {
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)) {
+        Ok(Ok(v)) => Ok(v),
+        Ok(Err(e)) => Err(to_py(e)),
+        Err(p) => {
+            let msg = p
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_else(|| "unknown panic".into());
+            Err(PyRuntimeError::new_err(format!("internal error in {what} (please report): {msg}")))
+        }
+    }
+}
+
 /// Read access to the rows of an (N, W) array with any strides (a slice when C-contiguous).
 pub struct Rows<'a> {
     pub view: ArrayView2<'a, f64>,

@@ -12,6 +12,9 @@ use std::sync::Arc;
 /// Samples per parallel task; fewer than two tasks' worth run on the calling thread.
 const CHUNK: usize = 4096;
 
+/// Below this many samples a call runs on the calling thread with the GIL held.
+const SMALL: usize = 256;
+
 /// Any spline of the core, immutable after construction (safe to share between threads).
 #[pyclass(name = "Spline", module = "quatspline._core", frozen)]
 pub struct PySpline {
@@ -95,6 +98,11 @@ impl PySpline {
                 .map_err(|e| PyValueError::new_err(format!("out: not writeable ({e})")))?;
             let slice = rw.as_slice_mut().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
             let s: &dyn sp::Spline = &*self.inner;
+            if m < SMALL {
+                // small calls: on this thread, GIL held (handing work to the pool or releasing
+                // the GIL costs microseconds, more than the evaluation)
+                return crate::arrays::guarded_here(what, || f(s, ts, 0, slice));
+            }
             guarded(py, what, || {
                 if m < 2 * CHUNK {
                     return f(s, ts, 0, slice);
@@ -193,14 +201,8 @@ impl PySpline {
         let ex = self::extrapolate(extrapolate)?;
         let mut row = [0.0; 4];
         let s: &dyn sp::Spline = &*self.inner;
-        let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            sp::evaluate_into(s, &[t], 0, 0, ex, &mut row)
-        }));
-        match r {
-            Ok(Ok(())) => Ok(numpy::PyArray1::from_slice(py, &row)),
-            Ok(Err(e)) => Err(to_py(e)),
-            Err(_) => Err(PyRuntimeError::new_err("internal error in Spline.evaluate1 (please report)")),
-        }
+        crate::arrays::guarded_here("Spline.evaluate1", || sp::evaluate_into(s, &[t], 0, 0, ex, &mut row))?;
+        Ok(numpy::PyArray1::from_slice(py, &row))
     }
 
     /// Like `evaluate`, into `out` (C-contiguous float64 of shape (M, 4·(order+1))).

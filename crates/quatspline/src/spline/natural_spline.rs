@@ -149,6 +149,59 @@ pub(crate) fn accel_nonlinear(r: Vec3, rd: Vec3) -> Vec3 {
     vec3::add(vec3::add(vec3::scale(cp, dp * k1), vec3::scale(ccp, dp * k2)), vec3::scale(dccp, k3))
 }
 
+/// The three coefficients of [`accel_nonlinear`] for one rotation vector (they depend on |r|
+/// only: computed once per segment, not once per sweep of the solve).
+fn accel_coefficients(r: Vec3) -> (f64, f64, f64) {
+    let x = vec3::norm(r);
+    (accel_k1(x), accel_k2(x), x_minus_sin_over_cube(x))
+}
+
+/// [`accel_nonlinear`] with its coefficients precomputed (bit-identical).
+fn accel_nonlinear_with(r: Vec3, rd: Vec3, (k1, k2, k3): (f64, f64, f64)) -> Vec3 {
+    let dp = vec3::dot(r, rd);
+    let cp = vec3::cross(r, rd);
+    let ccp = vec3::cross(r, cp);
+    let dccp = vec3::cross(rd, cp);
+    vec3::add(vec3::add(vec3::scale(cp, dp * k1), vec3::scale(ccp, dp * k2)), vec3::scale(dccp, k3))
+}
+
+/// Block Thomas elimination factored once: the multipliers L_k D'_{k−1}⁻¹ and the inverted
+/// pivots D'_k⁻¹ do not change between the sweeps of the non-linear iteration (only the right
+/// side does), so each sweep is two linear passes of 3×3 products. Same operations as
+/// [`solve_block_tridiagonal`], so the same bits.
+struct BlockThomas {
+    m: Vec<Matrix3<f64>>,
+    dinv: Vec<Matrix3<f64>>,
+    u: Vec<Matrix3<f64>>,
+}
+
+impl BlockThomas {
+    fn factor(l: &[Matrix3<f64>], d: &[Matrix3<f64>], u: &[Matrix3<f64>]) -> Option<Self> {
+        let n = d.len();
+        let mut dp = d.to_vec();
+        let mut m = vec![Matrix3::zeros(); n];
+        for k in 1..n {
+            m[k] = l[k] * dp[k - 1].try_inverse()?;
+            let upd = m[k] * u[k - 1];
+            dp[k] -= upd;
+        }
+        let dinv = dp.iter().map(|x| x.try_inverse()).collect::<Option<Vec<_>>>()?;
+        Some(BlockThomas { m, dinv, u: u.to_vec() })
+    }
+
+    fn solve(&self, b: &mut [Vector3<f64>]) {
+        let n = b.len();
+        for k in 1..n {
+            let r = self.m[k] * b[k - 1];
+            b[k] -= r;
+        }
+        b[n - 1] = self.dinv[n - 1] * b[n - 1];
+        for k in (0..n - 1).rev() {
+            b[k] = self.dinv[k] * (b[k] - self.u[k] * b[k + 1]);
+        }
+    }
+}
+
 fn v3(a: Vec3) -> Vector3<f64> {
     Vector3::new(a[0], a[1], a[2])
 }
@@ -335,18 +388,30 @@ impl NaturalSpline {
                 _ => chord(k.min(segs - 1)),
             })
             .collect();
+        let singular = || Error::Internal("natural spline: singular tridiagonal block".into());
+        let ks: Vec<(f64, f64, f64)> = rho.iter().map(|&r| accel_coefficients(r)).collect();
+        let thomas = if closed { None } else { Some(BlockThomas::factor(&l, &d, &u).ok_or_else(singular)?) };
+        let mut b = b0.clone();
         for _ in 0..100 {
-            let mut b = b0.clone();
+            b.copy_from_slice(&b0);
             for k in 0..n {
                 if matches!(rows[k], Row::Continuity | Row::NaturalEnd) {
                     let p = left(k);
                     let rd = a3(a[p] * v3(w[k]));
-                    b[k] -= v3(accel_nonlinear(rho[p], rd));
+                    b[k] -= v3(accel_nonlinear_with(rho[p], rd, ks[p]));
                 }
             }
-            let x =
-                if closed { solve_cyclic(&l, &d, &u, &b) } else { solve_block_tridiagonal(&l, &d, &u, &b) }
-                    .ok_or_else(|| Error::Internal("natural spline: singular tridiagonal block".into()))?;
+            let cyclic;
+            let x: &[Vector3<f64>] = match &thomas {
+                Some(f) => {
+                    f.solve(&mut b);
+                    &b
+                }
+                None => {
+                    cyclic = solve_cyclic(&l, &d, &u, &b).ok_or_else(singular)?;
+                    &cyclic
+                }
+            };
             let mut delta: f64 = 0.0;
             for k in 0..n {
                 let new = a3(x[k]);
