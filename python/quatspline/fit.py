@@ -281,12 +281,13 @@ def fit(
         the sample from the data term.
     smoothing : "auto", float or (float, float)
         λ: "auto" chooses it by generalised cross-validation; a float fixes it (units: rad² per
-        ∫|penalty|² dt, i.e. time³ for acceleration, time⁵ for jerk); 0 interpolates every
+        ``∫|penalty|² dt``, i.e. time³ for acceleration, time⁵ for jerk); 0 interpolates every
         sample (the minimum-penalty curve through them; needs at least as many knots as
         samples). With positions, a pair gives (orientation λ, position λ); a single float
         is used for both.
     penalty : {"acceleration", "jerk"}
-        Integrate |ω̇|² (order-4 spline, C²) or the body-frame |ω̈|² (order-6 spline, C⁴).
+        Integrate ``|ω̇|²`` (order-4 spline, C²) or the body-frame ``|ω̈|²`` (order-6 spline,
+        C⁴).
     knots : None, float or array_like
         None: one knot interval per median sample spacing. A float: about that spacing
         (rounded so the knots span the data exactly). An array: uniform knots from the first
