@@ -4,7 +4,8 @@ Generates recordings from the bundled ones (random rotations, random time warps,
 samples by default), then times the same operation over all files three ways, each best of
 ``--repeat`` runs with ``force=True`` (every file redone):
 
-- a plain Python loop over :func:`quatspline.batch.run_one` (no Dask),
+- a plain Python loop over :func:`quatspline.batch.run_one` (no Dask), then the same summary
+  files,
 - Dask ``LocalCluster`` with 1 worker process,
 - Dask ``LocalCluster`` with 2 worker processes.
 
@@ -24,6 +25,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import quatspline as qs
 import quatspline.io as qio
 from dask.distributed import Client, LocalCluster
@@ -49,7 +51,8 @@ def cpu_model() -> str:
 
 def generate(root: Path, files: int, lo: int, hi: int, seed: int = 1) -> list[Path]:
     """Recordings of lo…hi samples: a natural spline through a bundled recording, sampled on a
-    randomly warped clock, rotated by a random rotation, written as TUM files."""
+    randomly warped clock, rotated by a random rotation, written as TUM files (CSV when the
+    source has no positions)."""
     rng = np.random.default_rng(seed)
     bases = []
     for src in SOURCES:
@@ -72,7 +75,7 @@ def generate(root: Path, files: int, lo: int, hi: int, seed: int = 1) -> list[Pa
         if pos is not None:
             p = np.column_stack([np.interp(tau, t, pos[:, j]) for j in range(3)])
         duration = t[-1] * rng.uniform(0.5, 2.0)
-        path = root / f"rec{i:04d}.txt"
+        path = root / (f"rec{i:04d}.txt" if p is not None else f"rec{i:04d}.csv")
         qio.write(path, qio.Trajectory(1000.0 + u * duration, q, p))
         paths.append(path)
     return paths
@@ -109,9 +112,14 @@ def main() -> None:
         tasks = batch.plan(args.operation, inputs, root / "out", options)
 
         def loop():
+            # the same work as batch.run without Dask: every file, then the summary files
+            rows = []
             for task in tasks:
                 row = batch.run_one(args.operation, task, options, force=True)
                 assert row["status"] == "ok", row["error"]
+                rows.append(row)
+            table = pd.DataFrame(rows).sort_values("file").reset_index(drop=True)
+            batch.summarize(table, root / "out", args.operation)
 
         t_loop = best(loop, args.repeat)
         results = {}
