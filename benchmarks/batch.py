@@ -28,7 +28,7 @@ import numpy as np
 import pandas as pd
 import quatspline as qs
 import quatspline.io as qio
-from dask.distributed import Client, LocalCluster
+from dask.distributed import Client
 from quatspline import batch
 
 DATA = Path(__file__).resolve().parent.parent / "data"
@@ -124,16 +124,7 @@ def main() -> None:
         t_loop = best(loop, args.repeat)
         results = {}
         for n in (1, 2):
-            with (
-                LocalCluster(
-                    n_workers=n,
-                    threads_per_worker=1,
-                    processes=True,
-                    dashboard_address=None,
-                    silence_logs=40,
-                ) as cluster,
-                Client(cluster) as c,
-            ):
+            with batch.local_cluster(n) as cluster, Client(cluster) as c:
 
                 def dask_run(c=c):
                     table = batch.run(

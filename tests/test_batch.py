@@ -17,7 +17,7 @@ pytest.importorskip("dask.distributed", reason="the dask extra is not installed"
 import pandas as pd  # noqa: E402
 import quatspline as qs  # noqa: E402
 import quatspline.io as qio  # noqa: E402
-from dask.distributed import Client, LocalCluster  # noqa: E402
+from dask.distributed import Client  # noqa: E402
 from quatspline import batch  # noqa: E402
 from quatspline.cli import main  # noqa: E402
 
@@ -34,16 +34,7 @@ pytestmark = [
 
 @pytest.fixture(scope="module")
 def client():
-    with (
-        LocalCluster(
-            n_workers=2,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=None,
-            silence_logs=40,
-        ) as cluster,
-        Client(cluster) as c,
-    ):
+    with batch.local_cluster(2) as cluster, Client(cluster) as c:
         yield c
 
 
