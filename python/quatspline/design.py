@@ -255,6 +255,8 @@ def to_json(d: dict) -> dict:
 
     def conv(x):
         if isinstance(x, np.ndarray):
+            if x.dtype.kind == "f" and np.all(np.isfinite(x)):
+                return x.tolist()  # the common case, without visiting every element
             return conv(x.tolist())
         if isinstance(x, dict):
             return {k: conv(v) for k, v in x.items()}

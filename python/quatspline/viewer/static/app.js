@@ -326,7 +326,7 @@ function initScenes() {
   });
 }
 function drawTraces() {
-  for (const t of sphere.traces) sphere.scene.remove(t);
+  for (const t of sphere.traces) { sphere.scene.remove(t); t.geometry.dispose(); t.material.dispose(); }
   sphere.traces = [];
   const r = state.result;
   AXES.forEach((a, k) => {
@@ -346,7 +346,9 @@ function poseAt(phase) {
   const i = Math.min(r.quats.length - 1, Math.max(0, Math.round(phase * (r.quats.length - 1))));
   return { q: r.quats[i], t: r.t[i] };
 }
+let dirty = true;  // the 3D views are drawn only when something changed (software GL is slow)
 function render() {
+  dirty = false;
   const p = poseAt(state.phase);
   if (p) {
     const [w, x, y, z] = p.q;
@@ -366,7 +368,7 @@ function tick(now) {
     $("scrub").value = String(Math.round(state.phase * 1000));
   }
   last = now;
-  render();
+  if (state.playing || dirty) render();
   requestAnimationFrame(tick);
 }
 
@@ -374,7 +376,7 @@ function drawAll() {
   drawPlots();
   drawCertificate();
   drawTraces();
-  render();
+  dirty = true;  // the next animation frame redraws the 3D views
 }
 
 // ---- start -----------------------------------------------------------------------------------
@@ -402,7 +404,7 @@ async function main() {
     b.onclick = () => download(fmt, { method: state.method, params: state.params, quats: state.quats, times: state.times, samples: Number($("samples").value) }, `design.${fmt === "glb" ? "glb" : fmt}`);
   }
   $("play").onclick = () => { state.playing = !state.playing; $("play").textContent = state.playing ? "pause" : "play"; };
-  $("scrub").oninput = () => { state.phase = Number($("scrub").value) / 1000; };
+  $("scrub").oninput = () => { state.phase = Number($("scrub").value) / 1000; dirty = true; };
   drawKeys();
   requestEval();
   requestAnimationFrame(tick);
