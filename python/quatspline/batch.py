@@ -173,6 +173,14 @@ def plan(operation: str, inputs: list[Path], out_dir, options: dict | None = Non
     Returns
     -------
     list of Task
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> from quatspline.batch import plan
+    >>> tasks = plan("sample", [Path("data/a/x.tum"), Path("data/b/x.tum")], "out")
+    >>> [str(t.output) for t in tasks]
+    ['out/a/x.csv', 'out/b/x.csv']
     """
     options = options or {}
     out = Path(out_dir)
@@ -428,6 +436,14 @@ def local_cluster(workers: int | None = None):
     Returns
     -------
     dask.distributed.LocalCluster
+
+    Examples
+    --------
+    >>> from dask.distributed import Client
+    >>> from quatspline.batch import local_cluster
+    >>> with local_cluster(1) as cluster, Client(cluster) as client:
+    ...     print(len(client.scheduler_info()["workers"]))
+    1
     """
     dd = _need_dask()
     import dask
@@ -504,6 +520,21 @@ def run(
         The scheduler cannot be reached within the timeout.
     ImportError
         Dask (or pandas) is not installed.
+
+    See Also
+    --------
+    expand_inputs, summarize, local_cluster
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> import quatspline as qs, quatspline.io as qio
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> keys = qs.from_rotvec([[0, 0, 0], [0, 0, 0.5], [0, 0.3, 1.0]])
+    >>> qio.write(d / "in" / "a.json", qio.Trajectory([0.0, 1.0, 2.0], keys))
+    >>> table = run("sample", d / "in", d / "out", workers=1, method="c3", count=5, progress=False)
+    >>> table[["file", "status", "samples"]].values.tolist()
+    [['a.json', 'ok', 5]]
     """
     if operation not in OPERATIONS:
         raise ValueError(f"operation: unknown {operation!r}; valid: {', '.join(OPERATIONS)}")
@@ -653,6 +684,23 @@ def summarize(table, out_dir, operation: str) -> None:
         The batch's output directory.
     operation : str
         The operation that made the table.
+
+    Returns
+    -------
+    None
+        The files are written atomically into ``out_dir``.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import pandas as pd
+    >>> from quatspline.batch import summarize
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> row = {"file": "a.txt", "status": "ok", "duration_s": 0.1, "samples": 10, "error": ""}
+    >>> table = pd.DataFrame([row])
+    >>> summarize(table, d, "sample")
+    >>> sorted(p.name for p in d.iterdir())
+    ['summary.csv', 'summary.md', 'summary.png']
     """
     out = Path(out_dir)
     with atomic_write(out / "summary.csv", newline="") as f:

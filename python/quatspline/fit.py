@@ -123,12 +123,43 @@ def _progress(progress, total: int | None = None):
 class FittedSpline(Spline):
     """A fitted orientation curve: a uniform cumulative B-spline on SO(3) (``method == "fit"``).
 
-    Attributes: ``residuals`` (per sample, radians: the rotation angle between the curve and the
-    sample), ``smoothing`` (λ used), ``effective_dof`` (trace of the hat matrix, in scalar
-    observations: 3 per sample), ``score`` (GCV at λ), ``iterations``, ``final_step``
-    (radians), ``converged`` (always True: a fit that does not converge raises
-    ``RuntimeError``), ``robust_weights``, ``robust_scale`` (radians), ``control_quats``,
-    ``knots``, ``order``, ``penalty``.
+    Made by :func:`fit` (not constructed directly). It is a :class:`Spline`: exact
+    orientations, angular velocity, acceleration and jerk, and a continuity certificate.
+
+    Attributes
+    ----------
+    residuals : numpy.ndarray, shape (N,)
+        Per sample, the rotation angle (radians) between the curve and the sample.
+    smoothing : float
+        λ used.
+    effective_dof : float
+        Trace of the hat matrix, in scalar observations (3 per sample).
+    score : float
+        The GCV score at λ.
+    iterations : int
+        Gauss–Newton / Levenberg–Marquardt iterations of the final solve.
+    final_step : float
+        Size of the last update (radians).
+    converged : bool
+        Always True (a fit that does not converge raises ``RuntimeError``).
+    robust_weights : numpy.ndarray, shape (N,)
+        Final weights of the robust loss (ones without one).
+    robust_scale : float or None
+        Scale of the robust loss (radians).
+    control_quats, knots, order, penalty
+        The B-spline that was fitted.
+
+    See Also
+    --------
+    fit, FittedPose, MinimumEnergySpline
+
+    Examples
+    --------
+    >>> import numpy as np, quatspline as qs
+    >>> t = np.linspace(0.0, 2.0, 41)
+    >>> f = qs.fit(t, qs.from_rotvec(np.outer(t, [0.0, 0.0, 1.0])), smoothing=1e-6)
+    >>> type(f).__name__, f.method, bool(np.max(f.residuals) < 1e-3)
+    ('FittedSpline', 'fit', True)
     """
 
     _method = "fit"
@@ -164,9 +195,29 @@ class FittedPose:
     """A fitted pose trajectory: ``rotation`` (a :class:`FittedSpline`) and positions (a
     penalised B-spline in ℝ³ with the same knots and penalty), with exact derivatives.
 
-    Attributes as :class:`FittedSpline` for the orientations (``residuals``, ``smoothing``,
-    ``effective_dof``, ``score``), and ``position_residuals`` (per sample, length units),
-    ``position_smoothing``, ``position_effective_dof``, ``position_score`` for the positions.
+    Made by :func:`fit` with ``positions=`` (not constructed directly).
+
+    Attributes
+    ----------
+    rotation : FittedSpline
+        The orientation part, with its ``residuals``, ``smoothing``, ``effective_dof``, ``score``.
+    position_residuals : numpy.ndarray, shape (N,)
+        Per sample, the distance (length units) between the curve and the sample.
+    position_smoothing, position_effective_dof, position_score : float
+        λ, effective degrees of freedom and GCV score of the position fit.
+
+    See Also
+    --------
+    fit, FittedSpline, PoseSpline
+
+    Examples
+    --------
+    >>> import numpy as np, quatspline as qs
+    >>> t = np.linspace(0.0, 2.0, 41)
+    >>> q = qs.from_rotvec(np.outer(t, [0.0, 0.0, 1.0]))
+    >>> f = qs.fit(t, q, positions=np.column_stack([t, t**2, 0 * t]), smoothing=1e-6)
+    >>> type(f).__name__, bool(np.max(f.position_residuals) < 1e-3)
+    ('FittedPose', True)
     """
 
     def __init__(self, rotation: FittedSpline, pos: dict, extrapolate: str = "raise"):

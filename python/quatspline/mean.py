@@ -30,7 +30,27 @@ _METHODS = ("chordal", "geodesic")
 
 @dataclass(frozen=True)
 class MeanInfo:
-    """How the mean was reached (``return_info=True``)."""
+    """How the mean was reached (``return_info=True``).
+
+    Attributes
+    ----------
+    method : str
+        ``"chordal"`` or ``"geodesic"``.
+    iterations, converged, step, cost
+        See each field below.
+
+    See Also
+    --------
+    mean
+
+    Examples
+    --------
+    >>> import quatspline as qs
+    >>> q = qs.from_rotvec([[0, 0, 0.1], [0, 0, 0.3]])
+    >>> m, info = qs.mean(q, method="geodesic", return_info=True)
+    >>> info.method, info.converged
+    ('geodesic', True)
+    """
 
     method: str
     iterations: int

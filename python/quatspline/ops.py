@@ -46,7 +46,16 @@ DEFAULT_MAX_SAMPLES = 10_000_000
 
 class ParameterError(ValueError):
     """A bad option value chosen by the caller (method, parameter, rate, count, holdout), as
-    opposed to bad data. The command line maps it to exit code 2."""
+    opposed to bad data. The command line maps it to exit code 2.
+
+    Examples
+    --------
+    >>> from quatspline.ops import ParameterError, sample_times
+    >>> try:
+    ...     sample_times((0.0, 1.0), rate=-1.0)
+    ... except ParameterError as e:
+    ...     print(isinstance(e, ValueError))
+    True"""
 
 
 def _check_trajectory(traj) -> None:
@@ -67,8 +76,25 @@ def build_spline(method: str, traj: Trajectory, params: dict | None = None):
     """The spline of ``method`` through the keys of ``traj``, on times relative to the first
     key (``traj.times - traj.times[0]``, for accuracy with large timestamps).
 
-    Raises :class:`ParameterError` for an unknown method or parameter, ``ValueError`` for keys
-    the method cannot use.
+    Parameters
+    ----------
+    method : str
+        Registry method name.
+    traj : quatspline.io.Trajectory
+        The keys.
+    params : dict, optional
+        The method's parameters.
+
+    Returns
+    -------
+    Spline
+
+    Raises
+    ------
+    ParameterError
+        Unknown method or parameter.
+    ValueError
+        Keys the method cannot use.
 
     Examples
     --------
@@ -428,6 +454,15 @@ def format_table(rows: list[dict]) -> str:
 
     Cells are escaped (``|`` → ``\\|``) so any renderer shows a table; numbers are plain
     decimals (no numpy reprs).
+
+    Parameters
+    ----------
+    rows : list of dict
+        As :func:`compare` returns them (only the columns present are shown).
+
+    Returns
+    -------
+    str
 
     Examples
     --------

@@ -26,8 +26,32 @@ __all__ = ["Reparameterized", "arc_length", "max_angular_rate", "retime"]
 
 class Reparameterized(Spline):
     """A spline on a new clock: ``arc_length`` (constant angular speed) or ``retimed``
-    (uniform time stretch). ``inner`` is the original spline; ``time_scale`` is λ for a
-    retimed spline and ``length`` the path length (rad) for an arc-length one."""
+    (uniform time stretch), made by :func:`arc_length`, :func:`retime` or
+    ``reparameterize(s, "arc_length")``; a :class:`Spline` with exact derivatives of the
+    composition.
+
+    Attributes
+    ----------
+    inner : Spline
+        The original spline.
+    time_scale : float
+        λ of a retimed spline (new duration / old duration).
+    length : float
+        Path length (rad) of an arc-length spline.
+
+    See Also
+    --------
+    arc_length, retime, max_angular_rate
+
+    Examples
+    --------
+    >>> import numpy as np, quatspline as qs
+    >>> s = qs.C3Spline(qs.from_rotvec([[0, 0, 0], [0, 0, 0.2], [0, 0, 1.5]]), [0, 1, 2])
+    >>> r = qs.arc_length(s)
+    >>> w = np.linalg.norm(r.angular_velocity(np.linspace(0, 2, 9)), axis=1)
+    >>> bool(np.ptp(w) < 1e-9), round(r.length, 12)
+    (True, 1.5)
+    """
 
     inner: Spline
     time_scale: float
@@ -95,6 +119,18 @@ def max_angular_rate(spline: Spline, order: int = 1) -> tuple[float, float]:
     """(largest ``|ω|`` (order 1), ``|dω/dt|`` (2) or ``|d²ω/dt²|`` (3) over the domain, a
     time where it is reached), found by sampling every segment and refining each local maximum by
     golden-section search; the same in the world and body frames.
+
+    Parameters
+    ----------
+    spline : Spline
+        Any spline.
+    order : {1, 2, 3}, default 1
+        Angular velocity, acceleration or jerk.
+
+    Returns
+    -------
+    (float, float)
+        The largest norm (rad per time unit to the power ``order``) and a time where it occurs.
 
     Examples
     --------

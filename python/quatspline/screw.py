@@ -33,6 +33,35 @@ __all__ = ["ScrewSpline"]
 class ScrewSpline(PoseCurveSpline):
     """Screw-motion spline through pose keys (see the module doc).
 
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Key orientations (w, x, y, z) or a scipy ``Rotation``; N ≥ 2.
+    times : array_like, shape (N,)
+        Strictly increasing key times (pandas/numpy datetimes become seconds).
+    positions : array_like, shape (N, 3)
+        Key positions (length units; rates are per time unit).
+    smooth : bool, default False
+        ``False``: piecewise ScLerp (one constant screw per segment, C⁰ at keys; two keys give
+        exactly ScLerp). ``True``: the C³ spline's cumulative blending on dual quaternions
+        (interpolating, C³ in time for rotation and translation together).
+    alpha, beta : float or array_like, default 5/16 and 0.0
+        Shape parameters of the smooth form, one value or one per key (see :class:`C3Spline`).
+    extrapolate : {"raise", "clamp", "linear", "periodic"}, default "raise"
+        Times outside the domain.
+
+    Raises
+    ------
+    ValueError
+        Shapes other than (N, 4), (N,), (N, 3), N < 2, times not finite and strictly
+        increasing, or non-finite positions (the message names the argument and the index).
+
+    See Also
+    --------
+    PoseSpline : orientation and position from separate splines.
+    PoseBSpline : cumulative B-spline on SE(3).
+    quatspline.sclerp : two poses.
+
     Examples
     --------
     >>> import numpy as np

@@ -43,6 +43,13 @@ def to_evo(traj: Trajectory):
     See Also
     --------
     from_evo
+
+    Examples
+    --------
+    >>> from quatspline.io import Trajectory, to_evo
+    >>> e = to_evo(Trajectory([0.0, 1.0], [[1, 0, 0, 0], [0, 0, 0, 1]]))
+    >>> e.num_poses
+    2
     """
     if not isinstance(traj, Trajectory):
         raise TypeError(f"traj: expected a quatspline.io.Trajectory, got {type(traj).__name__}")
