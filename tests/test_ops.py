@@ -114,3 +114,16 @@ def test_sample_count_of_an_overflowing_rate_is_refused_not_overflow_error(rate)
 
     with pytest.raises(ParameterError, match=r"^rate: .* gives inf samples, more than max_samples"):
         sample_times((0.0, 10.0), rate=rate)
+
+
+def test_sampling_in_chunks_under_a_progress_bar_equals_one_call(monkeypatch):
+    import quatspline.ops as ops
+
+    keys = quatspline.from_rotvec([[0, 0, 0], [0, 0, 0.5], [0, 0.4, 1.0], [0.2, 0.1, 1.5]])
+    traj = qio.Trajectory([0.0, 1.0, 2.0, 3.0], keys)
+    whole = ops.sample_trajectory(traj, "c3", count=1001, derivatives=True)
+    monkeypatch.setattr(ops, "SAMPLE_CHUNK", 64)
+    chunked = ops.sample_trajectory(traj, "c3", count=1001, derivatives=True)
+    np.testing.assert_array_equal(chunked.quats, whole.quats)
+    for k in ("omega", "alpha", "jerk"):
+        np.testing.assert_array_equal(chunked.extra[k], whole.extra[k])

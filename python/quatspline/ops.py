@@ -190,6 +190,32 @@ def sample_times(
     return np.linspace(a, b, count)
 
 
+#: Samples per chunk when sampling with a progress bar (each sample is independent, so the
+#: result does not depend on it).
+SAMPLE_CHUNK = 1 << 18
+
+
+def _evaluate(s, t: np.ndarray, derivatives: bool):
+    """Orientations (and ω, α, jerk) at ``t``, in chunks under a progress bar (shown on a
+    terminal once sampling takes more than a second)."""
+    from ._progress import progress
+
+    names = ("omega", "alpha", "jerk") if derivatives else ()
+    fns = {"omega": s.angular_velocity, "alpha": s.angular_acceleration, "jerk": s.jerk}
+    if len(t) <= SAMPLE_CHUNK:
+        return s(t), {k: fns[k](t) for k in names}
+    q = np.empty((len(t), 4))
+    extra = {k: np.empty((len(t), 3)) for k in names}
+    with progress(len(t), "sampling", unit="sample") as bar:
+        for a in range(0, len(t), SAMPLE_CHUNK):
+            tc = t[a : a + SAMPLE_CHUNK]
+            q[a : a + len(tc)] = s(tc)
+            for k in names:
+                extra[k][a : a + len(tc)] = fns[k](tc)
+            bar.update(len(tc))
+    return q, extra
+
+
 def sample_trajectory(
     traj: Trajectory,
     method: str = "c3",
@@ -295,14 +321,7 @@ def sample_trajectory(
         t = t - t0
     else:
         t = sample_times(s.domain, rate=rate, count=count, max_samples=max_samples)
-    q = s(t)
-    extra = {}
-    if derivatives:
-        extra = {
-            "omega": s.angular_velocity(t),
-            "alpha": s.angular_acceleration(t),
-            "jerk": s.jerk(t),
-        }
+    q, extra = _evaluate(s, t, bool(derivatives))
     pos = None
     if traj.positions is not None:
         from .pose import PoseSpline
