@@ -1,5 +1,6 @@
-"""Fitting splines and minimum-energy splines on the rotation group (seed 003: 拟合样条, Spicv,
-Sping; MATH.md §12–13).
+"""Fitting splines and minimum-energy splines on the rotation group (the fitting splines,
+拟合样条, and the minimum-energy interpolants Spicv and Sping named in the Chinese tutorial
+series on rigid-body motion after Gao Xiang's *14 Lectures on Visual SLAM*).
 
 ``fit(times, quats, ...)`` returns the smooth curve closest to noisy orientations in the
 least-squares sense on SO(3) — it does not pass through the samples — minimising
@@ -463,7 +464,7 @@ class MinimumEnergySpline(FittedSpline):
     space (order 4 or 6) with ``resolution`` knot intervals per mean key interval, solved by
     Gauss–Newton with Bregman iteration until every key is met to 1e-11 rad. This is a
     discrete (Sping-like, numerical) approximation of the continuous optimum (Spicv, analytic
-    in seed 003's terms); refining ``resolution`` converges to it — the energy decreases
+    in that tutorial's terms); refining ``resolution`` converges to it — the energy decreases
     monotonically with nested refinement (tested). Free ("natural") ends: the optimum has
     ω̇ = 0 (acceleration) at the ends; other end conditions are not implemented.
 
