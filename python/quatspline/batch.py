@@ -498,7 +498,8 @@ def run(
     force : bool
         Redo files whose outputs are up to date.
     progress : bool, optional
-        A progress bar over files (default: on a terminal only).
+        ``False`` hides the progress bar over files; otherwise it shows on a terminal once
+        the batch has run for a second (the package's shared progress helper).
     **options
         The operation's options, as for the single-file command (``method``, ``rate``,
         ``count``, ``params``, ``methods``, ``holdout``, ``smoothing``, …), the reading options
@@ -565,8 +566,11 @@ def run(
             [force] * len(tasks),
             pure=False,
         )
-        bar = _bar(len(tasks), operation, progress)
-        try:
+        from ._progress import progress as progress_bar
+
+        with progress_bar(
+            len(tasks), f"batch {operation}", enabled=progress is not False, unit="file"
+        ) as bar:
             for fut in dd.as_completed(futures):
                 try:
                     rows.append(fut.result())
@@ -583,30 +587,11 @@ def run(
                         }
                     )
                 bar.update(1)
-        finally:
-            bar.close()
     _log_errors(out, rows)
     rows = [{k: v for k, v in r.items() if not k.startswith("_")} for r in rows]
     table = pd.DataFrame(rows).sort_values("file", kind="stable").reset_index(drop=True)
     summarize(table, out, operation)
     return table
-
-
-def _bar(total: int, desc: str, progress: bool | None):
-    try:
-        from tqdm import tqdm
-    except ImportError:  # pragma: no cover
-
-        class _Null:
-            def update(self, n):
-                pass
-
-            def close(self):
-                pass
-
-        return _Null()
-    disable = None if progress is None else not progress
-    return tqdm(total=total, desc=f"batch {desc}", unit="file", disable=disable, leave=False)
 
 
 def _log_errors(out: Path, rows: list[dict]) -> None:
@@ -623,10 +608,10 @@ def _log_errors(out: Path, rows: list[dict]) -> None:
 # ---- summary ----------------------------------------------------------------------------------
 def _md_cell(x) -> str:
     if isinstance(x, float):
-        if math.isnan(x):
-            return ""
-        return f"{x:.4g}"
-    return str(x).replace("|", "\\|").replace("\n", " ")
+        return "" if math.isnan(x) else f"{x:.4g}"
+    from .ops import _cell
+
+    return _cell(x)
 
 
 def _md_table(header: list[str], rows: list[list]) -> str:
