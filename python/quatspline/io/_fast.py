@@ -9,7 +9,11 @@ file:line:column error. Both paths give bit-identical values (tested).
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
+
+from .. import _progress
 
 #: below this size the careful parser is fast enough and pandas' import is not worth it
 MIN_BYTES = 1 << 16
@@ -66,16 +70,21 @@ def table(path, sep: str, ncols: int | None, skip: int = 0, int_first: bool = Fa
     return vals
 
 
+#: From this size on, and only when a progress bar can show (standard error is a terminal),
+#: pandas reads through a byte-counting file handle that drives the bar. Given a path, pandas
+#: parses faster (about 2.5x here, in parallel) but reports no progress; below this size that
+#: takes under about a second, so no bar would show anyway.
+BAR_BYTES = 512 << 20
+
+
 def _read(pd, path, sep: str, top: int):
+    kw = dict(
+        encoding="utf-8-sig", header=None, engine="c", skip_blank_lines=True, skiprows=top, sep=sep
+    )
     try:
-        return pd.read_csv(
-            path,
-            encoding="utf-8-sig",
-            header=None,
-            engine="c",
-            skip_blank_lines=True,
-            skiprows=top,
-            sep=sep,
-        )
+        if _progress.on_terminal() and os.stat(path).st_size >= BAR_BYTES:
+            with _progress.reading(path) as bar, open(path, "rb") as raw:
+                return pd.read_csv(_progress.counting(raw, bar), **kw)
+        return pd.read_csv(path, **kw)
     except Exception:  # ParserError (ragged rows), EmptyDataError, UnicodeDecodeError, …
         return None

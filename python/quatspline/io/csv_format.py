@@ -19,6 +19,7 @@ import re
 
 import numpy as np
 
+from .. import _progress
 from .._atomic import atomic_write
 from . import _fast
 from ._common import Trajectory, TrajectoryError, check_for_writing, finish, fmt, parse_float
@@ -87,23 +88,25 @@ def read(
             if out is not None:
                 return out
         times, rows, pos, lines = [], [], [], []
-        reader = csv.reader(f, delimiter=delim)
-        try:
-            for row in reader:
-                line = reader.line_num + 1
-                if not row or all(not c.strip() for c in row):
-                    continue
-                if len(row) != ncol:
-                    raise TrajectoryError(
-                        f"{path}:{line}: expected {ncol} columns (as the header), got {len(row)}"
-                    )
-                times.append(parse_float(path, line, ti + 1, header[ti], row[ti]))
-                rows.append([parse_float(path, line, c + 1, header[c], row[c]) for c in qi])
-                if pi is not None:
-                    pos.append([parse_float(path, line, c + 1, header[c], row[c]) for c in pi])
-                lines.append(line)
-        except csv.Error as e:
-            raise TrajectoryError(f"{path}:{reader.line_num + 1}: {e}") from None
+        with _progress.reading(path) as bar:
+            reader = csv.reader(_progress.lines(f, bar, len(header_line)), delimiter=delim)
+            try:
+                for row in reader:
+                    line = reader.line_num + 1
+                    if not row or all(not c.strip() for c in row):
+                        continue
+                    if len(row) != ncol:
+                        raise TrajectoryError(
+                            f"{path}:{line}: expected {ncol} columns (as the header), "
+                            f"got {len(row)}"
+                        )
+                    times.append(parse_float(path, line, ti + 1, header[ti], row[ti]))
+                    rows.append([parse_float(path, line, c + 1, header[c], row[c]) for c in qi])
+                    if pi is not None:
+                        pos.append([parse_float(path, line, c + 1, header[c], row[c]) for c in pi])
+                    lines.append(line)
+            except csv.Error as e:
+                raise TrajectoryError(f"{path}:{reader.line_num + 1}: {e}") from None
     if not rows:
         raise TrajectoryError(f"{path}: no data rows")
     if euler is not None:

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import _progress
 from .._atomic import atomic_write
 from . import _fast
 from ._common import (
@@ -36,31 +37,34 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
                 )
             except TrajectoryError:
                 pass  # the careful parser below gives the message with the file's line numbers
-        for line, text in enumerate(f, start=2):
-            s = text.strip()
-            if not s:
-                continue
-            cells = s.split(",")
-            if len(cells) < 8:
-                raise TrajectoryError(
-                    f"{path}:{line}: expected at least 8 columns, got {len(cells)}"
+        with _progress.reading(path) as bar:
+            for line, text in enumerate(_progress.lines(f, bar, len(header)), start=2):
+                s = text.strip()
+                if not s:
+                    continue
+                cells = s.split(",")
+                if len(cells) < 8:
+                    raise TrajectoryError(
+                        f"{path}:{line}: expected at least 8 columns, got {len(cells)}"
+                    )
+                try:
+                    ns = int(cells[0])
+                except ValueError:
+                    raise TrajectoryError(
+                        f"{path}:{line}: column 1 ('timestamp'): not an integer: "
+                        f"{cells[0].strip()[:40]!r}"
+                    ) from None
+                if abs(ns) > 10**30:
+                    raise TrajectoryError(
+                        f"{path}:{line}: column 1 ('timestamp'): {len(str(abs(ns)))}-digit integer "
+                        "out of range (|t| ≤ 1e30 ns)"
+                    )
+                times.append(ns * 1e-9)
+                stamps.append(ns)
+                rows.append(
+                    [parse_float(path, line, c + 1, NAMES[c], cells[c]) for c in range(1, 8)]
                 )
-            try:
-                ns = int(cells[0])
-            except ValueError:
-                raise TrajectoryError(
-                    f"{path}:{line}: column 1 ('timestamp'): not an integer: "
-                    f"{cells[0].strip()[:40]!r}"
-                ) from None
-            if abs(ns) > 10**30:
-                raise TrajectoryError(
-                    f"{path}:{line}: column 1 ('timestamp'): {len(str(abs(ns)))}-digit integer "
-                    "out of range (|t| ≤ 1e30 ns)"
-                )
-            times.append(ns * 1e-9)
-            stamps.append(ns)
-            rows.append([parse_float(path, line, c + 1, NAMES[c], cells[c]) for c in range(1, 8)])
-            lines.append(line)
+                lines.append(line)
     if not rows:
         raise TrajectoryError(f"{path}: no data rows")
     a = np.array(rows)

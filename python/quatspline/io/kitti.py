@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import _progress
 from .._atomic import atomic_write
 from . import _fast
 from ._common import Trajectory, TrajectoryError, finish, fmt, parse_float
@@ -69,8 +70,8 @@ def read(path, times=None, sort: bool = False, dedupe: bool = False) -> Trajecto
             return from_rows(path, fast, np.arange(1, len(fast) + 1), times, sort, dedupe)
         except TrajectoryError:
             pass  # the careful parser below gives the message with the file's line numbers
-    with open(path, encoding="utf-8-sig") as f:
-        rows, lines = parse_rows(path, f)
+    with open(path, encoding="utf-8-sig") as f, _progress.reading(path) as bar:
+        rows, lines = parse_rows(path, _progress.lines(f, bar))
     if not rows:
         raise TrajectoryError(f"{path}: no data rows")
     return from_rows(path, np.array(rows), np.array(lines), times, sort, dedupe)

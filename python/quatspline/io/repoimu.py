@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import _progress
 from ._common import (
     Trajectory,
     TrajectoryError,
@@ -24,18 +25,20 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
         first = f.readline()
         if not first.startswith("Time (s);Vicon Orientation"):
             raise TrajectoryError(f"{path}:1: bad header: not a RepoIMU file")
-        f.readline()
-        for line, text in enumerate(f, start=3):
-            s = text.strip()
-            if not s:
-                continue
-            cells = s.split(";")
-            if len(cells) < 5:
-                raise TrajectoryError(
-                    f"{path}:{line}: expected at least 5 columns, got {len(cells)}"
-                )
-            rows.append([parse_float(path, line, c + 1, NAMES[c], cells[c]) for c in range(5)])
-            lines.append(line)
+        second = f.readline()
+        with _progress.reading(path) as bar:
+            header = len(first) + len(second)
+            for line, text in enumerate(_progress.lines(f, bar, header), start=3):
+                s = text.strip()
+                if not s:
+                    continue
+                cells = s.split(";")
+                if len(cells) < 5:
+                    raise TrajectoryError(
+                        f"{path}:{line}: expected at least 5 columns, got {len(cells)}"
+                    )
+                rows.append([parse_float(path, line, c + 1, NAMES[c], cells[c]) for c in range(5)])
+                lines.append(line)
     if not rows:
         raise TrajectoryError(f"{path}: no data rows")
     a = np.array(rows)

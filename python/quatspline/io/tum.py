@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import _progress
 from .._atomic import atomic_write
 from . import _fast
 from ._common import (
@@ -28,8 +29,8 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
         except TrajectoryError:
             pass  # the careful parser below gives the message with the file's line numbers
     rows, lines = [], []
-    with open(path, encoding="utf-8-sig") as f:
-        for line, text in enumerate(f, start=1):
+    with open(path, encoding="utf-8-sig") as f, _progress.reading(path) as bar:
+        for line, text in enumerate(_progress.lines(f, bar), start=1):
             s = text.strip()
             if not s or s.startswith("#"):
                 continue
