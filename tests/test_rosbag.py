@@ -70,6 +70,8 @@ def make_msg(store, msgtype, ns, q, p, child="base_link", ros=2):
             ),
         )
         return T[msgtype](transforms=[ts, other])
+    if msgtype == "geometry_msgs/msg/QuaternionStamped":
+        return T[msgtype](header=header, quaternion=quat)
     if msgtype == "sensor_msgs/msg/Imu":
         z = T["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=9.81)
         return T[msgtype](
@@ -125,6 +127,7 @@ TYPES = [
     "geometry_msgs/msg/TransformStamped",
     "tf2_msgs/msg/TFMessage",
     "sensor_msgs/msg/Imu",
+    "geometry_msgs/msg/QuaternionStamped",
 ]
 
 
@@ -145,7 +148,7 @@ def test_reads_every_type_from_every_container(tmp_path, kind, msgtype):
     np.testing.assert_array_equal(tr.stamps_ns, ns)  # exact integer nanoseconds
     np.testing.assert_allclose(tr.times, ns * 1e-9, rtol=0, atol=1e-6)
     same_rotation(tr.quats, q)
-    if msgtype.endswith("Imu"):
+    if msgtype.endswith(("Imu", "QuaternionStamped")):
         assert tr.positions is None
     else:
         np.testing.assert_array_equal(tr.positions, p)
@@ -220,3 +223,46 @@ def test_not_a_bag(tmp_path):
         qio.read(bad)
     with pytest.raises(ValueError, match=r"stamp: expected 'header' or 'bag'"):
         qio.read(bad, stamp="receive")
+
+
+@pytest.mark.parametrize("target", ["o.bag", "o.mcap", "o_dir"])
+def test_orientations_only_round_trip_as_quaternion_stamped(tmp_path, target):
+    ns, q, _ = data(4)
+    tr = qio.Trajectory(ns * 1e-9, q, stamps_ns=ns)
+    out = tmp_path / target
+    qio.write(out, tr, format="rosbag")
+    from quatspline.io.rosbag import topics
+
+    assert topics(out) == {"/pose": "geometry_msgs/QuaternionStamped"}
+    back = qio.read(out)
+    assert back.positions is None  # no positions stays no positions (not zeros)
+    np.testing.assert_array_equal(back.stamps_ns, ns)
+    same_rotation(back.quats, q)
+
+
+@pytest.mark.parametrize("name", ["m.bag", "m.mcap"])
+def test_bag_files_follow_the_writers_rules(tmp_path, name):
+    import os
+    import stat
+
+    ns, q, p = data(5)
+    tr = qio.Trajectory(ns * 1e-9, q, p, stamps_ns=ns)
+    real = tmp_path / name
+    real.write_bytes(b"old")
+    os.chmod(real, 0o640)
+    link = tmp_path / ("link" + Path(name).suffix)
+    link.symlink_to(real)
+    qio.write(link, tr, format="rosbag")
+    assert link.is_symlink() and os.readlink(link) == str(real)  # the link stays
+    assert stat.S_IMODE(real.stat().st_mode) == 0o640  # the replaced file keeps its mode
+    np.testing.assert_array_equal(qio.read(real).stamps_ns, ns)
+    assert [f.name for f in tmp_path.iterdir() if f.name.startswith(".")] == []
+    fifo = tmp_path / ("fifo" + Path(name).suffix)
+    os.mkfifo(fifo)
+    with pytest.raises(ValueError, match=r"is a FIFO \(named pipe\); refusing to replace it"):
+        qio.write(fifo, tr, format="rosbag")
+    folder = tmp_path / ("dir" + Path(name).suffix)
+    folder.mkdir()
+    with pytest.raises(ValueError, match=r"is a directory; refusing to replace it"):
+        qio.write(folder, tr, format="rosbag")
+    assert folder.is_dir() and stat.S_ISFIFO(fifo.stat().st_mode)

@@ -47,6 +47,20 @@ def resolve_output(path) -> tuple[Path, os.stat_result | None]:
     return target, st
 
 
+def adopt_mode(tmp, old: os.stat_result | None) -> None:
+    """Gives the new file ``tmp`` the replaced file's permission bits (and owner and group
+    where the process may set them), or a new file's usual mode (0666 less the umask)."""
+    if old is not None:
+        os.chmod(tmp, stat.S_IMODE(old.st_mode))
+        with contextlib.suppress(OSError):  # only root (or the owner, for the group)
+            os.chown(tmp, old.st_uid, old.st_gid)
+        os.chmod(tmp, stat.S_IMODE(old.st_mode))  # chown may clear setuid bits
+    else:
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
+
+
 class _Terminated(SystemExit):
     """SIGTERM during a write: unwinds like Ctrl-C so the temporary file is removed."""
 
@@ -56,7 +70,7 @@ def _on_sigterm(signum, frame):
 
 
 @contextlib.contextmanager
-def _sigterm_unwinds():
+def sigterm_unwinds():
     """While writing, SIGTERM raises (exit status 143) instead of killing the process at once,
     so cleanup runs. Only in the main thread, and only if nobody else handles SIGTERM."""
     if threading.current_thread() is not threading.main_thread():
@@ -100,21 +114,13 @@ def atomic_write(path, mode: str = "w", **kwargs):
     temporary file is removed and any existing ``path`` is left untouched."""
     target, old = resolve_output(path)
     target.parent.mkdir(parents=True, exist_ok=True)
-    with _sigterm_unwinds():
+    with sigterm_unwinds():
         holder: list[Path] = []
         try:
             fd = _create_temporary(target, holder)
             tmp = holder[-1]
             with os.fdopen(fd, mode, **kwargs) as f:
-                if old is not None:
-                    os.chmod(tmp, stat.S_IMODE(old.st_mode))
-                    with contextlib.suppress(OSError):  # only root (or the owner, for the group)
-                        os.chown(tmp, old.st_uid, old.st_gid)
-                    os.chmod(tmp, stat.S_IMODE(old.st_mode))  # chown may clear setuid bits
-                else:
-                    umask = os.umask(0)
-                    os.umask(umask)
-                    os.chmod(tmp, 0o666 & ~umask)
+                adopt_mode(tmp, old)
                 yield f
                 f.flush()
                 os.fsync(f.fileno())

@@ -9,7 +9,8 @@ Messages with an orientation, by type:
 - ``geometry_msgs/TransformStamped``: ``transform.rotation``, ``transform.translation``;
 - ``tf2_msgs/TFMessage`` (``/tf``): the transforms whose ``child_frame_id`` is ``frame``
   (needed when the topic carries more than one child frame);
-- ``sensor_msgs/Imu``: ``orientation`` only (no positions).
+- ``sensor_msgs/Imu``: ``orientation`` only (no positions);
+- ``geometry_msgs/QuaternionStamped``: ``quaternion`` (no positions).
 
 Times are the messages' header stamps (``stamp="header"``, default) or the bag's receive
 times (``stamp="bag"``), in seconds; the integer nanoseconds are kept exactly in
@@ -26,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._atomic import adopt_mode, resolve_output, sigterm_unwinds
 from .._progress import progress
 from ._common import Trajectory, TrajectoryError, finish
 
@@ -39,6 +41,7 @@ TYPES = {
     "geometry_msgs/msg/TransformStamped": ("transform.rotation", "transform.translation"),
     "tf2_msgs/msg/TFMessage": ("transform.rotation", "transform.translation"),
     "sensor_msgs/msg/Imu": ("orientation", None),
+    "geometry_msgs/msg/QuaternionStamped": ("quaternion", None),
 }
 SUFFIXES = (".bag", ".mcap", ".db3")
 
@@ -243,68 +246,85 @@ def _stamps(traj: Trajectory) -> np.ndarray:
 def write(
     path, traj: Trajectory, topic: str = "/pose", frame_id: str = "world", ros: int | None = None
 ) -> None:
-    """Writes ``geometry_msgs/PoseStamped`` messages on ``topic`` (positions 0 when the
-    trajectory has none): ``.bag`` → ROS 1, ``.mcap`` → a ROS 2 MCAP file, any other path →
-    a ROS 2 bag directory (sqlite3). The bag is built beside the target and renamed into
-    place; an existing target is replaced only if it is a file or a bag directory."""
+    """Writes ``geometry_msgs/PoseStamped`` messages on ``topic`` — or
+    ``geometry_msgs/QuaternionStamped`` when the trajectory has no positions, so that a round
+    trip keeps "no positions": ``.bag`` → ROS 1, ``.mcap`` → a ROS 2 MCAP file, any other
+    path → a ROS 2 bag directory (sqlite3). The bag is built beside the target and renamed
+    into place. A file target follows every writer's rules (only a regular file is replaced,
+    a symbolic link is followed, the replaced file keeps its mode); a directory target is
+    replaced only if it is a bag."""
+    from ._common import check_for_writing
+
+    _rosbags()  # the one-line install hint before anything else
+    path = Path(path)
+    suffix = path.suffix.lower()
+    ros = ros or (1 if suffix == ".bag" else 2)
+    check_for_writing(path, traj)  # NaN, no rows, repeated times: what the reader rejects
+    stamps = _stamps(traj)
+    has_pos = traj.positions is not None
+    pos = traj.positions if has_pos else np.zeros((len(traj), 3))
+    if not (np.all(np.isfinite(traj.quats)) and np.all(np.isfinite(pos))):
+        raise ValueError(f"{path}: refusing to write NaN or inf")
+    as_file = ros == 1 or suffix == ".mcap"
+    if as_file:
+        target, old = resolve_output(path)  # regular files only; symbolic links followed
+    else:
+        target, old = (Path(os.path.realpath(path)) if path.is_symlink() else path), None
+        if target.exists() and not (target.is_file() or is_bag(target)):
+            raise ValueError(f"{path}: exists and is not a bag; refusing to replace it")
+    target.parent.mkdir(parents=True, exist_ok=True)
+    with sigterm_unwinds():
+        tmpdir = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+        try:
+            out = _write_bag(tmpdir, ros, suffix, traj.quats, stamps, pos, has_pos, topic, frame_id)
+            if as_file:
+                adopt_mode(out, old)
+            elif target.is_dir():
+                shutil.rmtree(target)
+            os.replace(out, target)
+        finally:
+            shutil.rmtree(tmpdir, ignore_errors=True)
+
+
+def _write_bag(tmpdir: Path, ros, suffix, quats, stamps, pos, has_pos, topic, frame_id) -> Path:
+    """Writes the messages into a new bag inside ``tmpdir``; returns the bag's path."""
     _, Stores, get_typestore = _rosbags()
     from rosbags.rosbag1 import Writer as Writer1
     from rosbags.rosbag2 import StoragePlugin
     from rosbags.rosbag2 import Writer as Writer2
 
-    path = Path(path)
-    suffix = path.suffix.lower()
-    ros = ros or (1 if suffix == ".bag" else 2)
     store = get_typestore(Stores.ROS1_NOETIC if ros == 1 else Stores.ROS2_HUMBLE)
     types = store.types
-    Pose, PoseStamped = types["geometry_msgs/msg/Pose"], types["geometry_msgs/msg/PoseStamped"]
     Header, Time = types["std_msgs/msg/Header"], types["builtin_interfaces/msg/Time"]
     Point, Quat = types["geometry_msgs/msg/Point"], types["geometry_msgs/msg/Quaternion"]
-    from ._common import check_for_writing
-
-    check_for_writing(path, traj)  # NaN, no rows, repeated times: what the reader rejects
-    stamps = _stamps(traj)
-    pos = traj.positions if traj.positions is not None else np.zeros((len(traj), 3))
-    if not (np.all(np.isfinite(traj.quats)) and np.all(np.isfinite(pos))):
-        raise ValueError(f"{path}: refusing to write NaN or inf")
-    if path.exists() and not (path.is_file() or is_bag(path)):
-        raise ValueError(f"{path}: exists and is not a bag; refusing to replace it")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmpdir = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
-    try:
-        out = tmpdir / ("bag.bag" if ros == 1 else "bag")
-        if ros == 1:
-            writer = Writer1(out)
-        else:
-            plugin = StoragePlugin.MCAP if suffix == ".mcap" else StoragePlugin.SQLITE3
-            writer = Writer2(out, version=9, storage_plugin=plugin)
-        with writer:
-            conn = writer.add_connection(topic, PoseStamped.__msgtype__, typestore=store)
-            for k, (ns, p, q) in enumerate(zip(stamps, pos, traj.quats)):
-                sec, nsec = divmod(int(ns), 1_000_000_000)
-                msg = PoseStamped(
-                    header=Header(
-                        stamp=Time(sec=sec, nanosec=nsec),
-                        frame_id=frame_id,
-                        **({"seq": k} if ros == 1 else {}),
-                    ),
-                    pose=Pose(
-                        position=Point(x=float(p[0]), y=float(p[1]), z=float(p[2])),
-                        orientation=Quat(
-                            x=float(q[1]), y=float(q[2]), z=float(q[3]), w=float(q[0])
-                        ),
-                    ),
-                )
-                data = (
-                    store.serialize_ros1(msg, PoseStamped.__msgtype__)
-                    if ros == 1
-                    else store.serialize_cdr(msg, PoseStamped.__msgtype__)
-                )
-                writer.write(conn, int(ns), data)
-        if ros == 2 and suffix == ".mcap":
-            out = next(out.glob("*.mcap"))
-        if path.is_dir():
-            shutil.rmtree(path)
-        os.replace(out, path)
-    finally:
-        shutil.rmtree(tmpdir, ignore_errors=True)
+    Pose = types["geometry_msgs/msg/Pose"]
+    Msg = types[
+        "geometry_msgs/msg/PoseStamped" if has_pos else "geometry_msgs/msg/QuaternionStamped"
+    ]
+    serialize = store.serialize_ros1 if ros == 1 else store.serialize_cdr
+    out = tmpdir / ("bag.bag" if ros == 1 else "bag")
+    if ros == 1:
+        writer = Writer1(out)
+    else:
+        plugin = StoragePlugin.MCAP if suffix == ".mcap" else StoragePlugin.SQLITE3
+        writer = Writer2(out, version=9, storage_plugin=plugin)
+    with writer, progress(total=len(quats), desc="writing bag", unit="msg") as bar:
+        conn = writer.add_connection(topic, Msg.__msgtype__, typestore=store)
+        for k, (ns, p, q) in enumerate(zip(stamps, pos, quats)):
+            sec, nsec = divmod(int(ns), 1_000_000_000)
+            header = Header(
+                stamp=Time(sec=sec, nanosec=nsec),
+                frame_id=frame_id,
+                **({"seq": k} if ros == 1 else {}),
+            )
+            rot = Quat(x=float(q[1]), y=float(q[2]), z=float(q[3]), w=float(q[0]))
+            if has_pos:
+                point = Point(x=float(p[0]), y=float(p[1]), z=float(p[2]))
+                msg = Msg(header=header, pose=Pose(position=point, orientation=rot))
+            else:
+                msg = Msg(header=header, quaternion=rot)
+            writer.write(conn, int(ns), serialize(msg, Msg.__msgtype__))
+            bar.update(1)
+    if ros == 2 and suffix == ".mcap":
+        out = next(out.glob("*.mcap"))
+    return out
