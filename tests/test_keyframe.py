@@ -158,9 +158,9 @@ def test_hermite_bad_input():
     with pytest.raises(ValueError, match=r"^frame: expected"):
         qs.Hermite(q, angular_velocity=w, frame="inertial")
     with pytest.raises(
-        ValueError, match=r"^ends: hermite does not support .*supported: open, closed"
+        ValueError, match=r"^ends: hermite does not support .*supported: open, rest, closed$"
     ):
-        qs.Hermite(q, angular_velocity=w, ends="rest")
+        qs.Hermite(q, angular_velocity=w, ends="natural")
     with pytest.raises(ValueError, match=r"quats: a closed hermite needs at least 2 distinct keys"):
         qs.Hermite(np.vstack([q[:1], q[:1]]), angular_velocity=w[:2], ends="closed")
     w2 = np.vstack([w[:3], [[1.0, 0, 0]]])

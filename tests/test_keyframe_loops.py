@@ -132,15 +132,23 @@ def test_unsupported_ends_list_the_supported_ones():
     cases = [
         (lambda: qs.Squad(q, ends="reflect"), "squad", "open, rest, closed"),
         (lambda: qs.C3Spline(q, ends="natural"), "c3", "open, rest, closed"),
-        (lambda: qs.Hermite(q, angular_velocity=np.zeros((5, 3)), ends="rest"), "hermite", ""),
-        (lambda: qs.CumulativeBSpline(q, ends="rest"), "CumulativeBSpline", "open, closed"),
+        (
+            lambda: qs.Hermite(q, angular_velocity=np.zeros((5, 3)), ends="reflect"),
+            "hermite",
+            "open, rest, closed$",
+        ),
+        (
+            lambda: qs.CumulativeBSpline(q, ends="natural"),
+            "CumulativeBSpline",
+            "open, rest, closed$",
+        ),
         (lambda: qs.spline("bspline", q, ends="clamped"), "bspline", "open, rest, closed"),
     ]
     for f, method, supported in cases:
         with pytest.raises(ValueError, match=rf"^ends: {method} does not support .*{supported}"):
             f()
-    with pytest.raises(ValueError, match=r"^ends: the patent variant .* use variant=\"knot\""):
-        qs.C3Spline(q, ends="rest", variant="patent")
+    with pytest.raises(ValueError, match=r"^ends: rest needs order ≥ 3"):
+        qs.CumulativeBSpline(q, order=2, ends="rest")
 
 
 # ---- holds --------------------------------------------------------------------------------

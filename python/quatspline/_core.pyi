@@ -122,6 +122,7 @@ def hermite(
     frame: str,
     ends: str,
     canonicalize: bool,
+    holds: bool = ...,
 ) -> Spline: ...
 def kochanek_bartels(
     quats: _A,

@@ -44,7 +44,13 @@ class Hermite(Spline):
     Segment i is qᵢ exp(½ rᵢ(s)), s = t − tᵢ, with rᵢ a cubic (quintic) rotation-vector
     polynomial matching the key orientations and the given rates (accelerations) at both ends
     — the segment form of scipy's ``RotationSpline`` with the rates given instead of solved.
-    Equal consecutive keys with zero rates give an exactly constant hold.
+
+    Holds and rest ends override the given rates: with ``holds=True`` (default) the keys
+    bounding a hold (consecutive equal keys, q or −q) get zero angular velocity (and zero
+    acceleration for the quintic) whatever rows were given there, so the hold is exactly
+    constant and the curve stays C¹ (C²); ``ends="rest"`` does the same at the first and
+    last key. The given rows at those keys are ignored, not checked (``holds=False`` and
+    ``ends="open"`` use every given row).
 
     Parameters
     ----------
@@ -59,12 +65,17 @@ class Hermite(Spline):
         Angular acceleration at each key; gives the C² quintic.
     frame : {"world", "body"}
         Frame of the given rates.
-    ends : {"open", "closed"}
-        ``"closed"``: the last key joins the first (see the module doc).
+    ends : {"open", "rest", "closed"}
+        ``"rest"``: zero angular velocity (and acceleration) at the first and last key,
+        overriding the given rows there; ``"closed"``: the last key joins the first (see the
+        module doc).
     canonicalize : bool
         Flip keys so consecutive ones are in the same hemisphere.
     extrapolate : {"raise", "clamp", "linear", "periodic"}
         Rule outside the domain.
+    holds : bool
+        Consecutive equal keys hold exactly still: zero rate (and acceleration) at both ends
+        of every hold, overriding the given rows there (default True).
 
     Raises
     ------
@@ -93,6 +104,7 @@ class Hermite(Spline):
         ends: str = "open",
         canonicalize: bool = True,
         extrapolate: str = "raise",
+        holds: bool = True,
     ):
         q = _keys(quats, "quats")
         t = _times(times, len(q))
@@ -103,7 +115,7 @@ class Hermite(Spline):
         if angular_acceleration is not None:
             a = _rows3(angular_acceleration, "angular_acceleration", len(q))
         super().__init__(
-            _core.hermite(q, t, w, a, str(frame), str(ends), bool(canonicalize)),
+            _core.hermite(q, t, w, a, str(frame), str(ends), bool(canonicalize), bool(holds)),
             extrapolate,
             quats=q,
             times=t,
@@ -112,6 +124,7 @@ class Hermite(Spline):
             frame=frame,
             ends=ends,
             canonicalize=canonicalize,
+            holds=holds,
         )
 
 
@@ -263,3 +276,104 @@ def bessel_rates(quats, times=None) -> np.ndarray:
     w[0], w[-1] = m[0], m[-1]
     w[1:-1] = (h[1:, None] * m[:-1] + h[:-1, None] * m[1:]) / (h[1:] + h[:-1])[:, None]
     return w
+
+
+def _same_rotation(a: np.ndarray, b: np.ndarray) -> bool:
+    """The core's hold test: the angle between a and b (q ≡ −q) is at most 1e-12 rad."""
+    a = a / np.linalg.norm(a)
+    b = b / np.linalg.norm(b)
+    d = abs(float(np.dot(a, b)))
+    v = np.linalg.norm(a[0] * b[1:] - b[0] * a[1:] - np.cross(a[1:], b[1:]))
+    return 2.0 * np.arctan2(v, d) <= 1e-12
+
+
+def bspline_controls(q: np.ndarray, order: int, ends: str, holds: bool) -> np.ndarray:
+    """Control rotations of a uniform cumulative B-spline with holds and rest ends.
+
+    A segment of the order-k B-spline is constant exactly when its k control rotations are
+    equal, and its first k − 2 derivatives vanish at its start (end) when its first (last)
+    k − 1 control rotations are equal. So:
+
+    - **holds**: every run of m ≥ 2 consecutive equal control rotations (q or −q, within
+      1e-12 rad) is replaced by m + k − 2 exact copies of its first rotation: the curve is
+      exactly constant on m − 1 whole segments (one per equal pair) and its first k − 2
+      derivatives vanish at both ends of the hold. For a closed curve a run may wrap across
+      the seam.
+    - **rest** (``ends="rest"``, order k ≥ 3): copies of the first and of the last control
+      rotation are added at the ends until k − 1 of them are equal (k − 2 copies unless a
+      hold is there already), so the curve starts and ends exactly on them
+      with zero angular velocity, acceleration, … up to derivative k − 2 (ω and α for the
+      cubic; the jerk of a cubic cannot vanish without stopping the whole segment).
+
+    Each added copy lengthens the domain by one ``dt`` (the spacing is kept).
+
+    Parameters
+    ----------
+    q : numpy.ndarray, shape (n, 4)
+        Control rotations as given.
+    order : int
+        B-spline order k.
+    ends : {"open", "rest", "closed"}
+        End condition.
+    holds : bool
+        Whether runs of equal rotations are turned into exact holds.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n', 4)
+        The control rotations to build the spline from.
+
+    Examples
+    --------
+    >>> import numpy as np, quatspline as qs
+    >>> a, b = qs.from_rotvec([[0, 0, 0.3], [0.4, 0, 0]])
+    >>> qs.keyframe.bspline_controls(np.array([a, a, b]), 4, "open", True).shape
+    (5, 4)
+    """
+    q = np.asarray(q, dtype=np.float64)
+    n = len(q)
+    for i, r in enumerate(q):  # the core's checks, before anything divides by a norm
+        if not np.all(np.isfinite(r)):
+            raise ValueError(f"control_quats: non-finite value (NaN or inf) at element {i}")
+        if not np.linalg.norm(r) > 1e-300:
+            raise ValueError(f"control_quats: quaternion {i} has zero (or denormal) norm")
+    extra = order - 2
+    if ends == "rest" and order < 3:
+        raise ValueError(
+            "ends: rest needs order ≥ 3 (an order-2 B-spline is piecewise geodesic: its "
+            "velocity cannot vanish at an end without the end segment standing still)"
+        )
+    if holds and n >= 2 and extra > 0:
+        same = [_same_rotation(q[i], q[i + 1]) for i in range(n - 1)]
+        if ends == "closed":
+            same.append(_same_rotation(q[n - 1], q[0]))
+        if all(same):
+            return q
+        # start at a key that begins a run (or stands alone), so no run is split
+        start = 0
+        if ends == "closed":
+            while same[(start - 1) % n]:
+                start += 1
+        order_idx = [(start + i) % n for i in range(n)] if ends == "closed" else list(range(n))
+        out: list[np.ndarray] = []
+        label: list[int] = []  # the given index of each output row (-1: an added copy)
+        i = 0
+        while i < n:
+            j = i
+            while j + 1 < n and same[order_idx[j]]:
+                j += 1
+            first = q[order_idx[i]]
+            m = j - i + 1
+            out.extend([first] * (m + extra if m >= 2 else 1))
+            label.extend(order_idx[i : j + 1] + ([-1] * extra if m >= 2 else []))
+            i = j + 1
+        # a closed run wrapping the seam: rotate so that the given first rotation leads
+        q = np.roll(np.array(out), -label.index(0), axis=0)
+    if ends == "rest":
+        # the first (last) k − 1 rows equal: add only the copies a run there lacks
+        def lead(r: np.ndarray) -> int:
+            return next((i for i in range(1, len(r)) if not np.array_equal(r[i], r[0])), len(r))
+
+        a, b = max(0, order - 1 - lead(q)), max(0, order - 1 - lead(q[::-1]))
+        q = np.vstack([np.repeat(q[:1], a, axis=0), q, np.repeat(q[-1:], b, axis=0)])
+    return np.ascontiguousarray(q)

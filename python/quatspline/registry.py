@@ -124,7 +124,7 @@ def _hermite(q, times, p):
         frame = "body"
     else:
         frame = p["frame"]
-    return kf.Hermite(q, times, angular_velocity=r, frame=frame, ends=p["ends"])
+    return kf.Hermite(q, times, angular_velocity=r, frame=frame, ends=p["ends"], holds=p["holds"])
 
 
 def _loop_times(q, times, p):
@@ -197,7 +197,7 @@ def _build(name, q, times, p):
             beta=p["beta"],
             variant=p["variant"],
             ends=p["ends"],
-            holds=p["holds"] and p["variant"] == "knot",
+            holds=p["holds"],
         )
     if name == "bspline" and p["ends"] == "closed":
         return _closed_bspline(q, times, p)
@@ -333,7 +333,7 @@ METHODS: dict[str, Method] = {
                 ),
                 "variant": Param(str, "knot", "knot | patent"),
                 "ends": Param(str, "open", "open | rest | closed"),
-                "holds": Param(flag, True, "equal consecutive keys hold still (knot variant)"),
+                "holds": Param(flag, True, "equal consecutive keys hold still"),
             },
         ),
         Method(
@@ -344,7 +344,8 @@ METHODS: dict[str, Method] = {
             {
                 "rates": Param(rates_spec, "bessel", "bessel | zero | FILE of N×3 rates"),
                 "frame": Param(str, "body", "frame of rates from a file: world | body"),
-                "ends": Param(str, "open", "open | closed"),
+                "ends": Param(str, "open", "open | rest | closed"),
+                "holds": Param(flag, True, "equal consecutive keys hold still (zero rates)"),
             },
         ),
         Method(

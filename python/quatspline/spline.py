@@ -1008,9 +1008,20 @@ class CumulativeBSpline(Spline):
     extrapolate : {"raise", "clamp", "linear", "periodic"}, default "raise"
         Times outside the domain: an error, the end orientation held (zero derivatives),
         constant angular velocity from the end, or the domain repeated.
-    ends : {"open", "closed"}, default "open"
+    ends : {"open", "rest", "closed"}, default "open"
         ``"closed"``: the control rotations are used cyclically — n segments over
-        ``[t0, t0 + n·dt]``, C^(k−2) across the seam (uniform knots only).
+        ``[t0, t0 + n·dt]``, C^(k−2) across the seam (uniform knots only). ``"rest"``
+        (order ≥ 3, uniform knots): k − 2 copies of the first and last control rotation are
+        added (fewer if a hold is there already), so the curve starts and ends on them with
+        zero angular velocity (and acceleration, … up to derivative k − 2); the domain grows
+        by 2(k − 2)·dt.
+    holds : bool, default False
+        Runs of consecutive equal control rotations (q or −q) become exact holds: a run of
+        m is repeated to m + k − 2 copies, so the curve is exactly constant on m − 1 whole
+        segments (listed in ``hold_intervals``) with derivatives up to k − 2 zero at their
+        ends; each added copy lengthens the domain by ``dt`` (see
+        ``quatspline.keyframe.bspline_controls``). Off by default because control rotations
+        are not keys: the construction moves the domain. Uniform knots only.
 
     Raises
     ------
@@ -1043,15 +1054,26 @@ class CumulativeBSpline(Spline):
         extrapolate: str = "raise",
         knots=None,
         ends: str = "open",
+        holds: bool = False,
     ):
-        if ends not in ("open", "closed"):
+        if ends not in ("open", "rest", "closed"):
             raise ValueError(
-                f"ends: CumulativeBSpline does not support {ends!r}; supported: open, closed"
+                f"ends: CumulativeBSpline does not support {ends!r}; supported: open, rest, closed"
             )
         q = _keys(control_quats, "control_quats")
         order = integer(order, "order")
         if not 2 <= order <= 12:  # the core's rule and message (-1 overflowed its usize before)
             raise ValueError(f"order: expected 2 ≤ order ≤ 12, got {order}")
+        self.hold_intervals: list[tuple[float, float]] = []
+        if (ends == "rest" or holds) and (knots is not None or np.ndim(dt) != 0):
+            raise ValueError(
+                f"{'ends' if ends == 'rest' else 'holds'}: rest ends and holds need uniform knots "
+                "(a scalar dt, no knots=)"
+            )
+        if ends == "rest" or holds:
+            from .keyframe import bspline_controls
+
+            q = bspline_controls(q, order, ends, bool(holds))
         if knots is not None or np.ndim(dt) != 0:
             # Non-uniform knots (explicit, or per-interval spacings): see bspline.py.
             from .bspline import _core_spline
@@ -1066,6 +1088,17 @@ class CumulativeBSpline(Spline):
             ),
             extrapolate,
         )
+        if holds:
+            # segment i is exactly constant when its k control rotations are identical
+            m = len(q)
+            segs = m if ends == "closed" else m - order + 1
+            for i in range(segs):
+                rows = q[[(i + j) % m for j in range(order)]]
+                if np.all(rows == rows[0]):
+                    a, b = t0 + i * dt, t0 + (i + 1) * dt
+                    if self.hold_intervals and self.hold_intervals[-1][1] == a:
+                        a = self.hold_intervals.pop()[0]
+                    self.hold_intervals.append((float(a), float(b)))
 
 
 class NaturalSpline(Spline):
@@ -1413,13 +1446,16 @@ class C3Spline(Spline):
         Times outside the domain: an error, the end orientation held (zero derivatives),
         constant angular velocity from the end, or the domain repeated.
     ends : {"open", "rest", "closed"}, default "open"
-        ``"rest"`` (knot variant): α = β = 0 at the end keys — zero angular velocity,
-        acceleration and jerk there (the rest-to-rest manoeuvre), still C³. ``"closed"``
+        ``"rest"``: zero angular velocity, acceleration and jerk at the end keys (the
+        rest-to-rest manoeuvre), still C³ — by α = β = 0 there (knot variant) or by the end
+        segments' blending functions flattened at the end keys (patent variant). ``"closed"``
         (both variants): a periodic loop, C³ across the seam (see ``quatspline.keyframe``).
-    holds : bool, optional
-        Consecutive equal keys (q or −q) hold exactly still: α = β = 0 at the keys bounding
-        the hold, all derivatives vanish at its ends and the curve stays C³. Default: True
-        for the knot variant, False for the patent one (which cannot keep it C³).
+    holds : bool, default True
+        Consecutive equal keys (q or −q) hold exactly still, with zero angular velocity,
+        acceleration and jerk at both ends of the hold. Knot variant: α = β = 0 at the keys
+        bounding the hold, C³. Patent variant: the blending functions next to those keys
+        are flattened there (first three derivatives zero, the other end the patent's), so
+        the joint is C³ in time from both sides.
 
     Raises
     ------
@@ -1455,11 +1491,11 @@ class C3Spline(Spline):
         canonicalize: bool = True,
         extrapolate: str = "raise",
         ends: str = "open",
-        holds: bool | None = None,
+        holds: bool = True,
     ):
         q = _keys(quats, "quats")
         t = _times(times, len(q))
-        use_holds = (variant == "knot") if holds is None else bool(holds)
+        use_holds = bool(holds)
         a, b = c3_shape(alpha, beta)
         super().__init__(
             _core.c3_spline(

@@ -38,7 +38,7 @@ fn frame_of(frame: &str) -> PyResult<Frame> {
 }
 
 #[pyfunction]
-#[pyo3(signature = (quats, times, angular_velocity, angular_acceleration, frame, ends, canonicalize))]
+#[pyo3(signature = (quats, times, angular_velocity, angular_acceleration, frame, ends, canonicalize, holds=false))]
 #[allow(clippy::too_many_arguments)]
 fn hermite(
     quats: PyReadonlyArray2<'_, f64>,
@@ -48,13 +48,15 @@ fn hermite(
     frame: &str,
     ends: &str,
     canonicalize: bool,
+    holds: bool,
 ) -> PyResult<PySpline> {
     let q = quats_of(&quats, "quats")?;
     let w = vectors(&angular_velocity, "angular_velocity")?;
     let a = angular_acceleration.as_ref().map(|a| vectors(a, "angular_acceleration")).transpose()?;
     let frame = frame_of(frame)?;
-    let ends = key_ends(ends, "hermite", &["open", "closed"])?;
-    wrap(sp::Hermite::new(&q, times_of(&times).as_deref(), &w, a.as_deref(), frame, ends, canonicalize))
+    let ends = key_ends(ends, "hermite", &["open", "rest", "closed"])?;
+    let t = times_of(&times);
+    wrap(sp::Hermite::with_keyframes(&q, t.as_deref(), &w, a.as_deref(), frame, ends, holds, canonicalize))
 }
 
 #[pyfunction]

@@ -135,12 +135,15 @@ impl C3Spline {
         Self::with_keyframes(keys, times, alpha, beta, variant, KeyEnds::Open, false, canonicalize)
     }
 
-    /// With keyframe control (`keyframe.rs`), knot variant: `Rest` sets α = β = 0 at the end
+    /// With keyframe control (`keyframe.rs`). Knot variant: `Rest` sets α = β = 0 at the end
     /// keys (zero angular velocity, acceleration and jerk there, C³ kept); holds set α = β = 0
     /// at the keys bounding a hold (the hold is exactly constant, all derivatives vanish at its
-    /// ends, C³ kept); `Closed` pads the keys cyclically (Q₀ = Q_{n−1}, Q_{n+1} = Q₁, …) with
-    /// cyclic spacings: C³ across the seam (at least 3 keys). The patent variant (parameters per
-    /// segment) supports `Closed` only.
+    /// ends, C³ kept). Patent variant: at such a pinned key each neighbouring segment's
+    /// blending functions get their four Bernstein coefficients next to that key equal (the
+    /// degree-7 blend then has zero first three derivatives there, its other end unchanged):
+    /// the same zero ω, α, jerk at rest ends and hold ends, a hold segment blends to exactly
+    /// constant, and continuity elsewhere is the patent's. `Closed` pads the keys cyclically
+    /// (Q₀ = Q_{n−1}, Q_{n+1} = Q₁, …) with cyclic spacings: C³ across the seam (at least 3 keys).
     #[allow(clippy::too_many_arguments)]
     pub fn with_keyframes(
         keys: &[Quat],
@@ -181,18 +184,29 @@ impl C3Spline {
         let pinned = |key: usize| hold[key] || (ends == KeyEnds::Rest && (key == 0 || key == n - 1));
         let blend: Vec<[[f64; 8]; 4]> = match variant {
             C3Variant::Patent => {
-                if ends == KeyEnds::Rest || hold.iter().any(|&x| x) {
-                    return Err(Error::invalid(
-                        if ends == KeyEnds::Rest { "ends" } else { "holds" },
-                        "the patent variant (parameters per segment) cannot keep rest ends or holds C³; \
-                         use variant=\"knot\" (or holds=False)",
-                    ));
-                }
                 let (a, b) = (
                     per(alpha, segs, "alpha", "one per segment")?,
                     per(beta, segs, "beta", "one per segment")?,
                 );
-                (0..segs).map(|s| patent_blending(a[s], b[s])).collect()
+                (0..segs)
+                    .map(|s| {
+                        let mut c = patent_blending(a[s], b[s]);
+                        // A pinned key (rest end, hold end): the first (last) four Bernstein
+                        // coefficients of every blending function made equal, so its first
+                        // three derivatives vanish there; the other end is the patent's.
+                        for cj in c.iter_mut() {
+                            if pinned(s % n) {
+                                let v = cj[0];
+                                cj[1..4].fill(v);
+                            }
+                            if pinned((s + 1) % n) {
+                                let v = cj[7];
+                                cj[4..7].fill(v);
+                            }
+                        }
+                        c
+                    })
+                    .collect()
             }
             C3Variant::Knot => {
                 let (mut a, mut b) =

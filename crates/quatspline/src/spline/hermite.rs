@@ -14,11 +14,15 @@
 //! World-frame inputs are turned into body rates by ω_b = qᵢ* ω qᵢ (and α_b = qᵢ* α qᵢ, since
 //! dω/dt = R α_b + ω × ω). The curve passes through every key with exactly the given rates
 //! (to rounding). Equal keys (a hold) with zero rates at both give rᵢ ≡ 0: exactly constant.
+//! With holds on (`with_keyframes`), the keys bounding a hold get zero rate (and acceleration)
+//! whatever was given there — the given rows at those keys are overridden, not checked — so
+//! every hold is exactly constant and the curve stays C¹ (C²). `Rest` ends override the rows
+//! of the first and last key the same way (zero ω, and zero α for the quintic).
 //! Closed loops join key n−1 to key 0 with its rates. Source: the Hermite form of scipy's
 //! `RotationSpline` segments (Kim, Kim & Shin's rotation-vector lineage); glTF's CUBICSPLINE
 //! keys carry the same data (value and tangents per key).
 
-use super::keyframe::{prepare_loop, unsupported_ends, KeyEnds, KeyLoop};
+use super::keyframe::{prepare_loop, KeyEnds, KeyLoop};
 use super::natural_spline::{accel_nonlinear, rate_to_rotvec_dot};
 use super::{segment_jets, Frame, Spline};
 use crate::convert::to_rotvec;
@@ -150,9 +154,24 @@ impl Hermite {
         ends: KeyEnds,
         canonicalize: bool,
     ) -> Result<Self> {
-        if ends == KeyEnds::Rest {
-            return Err(unsupported_ends("hermite", ends, &["open", "closed"]));
-        }
+        Self::with_keyframes(keys, times, rates, accels, frame, ends, false, canonicalize)
+    }
+
+    /// With holds: the keys bounding a hold (consecutive equal keys, see
+    /// [`super::keyframe::same_rotation`]) get zero rate and acceleration whatever was given
+    /// there, so the hold is exactly constant; `Rest` does the same at the first and last key
+    /// (the given rows there are ignored). Both keep the curve C¹ (cubic) / C² (quintic).
+    #[allow(clippy::too_many_arguments)]
+    pub fn with_keyframes(
+        keys: &[Quat],
+        times: Option<&[f64]>,
+        rates: &[Vec3],
+        accels: Option<&[Vec3]>,
+        frame: Frame,
+        ends: KeyEnds,
+        holds: bool,
+        canonicalize: bool,
+    ) -> Result<Self> {
         let closed = ends == KeyEnds::Closed;
         check_vectors(rates, keys.len(), "angular_velocity")?;
         if let Some(a) = accels {
@@ -190,8 +209,23 @@ impl Hermite {
             }
             Ok(out)
         };
-        let w = to_body(rates, "angular_velocity")?;
-        let acc = accels.map(|a| to_body(a, "angular_acceleration")).transpose()?;
+        let mut w = to_body(rates, "angular_velocity")?;
+        let mut acc = accels.map(|a| to_body(a, "angular_acceleration")).transpose()?;
+        let mut pinned = if holds { k.hold_keys() } else { vec![false; n] };
+        if ends == KeyEnds::Rest {
+            pinned[0] = true;
+            pinned[n - 1] = true;
+        }
+        for (key, _) in pinned.iter().enumerate().filter(|(_, &p)| p) {
+            // joint n of a closed curve is key 0 again
+            let joints: &[usize] = if closed && key == 0 { &[0, n] } else { &[key] };
+            for &j in joints {
+                w[j] = [0.0; 3];
+                if let Some(a) = acc.as_mut() {
+                    a[j] = [0.0; 3];
+                }
+            }
+        }
         let (base, rho) = bases_and_chords(&k);
         let seg = RotvecSegments::new(base, &rho, k.times, &w, acc.as_deref());
         Ok(Hermite { seg, closed })

@@ -161,11 +161,3 @@ pub fn prepare_loop(
     };
     Ok(KeyLoop { keys: k, times, closed, dropped_closing_key: dropped })
 }
-
-/// The error for an `ends` value a method does not support.
-pub fn unsupported_ends(method: &str, ends: KeyEnds, supported: &[&str]) -> Error {
-    Error::invalid(
-        "ends",
-        format!("{method} does not support ends={:?}; supported: {}", ends.name(), supported.join(", ")),
-    )
-}
