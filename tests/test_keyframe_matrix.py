@@ -222,3 +222,140 @@ def test_extrapolation_rules(name, ends, rule):
         for r in (s.angular_velocity, s.angular_acceleration)[: METHODS[name][2]]:
             for c in (a, b, b + p):
                 assert np.allclose(r(c - 1e-8), r(c + 1e-8), atol=1e-5), r.__name__
+
+
+# ---- details behind the cells -----------------------------------------------------------------
+@pytest.mark.parametrize("quintic", [False, True])
+def test_hermite_holds_and_rest_override_the_given_rates_only_where_they_must(quintic):
+    q = _aabb(9)
+    t = np.array([0.0, 1.0, 2.0, 3.5, 4.0, 5.2])
+    w, a = 3 * _rates(6), (-2 * _rates(6, 1) if quintic else None)
+    for ends, holds, pinned in (
+        ("open", True, [0, 1, 2, 3]),
+        ("rest", False, [0, 5]),
+        ("rest", True, [0, 1, 2, 3, 5]),
+    ):
+        s = qs.Hermite(q, t, w, a, ends=ends, holds=holds)
+        for k in range(6):
+            segs = [max(k - 1, 0), min(k, 4)]
+            for seg in segs:
+                d = s.segment_derivatives(seg, t[k])
+                got = s.angular_velocity(t[k]) if seg == segs[-1] else None
+                expect_w = np.zeros(3) if k in pinned else w[k]
+                rate = qs.rotate(d[0], 2 * qs.multiply(qs.conjugate(d[0]), d[1])[1:])
+                assert np.abs(rate - expect_w).max() < 1e-12, (ends, holds, k, seg)
+                if got is not None:
+                    assert np.abs(got - expect_w).max() < 1e-12
+            if quintic:  # (C² by the matrix's jump test, so one side is enough)
+                expect_a = np.zeros(3) if k in pinned else a[k]
+                assert np.abs(s.angular_acceleration(t[k]) - expect_a).max() < 1e-10, k
+        assert _angle(s(t), q).max() < 1e-12
+
+
+def test_hermite_override_does_not_hide_bad_rows():
+    q = _aabb(9)
+    w = _rates(6)
+    w[0, 1] = np.nan  # at a key whose rate a hold and rest both override
+    with pytest.raises(ValueError, match=r"^angular_velocity: non-finite value .* 0$"):
+        qs.Hermite(q, angular_velocity=w, ends="rest")
+    with pytest.raises(ValueError, match=r"^angular_acceleration: expected shape \(6, 3\)"):
+        qs.Hermite(q, angular_velocity=_rates(6), angular_acceleration=np.zeros((5, 3)))
+    with pytest.raises(ValueError, match=r"^angular_acceleration: expected shape \(\.\.\., 3\)"):
+        qs.Hermite(q, angular_velocity=_rates(6), angular_acceleration=np.zeros((6, 4)))
+
+
+@pytest.mark.parametrize("order", [2, 3, 4, 5, 6])
+@pytest.mark.parametrize("closed", [False, True])
+def test_bspline_holds_are_exact_for_every_order(order, closed):
+    w = random_walk(5, 11, step=0.6)
+    q = np.vstack([w[0], w[1], -w[1], w[1], w[2], w[3], w[4], w[4]])  # runs of 3 and 2
+    ends = "closed" if closed else "open"
+    s = qs.CumulativeBSpline(q, dt=0.5, t0=1.0, order=order, ends=ends, holds=True)
+    plain = qs.CumulativeBSpline(q, dt=0.5, t0=1.0, order=order, ends=ends)
+    extra = order - 2
+    # a run of m becomes m + k − 2 copies: k − 2 more per run (2 runs)
+    assert len(s.joints) - len(plain.joints) == 2 * extra
+    spans = s.hold_intervals
+    lengths = sorted(round((b - a) / 0.5) for a, b in spans)
+    assert lengths == [1, 2]  # m − 1 constant segments per run
+    for a, b in spans:
+        x = np.linspace(a, b, 61)
+        assert _angle(s(x), s(x[:1])).max() <= 1e-12
+        # order 2 is C⁰: the velocity jumps at the end of the hold (the next segment's)
+        inside = x if order > 2 else x[:-1]
+        assert np.abs(s.angular_velocity(inside)).max() <= 1e-12
+        rates = [s.angular_acceleration, s.jerk][: max(0, order - 3)]
+        for r in rates:  # derivatives up to k − 2 vanish at the ends of the hold
+            assert np.abs(r(np.array([a, b]))).max() < 1e-11
+    assert all(c.order >= min(order - 2, 3) for c in qs.continuity(s))  # certified up to 3
+
+
+def test_bspline_closed_hold_across_the_seam_and_rest_with_a_hold_at_the_end():
+    w = random_walk(4, 12, step=0.6)
+    q = np.vstack([w[0], w[1], w[2], w[3], w[0]])  # the last equals the first: a hold
+    s = qs.CumulativeBSpline(q, dt=0.4, ends="closed", holds=True)
+    assert len(s.joints) - 1 == 7  # 5 control rotations + 2 copies, used cyclically
+    ((a, b),) = s.hold_intervals
+    x = np.linspace(a, b, 31)
+    assert _angle(s(x), s(x[:1])).max() <= 1e-12
+    # without holds the repeated control rotation is kept as it is (not a closing key)
+    assert len(qs.CumulativeBSpline(q, dt=0.4, ends="closed").joints) - 1 == 5
+    r = qs.CumulativeBSpline(np.vstack([w, w[-1:]]), dt=0.4, ends="rest", holds=True)
+    # 5 given + 2 hold copies at the end (then already k − 1 equal there) + 2 rest copies at
+    # the start = 9 control rotations, 9 − 4 + 1 segments
+    assert len(r.joints) - 1 == 6
+    assert np.abs(r.angular_velocity(np.array(r.domain))).max() < 1e-13
+
+
+def test_bspline_rest_zeroes_derivatives_up_to_order_minus_two():
+    q = random_walk(6, 13, step=0.6)
+    for order in (3, 4, 5, 6):
+        s = qs.CumulativeBSpline(q, dt=0.3, order=order, ends="rest")
+        e = np.array(s.domain)
+        assert _angle(s(e), q[[0, -1]]).max() < 1e-12
+        rates = [s.angular_velocity, s.angular_acceleration, s.jerk][: order - 2]
+        for r in rates:
+            assert np.abs(r(e)).max() < 1e-11, (order, r.__name__)
+        # the next derivative does not vanish (order k − 1): the test can fail
+        nxt = [s.angular_velocity, s.angular_acceleration, s.jerk][order - 2 : order - 1]
+        for r in nxt:
+            assert np.abs(r(e)).max() > 1e-6
+
+
+def test_bspline_bad_keyframe_input():
+    q = random_walk(5, 14)
+    with pytest.raises(ValueError, match=r"^ends: rest needs order ≥ 3"):
+        qs.CumulativeBSpline(q, order=2, ends="rest")
+    with pytest.raises(ValueError, match=r"^ends: rest ends and holds need uniform knots"):
+        qs.CumulativeBSpline(q, dt=np.full(8, 0.5), ends="rest")
+    with pytest.raises(ValueError, match=r"^holds: rest ends and holds need uniform knots"):
+        qs.CumulativeBSpline(q, dt=np.full(8, 0.5), holds=True)
+    bad = q.copy()
+    bad[3, 2] = np.inf
+    with pytest.raises(ValueError, match=r"^control_quats: non-finite value .* element 3$"):
+        qs.CumulativeBSpline(bad, holds=True)
+    bad[3] = 0
+    with pytest.raises(ValueError, match=r"^control_quats: quaternion 3 has zero"):
+        qs.CumulativeBSpline(bad, ends="rest")
+    with pytest.raises(ValueError, match=r"^ends: CumulativeBSpline does not support 'reflect'"):
+        qs.CumulativeBSpline(q, ends="reflect")
+
+
+def test_c3_speed_matched_alpha_matches_the_mean_chord_speed_at_every_key():
+    from quatspline.convert import as_rotvec
+
+    rng = np.random.default_rng(15)
+    q = qs.canonicalize(qs.from_rotvec(rng.normal(size=(8, 3)) * 0.3))
+    t = np.cumsum(np.r_[0.0, rng.uniform(0.5, 1.5, 7)])
+    a = qs.keyframe.c3_speed_matched_alpha(q, t)
+    s = qs.C3Spline(q, t, alpha=a, beta=-6 * a)
+    speed = np.linalg.norm(s.angular_velocity(t), axis=1)
+    c = np.linalg.norm(as_rotvec(qs.multiply(qs.conjugate(q[:-1]), q[1:])), axis=1) / np.diff(t)
+    mean = 0.5 * (c[:-1] + c[1:])
+    free = (a[1:-1] > 0) & (a[1:-1] < 1)
+    assert free.sum() >= 3
+    assert np.allclose(speed[1:-1][free], mean[free], rtol=1e-12)
+    assert np.all(a[1:-1] >= 0.5 - 1e-15) and a[0] == a[-1] == 0.5
+    # closed: one α per distinct key, a repeated closing key dropped
+    tc = np.r_[t, t[-1] + 0.7]
+    assert len(qs.keyframe.c3_speed_matched_alpha(np.vstack([q, q[:1]]), tc, closed=True)) == 8

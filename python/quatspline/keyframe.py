@@ -343,7 +343,7 @@ def bspline_controls(q: np.ndarray, order: int, ends: str, holds: bool) -> np.nd
             "ends: rest needs order ≥ 3 (an order-2 B-spline is piecewise geodesic: its "
             "velocity cannot vanish at an end without the end segment standing still)"
         )
-    if holds and n >= 2 and extra > 0:
+    if holds and n >= 2:
         same = [_same_rotation(q[i], q[i + 1]) for i in range(n - 1)]
         if ends == "closed":
             same.append(_same_rotation(q[n - 1], q[0]))
@@ -377,3 +377,59 @@ def bspline_controls(q: np.ndarray, order: int, ends: str, holds: bool) -> np.nd
         a, b = max(0, order - 1 - lead(q)), max(0, order - 1 - lead(q[::-1]))
         q = np.vstack([np.repeat(q[:1], a, axis=0), q, np.repeat(q[-1:], b, axis=0)])
     return np.ascontiguousarray(q)
+
+
+def c3_speed_matched_alpha(quats, times=None, closed: bool = False) -> np.ndarray:
+    """Per-key α of the C³ knot spline whose key speed is the mean of the neighbouring chords'.
+
+    The knot variant's body rate at key k is α_k (m_l + m_r), with m_l = rotvec(Q_{k−1}* Q_k)/h_l
+    and m_r = rotvec(Q_k* Q_{k+1})/h_r the chord rates on either side (both in key k's body
+    frame). This rule takes α_k = ½ (|m_l| + |m_r|) / |m_l + m_r|, clipped to [0, 1], so the
+    speed at every key is the mean of the two chord speeds also where the path turns
+    (α_k = ½ where it does not); the paired β_k = −6 α_k keeps the key jerk at zero. At
+    open end keys (one chord) α = ½, and where both chords vanish (holds) α = ½ as well.
+
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Keys (w, x, y, z).
+    times : array_like, shape (N,) or, closed, (N + 1,), optional
+        Key times (default 0, 1, …).
+    closed : bool
+        Keys of a closed loop (the last time closes it; a last key equal to the first is
+        dropped as the closing key).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,)
+        α per key (n distinct keys of a closed loop).
+
+    Examples
+    --------
+    >>> import numpy as np, quatspline as qs
+    >>> q = qs.from_rotvec([[0, 0, 0], [0, 0, 0.5], [0.5, 0, 0.5]])
+    >>> np.round(qs.keyframe.c3_speed_matched_alpha(q), 4)
+    array([0.5   , 0.6998, 0.5   ])
+    """
+    from .algebra import canonicalize, conjugate, multiply, normalize
+    from .convert import as_rotvec
+
+    q = canonicalize(normalize(_keys(quats, "quats")))
+    if closed and len(q) >= 2 and _same_rotation(q[0], q[-1]):
+        q = q[:-1]
+    n = len(q)
+    m = n + 1 if closed else n
+    t = np.arange(m, dtype=float) if times is None else np.asarray(times, dtype=float)
+    if t.shape != (m,) or not np.all(np.diff(t) > 0):
+        raise ValueError(f"times: expected {m} strictly increasing times, got shape {t.shape}")
+    nxt = np.roll(q, -1, axis=0) if closed else q[1:]
+    chords = as_rotvec(multiply(conjugate(q[: len(nxt)]), nxt)) / np.diff(t)[:, None]
+    left = np.roll(chords, 1, axis=0) if closed else np.vstack([np.zeros(3), chords])
+    right = chords if closed else np.vstack([chords, np.zeros(3)])
+    both = np.linalg.norm(left + right, axis=1)
+    mean = 0.5 * (np.linalg.norm(left, axis=1) + np.linalg.norm(right, axis=1))
+    alpha = np.full(n, 0.5)
+    inner = np.ones(n, bool) if closed else np.r_[False, np.ones(n - 2, bool), False]
+    ok = inner & (both > 1e-300) & (mean > 0)
+    alpha[ok] = np.clip(mean[ok] / both[ok], 0.0, 1.0)
+    return alpha
