@@ -1010,7 +1010,9 @@ class CumulativeBSpline(Spline):
         constant angular velocity from the end, or the domain repeated.
     ends : {"open", "rest", "closed"}, default "open"
         ``"closed"``: the control rotations are used cyclically — n segments over
-        ``[t0, t0 + n·dt]``, C^(k−2) across the seam (uniform knots only). ``"rest"``
+        ``[t0, t0 + n·dt]``, C^(k−2) across the seam (uniform knots only); a last control
+        rotation equal to the first is kept (a hold across the seam with ``holds=True``),
+        not dropped as the interpolating methods' closing key is. ``"rest"``
         (order ≥ 3, uniform knots): k − 2 copies of the first and last control rotation are
         added (fewer if a hold is there already), so the curve starts and ends on them with
         zero angular velocity (and acceleration, … up to derivative k − 2); the domain grows
@@ -1431,7 +1433,9 @@ class C3Spline(Spline):
         circle is reproduced exactly (key velocity = chord rate, α(ω_k/h_l + ω_{k+1}/h_r) =
         2α·c; key jerk 0, 36α + 6β = 0; the degree-7 blend is then linear in time): speed
         ripple (max/min over the interior) 1.000 against 2.125 for (5/16, 0), whose key speed
-        is 5/8 of the chord speed. Held-out accuracy in ``benchmarks/c3_auto.py``.
+        is 5/8 of the chord speed. Held-out accuracy in ``benchmarks/c3_auto.py``; a per-key
+        rule (``quatspline.keyframe.c3_speed_matched_alpha``, key speed = mean chord speed)
+        was measured there too and is less accurate on every bundled recording.
     beta : float or array_like, optional
         β: changes only the third derivative at the keys; same sizes as ``alpha``. Default
         0, or −3 with ``alpha="auto"``.
