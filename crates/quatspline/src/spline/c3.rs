@@ -353,4 +353,42 @@ mod tests {
             assert!((ev(&c[3]) - closed).abs() < 1e-15);
         }
     }
+
+    #[test]
+    fn patent_rest_and_holds_zero_the_first_three_derivatives_and_hold_exactly() {
+        let a = Quat::new(0.9, 0.3, -0.2, 0.1).normalize();
+        let b = Quat::new(0.5, -0.5, 0.5, 0.5);
+        let c = Quat::new(0.2, 0.9, 0.1, -0.3).normalize();
+        let keys = [Quat::new(1.0, 0.0, 0.0, 0.0), a, -a, b, c];
+        let s = C3Spline::with_keyframes(
+            &keys,
+            None,
+            &[0.3],
+            &[0.2],
+            C3Variant::Patent,
+            KeyEnds::Rest,
+            true,
+            true,
+        )
+        .unwrap();
+        let zero_upto3 = |seg: usize, t: f64| {
+            let d = s.segment_jet4(seg, t).derivatives();
+            (1..4).all(|m| d[m].dot(d[m]).sqrt() < 1e-13)
+        };
+        // rest ends (keys 0 and 4), both ends of the hold (keys 1 and 2), from both sides
+        for (seg, t) in [(0, 0.0), (0, 1.0), (1, 1.0), (1, 2.0), (2, 2.0), (3, 4.0)] {
+            assert!(zero_upto3(seg, t), "segment {seg} at {t}");
+        }
+        for u in [1.0, 1.3, 1.5, 1.9, 2.0] {
+            let q = s.segment_jet1(1, u).value();
+            assert!((q.dot(a).abs() - 1.0).abs() < 1e-15, "hold at {u}");
+        }
+        // key 3 is not pinned: the patent's non-zero key velocity, same from both sides
+        let (l, r) = (s.segment_jet4(2, 3.0).derivatives(), s.segment_jet4(3, 3.0).derivatives());
+        assert!(l[1].dot(l[1]).sqrt() > 1e-3);
+        for m in 0..4 {
+            let diff = l[m] - r[m];
+            assert!(diff.dot(diff).sqrt() < 1e-12, "derivative {m} at key 3");
+        }
+    }
 }

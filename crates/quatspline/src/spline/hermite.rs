@@ -294,4 +294,35 @@ mod tests {
             }
         }
     }
+
+    #[test]
+    fn holds_and_rest_override_the_given_rates_and_accelerations() {
+        let a = Quat::new(0.9, 0.3, -0.2, 0.1).normalize();
+        let b = Quat::new(0.5, -0.5, 0.5, 0.5);
+        let keys = [a, -a, b, Quat::new(0.2, 0.9, 0.1, -0.3).normalize()];
+        let t = [0.0, 1.0, 1.8, 3.0];
+        let w = [[1.0, 0.5, -0.3], [0.7, -0.2, 0.4], [0.3, 0.3, 0.3], [-0.5, 0.1, 0.2]];
+        let acc = [[0.2, 0.1, 0.0], [0.0, -0.4, 0.3], [0.5, 0.5, -0.1], [0.1, 0.0, 0.6]];
+        let h =
+            Hermite::with_keyframes(&keys, Some(&t), &w, Some(&acc), Frame::Body, KeyEnds::Rest, true, true)
+                .unwrap();
+        // the hold between keys 0 and 1 is exactly still
+        for s in [0.0, 0.25, 0.5, 0.99, 1.0] {
+            let d = h.segment_jet4(0, s).derivatives();
+            assert!((d[0].dot(a).abs() - 1.0).abs() < 1e-15);
+            for m in 1..4 {
+                assert!(d[m].dot(d[m]).sqrt() < 1e-14, "derivative {m} at {s}");
+            }
+        }
+        // keys 0, 1 (hold) and 3 (rest end) pinned; key 2 keeps its given rate and acceleration
+        for (j, seg) in [(1usize, 1usize), (2, 1), (2, 2), (3, 2)] {
+            let d = h.segment_jet4(seg, t[j]).derivatives();
+            let (got_w, got_a) = (angular(&d, 1, true), angular(&d, 2, true));
+            let (ew, ea) = if j == 2 { (w[2], acc[2]) } else { ([0.0; 3], [0.0; 3]) };
+            for c in 0..3 {
+                assert!((got_w[c] - ew[c]).abs() < 1e-12, "ω key {j} seg {seg}: {got_w:?}");
+                assert!((got_a[c] - ea[c]).abs() < 1e-11, "α key {j} seg {seg}: {got_a:?}");
+            }
+        }
+    }
 }
