@@ -359,3 +359,51 @@ def test_c3_speed_matched_alpha_matches_the_mean_chord_speed_at_every_key():
     # closed: one α per distinct key, a repeated closing key dropped
     tc = np.r_[t, t[-1] + 0.7]
     assert len(qs.keyframe.c3_speed_matched_alpha(np.vstack([q, q[:1]]), tc, closed=True)) == 8
+
+
+def test_registry_and_cli_reach_the_new_cells(tmp_path):
+    from quatspline.cli import main
+
+    q = _aabb(16)
+    t = np.array([0.0, 1.0, 2.0, 3.5, 4.0, 5.2])
+    h = qs.spline("hermite", q, t, ends="rest")  # Bessel rates, overridden at holds and ends
+    assert np.abs(h.angular_velocity(t[[0, 1, 2, 3, 5]])).max() < 1e-12
+    assert np.abs(h.angular_velocity(t[4:5])).max() > 1e-3
+    x = np.linspace(2.0, 3.5, 51)
+    assert _angle(h(x), q[2]).max() <= 1e-12
+    drift = qs.spline("hermite", q, t, holds="false")
+    assert _angle(drift(x), q[2]).max() > 1e-3
+    c = qs.spline("c3", q, t, variant="patent", ends="rest")
+    assert np.abs(c.jerk(t[[0, -1]])).max() < 1e-11 and _angle(c(x), q[2]).max() <= 1e-12
+    src = tmp_path / "keys.npz"
+    np.savez(src, times=t, quats=q)
+    out = tmp_path / "out.csv"
+    for method, params in (
+        ("hermite", ["--param", "ends=rest"]),
+        ("c3", ["--param", "variant=patent", "--param", "ends=rest"]),
+    ):
+        argv = ["sample", str(src), "-o", str(out), "--method", method, "--count", "7"]
+        assert main([*argv, *params]) == 0
+        assert out.stat().st_size > 0
+
+
+@pytest.mark.parametrize(
+    "ctor",
+    [
+        lambda q, t: qs.CatmullRom(q, t, canonicalize=False),
+        lambda q, t: qs.KochanekBartels(q, t, tension=0.2, canonicalize=False),
+        lambda q, t: qs.Squad(q, t, canonicalize=False),
+        lambda q, t: qs.NaturalSpline(q, t, canonicalize=False),
+        lambda q, t: qs.C3Spline(q, t, canonicalize=False),
+        lambda q, t: qs.C3Spline(q, t, variant="patent", canonicalize=False),
+        lambda q, t: qs.Hermite(q, t, _rates(6), _rates(6, 1), canonicalize=False),
+    ],
+    ids=["catmull_rom", "kb", "squad", "natural", "c3_knot", "c3_patent", "hermite"],
+)
+def test_a_hold_given_as_q_then_minus_q_holds_without_canonicalize(ctor):
+    q = _aabb(3)  # A, −A, B, B, C, D
+    t = np.array([0.0, 1.0, 2.0, 3.5, 4.0, 5.2])
+    s = ctor(q, t)
+    x = np.linspace(0.0, 1.0, 41)
+    assert _angle(s(x), q[0]).max() <= 1e-12  # not a full turn from A to −A
+    assert _angle(s(t), q).max() < 1e-12

@@ -156,7 +156,11 @@ impl C3Spline {
         canonicalize: bool,
     ) -> Result<Self> {
         let closed = ends == KeyEnds::Closed;
-        let kl = prepare_loop(keys, times, closed, if closed { 3 } else { 2 }, "c3 spline", canonicalize)?;
+        let mut kl =
+            prepare_loop(keys, times, closed, if closed { 3 } else { 2 }, "c3 spline", canonicalize)?;
+        if holds {
+            kl.align_holds();
+        }
         let k = &kl.keys;
         let n = k.len();
         let segs = kl.segments();

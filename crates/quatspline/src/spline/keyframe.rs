@@ -87,6 +87,21 @@ impl KeyLoop {
         same_rotation(self.key_at_joint(i), self.key_at_joint(i + 1))
     }
 
+    /// Makes the two keys of every hold the same quaternion sign (negating all the keys after
+    /// a hold given as q, −q): a hold joins equal rotations without moving, whatever
+    /// `canonicalize` says; the keys after it keep their relative signs, so no other segment
+    /// changes its way round the sphere.
+    pub fn align_holds(&mut self) {
+        let n = self.keys.len();
+        for i in 0..n.saturating_sub(1) {
+            if self.keys[i].dot(self.keys[i + 1]) < 0.0 && same_rotation(self.keys[i], self.keys[i + 1]) {
+                for q in &mut self.keys[i + 1..] {
+                    *q = -*q;
+                }
+            }
+        }
+    }
+
     /// Per key: whether it starts or ends a hold (so its velocity must vanish).
     pub fn hold_keys(&self) -> Vec<bool> {
         let mut h = vec![false; self.keys.len()];

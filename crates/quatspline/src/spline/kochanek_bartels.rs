@@ -168,7 +168,10 @@ impl KochanekBartels {
             }
             (None, None) => None,
         };
-        let kl = prepare_loop(keys, times, closed, if closed { 3 } else { 2 }, name, canonicalize)?;
+        let mut kl = prepare_loop(keys, times, closed, if closed { 3 } else { 2 }, name, canonicalize)?;
+        if holds {
+            kl.align_holds();
+        }
         let n = kl.keys.len();
         let (t, c, b) = (
             per_key(tcb.tension, keys.len(), n, kl.dropped_closing_key, "tension")?,

@@ -46,7 +46,10 @@ impl Squad {
         canonicalize: bool,
     ) -> Result<Self> {
         let closed = ends == KeyEnds::Closed;
-        let kl = prepare_loop(keys, times, closed, if closed { 3 } else { 2 }, "squad", canonicalize)?;
+        let mut kl = prepare_loop(keys, times, closed, if closed { 3 } else { 2 }, "squad", canonicalize)?;
+        if holds {
+            kl.align_holds();
+        }
         let n = kl.keys.len();
         let segs = kl.segments();
         let joint_keys: Vec<Quat> = (0..=segs).map(|j| kl.key_at_joint(j)).collect();
