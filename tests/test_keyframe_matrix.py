@@ -407,3 +407,19 @@ def test_a_hold_given_as_q_then_minus_q_holds_without_canonicalize(ctor):
     x = np.linspace(0.0, 1.0, 41)
     assert _angle(s(x), q[0]).max() <= 1e-12  # not a full turn from A to −A
     assert _angle(s(t), q).max() < 1e-12
+
+
+@pytest.mark.parametrize("ends", ["open", "rest", "closed"])
+def test_registry_bspline_holds(ends):
+    q = _aabb(17)
+    t = np.array([0.0, 1.0, 2.0, 3.5, 4.0, 5.2])
+    s = qs.spline("bspline", q, t, ends=ends, holds="true")
+    plain = qs.spline("bspline", q, t, ends=ends)
+    assert s.domain[0] == plain.domain[0] and np.isclose(s.domain[1], plain.domain[1])
+    assert len(s.hold_intervals) == 2 and plain.hold_intervals == []
+    for a, b in s.hold_intervals:
+        x = np.linspace(a, b, 31)
+        assert _angle(s(x), s(x[:1])).max() <= 1e-12
+        assert np.abs(s.angular_velocity(x)).max() <= 1e-12
+    if ends == "rest":
+        assert np.abs(s.angular_velocity(np.array(s.domain))).max() < 1e-13

@@ -15,7 +15,13 @@ from . import _core
 from ._arrays import as_real, with_width
 from .spline import Spline, _keys, _per, _times
 
-__all__ = ["Hermite", "KochanekBartels", "bessel_rates"]
+__all__ = [
+    "Hermite",
+    "KochanekBartels",
+    "bessel_rates",
+    "bspline_controls",
+    "c3_speed_matched_alpha",
+]
 
 
 def _rows3(v, name: str, n: int) -> np.ndarray:
@@ -433,3 +439,19 @@ def c3_speed_matched_alpha(quats, times=None, closed: bool = False) -> np.ndarra
     ok = inner & (both > 1e-300) & (mean > 0)
     alpha[ok] = np.clip(mean[ok] / both[ok], 0.0, 1.0)
     return alpha
+
+
+def _bspline_hold_intervals(q, order: int, closed: bool, dt: float, t0: float):
+    """Time spans on which a uniform B-spline with control rotations q is exactly constant
+    (segment i is when its k control rotations are identical), adjacent spans merged."""
+    m = len(q)
+    segs = m if closed else m - order + 1
+    out: list[tuple[float, float]] = []
+    for i in range(segs):
+        rows = q[[(i + j) % m for j in range(order)]]
+        if np.all(rows == rows[0]):
+            a, b = t0 + i * dt, t0 + (i + 1) * dt
+            if out and out[-1][1] == a:
+                a = out.pop()[0]
+            out.append((float(a), float(b)))
+    return out

@@ -154,7 +154,29 @@ def _closed_bspline(q, times, p):
         q = q[:-1]
     if t.ndim != 1 or len(t) != len(q) + 1:
         raise ValueError(f"times: a closed curve expects {len(q) + 1} times, got {t.shape}")
+    if p.get("holds"):
+        return _held_bspline(q, "closed", t[0], t[-1])
     return sp.CumulativeBSpline(q, dt=(t[-1] - t[0]) / len(q), t0=t[0], order=4, ends="closed")
+
+
+def _held_bspline(q, ends, t0, t1):
+    """The registry's cubic B-spline with holds: runs of equal keys repeated (see
+    ``keyframe.bspline_controls``), the end keys padded as without holds, the segments spread
+    over [t0, t1]; ``hold_intervals`` set."""
+    from .keyframe import _bspline_hold_intervals, bspline_controls
+
+    c = bspline_controls(
+        np.asarray(q, dtype=float), 4, "closed" if ends == "closed" else "open", True
+    )
+    if ends != "closed":
+        c = _pad(_pad(c)) if ends == "rest" else _pad(c)
+    segs = len(c) if ends == "closed" else len(c) - 3
+    dt = (t1 - t0) / segs
+    s = sp.CumulativeBSpline(
+        c, dt=dt, t0=t0, order=4, ends="closed" if ends == "closed" else "open"
+    )
+    s.hold_intervals = _bspline_hold_intervals(c, 4, ends == "closed", dt, t0)
+    return s
 
 
 def _build(name, q, times, p):
@@ -217,6 +239,8 @@ def _build(name, q, times, p):
         k = int(p["order"])
         if k != 4:
             raise ValueError("order: the registry's bspline spans the keys with order 4 only")
+        if p["ends"] in ("open", "rest") and p["holds"]:
+            return _held_bspline(q, p["ends"], t[0], t[-1])
         if p["ends"] == "rest":
             # end keys tripled: zero angular velocity and acceleration at both ends
             qq = _pad(_pad(q))
@@ -374,6 +398,7 @@ METHODS: dict[str, Method] = {
             {
                 "order": Param(int, 4, "spline order (4 = cubic)"),
                 "ends": Param(str, "open", "open | rest (end keys tripled) | closed"),
+                "holds": Param(flag, False, "runs of equal keys repeated: exactly constant"),
             },
         ),
         Method(

@@ -1091,16 +1091,9 @@ class CumulativeBSpline(Spline):
             extrapolate,
         )
         if holds:
-            # segment i is exactly constant when its k control rotations are identical
-            m = len(q)
-            segs = m if ends == "closed" else m - order + 1
-            for i in range(segs):
-                rows = q[[(i + j) % m for j in range(order)]]
-                if np.all(rows == rows[0]):
-                    a, b = t0 + i * dt, t0 + (i + 1) * dt
-                    if self.hold_intervals and self.hold_intervals[-1][1] == a:
-                        a = self.hold_intervals.pop()[0]
-                    self.hold_intervals.append((float(a), float(b)))
+            from .keyframe import _bspline_hold_intervals
+
+            self.hold_intervals = _bspline_hold_intervals(q, order, ends == "closed", dt, t0)
 
 
 class NaturalSpline(Spline):
