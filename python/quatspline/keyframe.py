@@ -284,13 +284,17 @@ def bessel_rates(quats, times=None) -> np.ndarray:
     return w
 
 
+def _same_rotations(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise, the core's hold test: the angle between a and b (q ≡ −q) is ≤ 1e-12 rad."""
+    a = a / np.linalg.norm(a, axis=-1, keepdims=True)
+    b = b / np.linalg.norm(b, axis=-1, keepdims=True)
+    d = np.abs(np.sum(a * b, axis=-1))
+    v = a[..., :1] * b[..., 1:] - b[..., :1] * a[..., 1:] - np.cross(a[..., 1:], b[..., 1:])
+    return 2.0 * np.arctan2(np.linalg.norm(v, axis=-1), d) <= 1e-12
+
+
 def _same_rotation(a: np.ndarray, b: np.ndarray) -> bool:
-    """The core's hold test: the angle between a and b (q ≡ −q) is at most 1e-12 rad."""
-    a = a / np.linalg.norm(a)
-    b = b / np.linalg.norm(b)
-    d = abs(float(np.dot(a, b)))
-    v = np.linalg.norm(a[0] * b[1:] - b[0] * a[1:] - np.cross(a[1:], b[1:]))
-    return 2.0 * np.arctan2(v, d) <= 1e-12
+    return bool(_same_rotations(a, b))
 
 
 def bspline_controls(q: np.ndarray, order: int, ends: str, holds: bool) -> np.ndarray:
@@ -338,23 +342,29 @@ def bspline_controls(q: np.ndarray, order: int, ends: str, holds: bool) -> np.nd
     """
     q = np.asarray(q, dtype=np.float64)
     n = len(q)
-    for i, r in enumerate(q):  # the core's checks, before anything divides by a norm
-        if not np.all(np.isfinite(r)):
-            raise ValueError(f"control_quats: non-finite value (NaN or inf) at element {i}")
-        if not np.linalg.norm(r) > 1e-300:
-            raise ValueError(f"control_quats: quaternion {i} has zero (or denormal) norm")
+    # the core's checks, before anything divides by a norm
+    bad = ~np.all(np.isfinite(q), axis=1)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise ValueError(f"control_quats: non-finite value (NaN or inf) at element {i}")
+    zero = ~(np.linalg.norm(q, axis=1) > 1e-300)
+    if zero.any():
+        raise ValueError(
+            f"control_quats: quaternion {int(np.argmax(zero))} has zero (or denormal) norm"
+        )
     extra = order - 2
     if ends == "rest" and order < 3:
         raise ValueError(
             "ends: rest needs order ≥ 3 (an order-2 B-spline is piecewise geodesic: its "
             "velocity cannot vanish at an end without the end segment standing still)"
         )
+    same = []
     if holds and n >= 2:
-        same = [_same_rotation(q[i], q[i + 1]) for i in range(n - 1)]
-        if ends == "closed":
-            same.append(_same_rotation(q[n - 1], q[0]))
-        if all(same):
-            return q
+        nxt = np.roll(q, -1, axis=0) if ends == "closed" else q[1:]
+        same = _same_rotations(q[: len(nxt)], nxt).tolist()
+    if same and all(same):  # every control rotation the same: one constant curve
+        q = np.repeat(q[:1], n, axis=0)
+    elif same:
         # start at a key that begins a run (or stands alone), so no run is split
         start = 0
         if ends == "closed":
@@ -446,12 +456,15 @@ def _bspline_hold_intervals(q, order: int, closed: bool, dt: float, t0: float):
     (segment i is when its k control rotations are identical), adjacent spans merged."""
     m = len(q)
     segs = m if closed else m - order + 1
+    ext = np.vstack([q, q[: order - 1]]) if closed else q
+    equal = np.all(ext[1:] == ext[:-1], axis=1)  # equal[i]: rows i and i + 1 identical
+    # segment i: rows i … i + k − 1 identical, i.e. equal[i … i + k − 2] all true
+    c = np.r_[0, np.cumsum(~equal)]
+    held = c[order - 1 : order - 1 + segs] - c[:segs] == 0
     out: list[tuple[float, float]] = []
-    for i in range(segs):
-        rows = q[[(i + j) % m for j in range(order)]]
-        if np.all(rows == rows[0]):
-            a, b = t0 + i * dt, t0 + (i + 1) * dt
-            if out and out[-1][1] == a:
-                a = out.pop()[0]
-            out.append((float(a), float(b)))
+    for i in np.flatnonzero(held):
+        a, b = t0 + i * dt, t0 + (i + 1) * dt
+        if out and out[-1][1] == a:
+            a = out.pop()[0]
+        out.append((float(a), float(b)))
     return out
