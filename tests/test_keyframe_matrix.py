@@ -326,9 +326,10 @@ def test_bspline_bad_keyframe_input():
     q = random_walk(5, 14)
     with pytest.raises(ValueError, match=r"^ends: rest needs order ≥ 3"):
         qs.CumulativeBSpline(q, order=2, ends="rest")
-    with pytest.raises(ValueError, match=r"^ends: rest ends and holds need uniform knots"):
-        qs.CumulativeBSpline(q, dt=np.full(8, 0.5), ends="rest")
-    with pytest.raises(ValueError, match=r"^holds: rest ends and holds need uniform knots"):
+    for ends in ("rest", "closed"):
+        with pytest.raises(ValueError, match=r"^ends: closed and rest ends and holds need unif"):
+            qs.CumulativeBSpline(q, dt=np.full(8, 0.5), ends=ends)
+    with pytest.raises(ValueError, match=r"^holds: closed and rest ends and holds need uniform"):
         qs.CumulativeBSpline(q, dt=np.full(8, 0.5), holds=True)
     bad = q.copy()
     bad[3, 2] = np.inf

@@ -1067,10 +1067,10 @@ class CumulativeBSpline(Spline):
         if not 2 <= order <= 12:  # the core's rule and message (-1 overflowed its usize before)
             raise ValueError(f"order: expected 2 ≤ order ≤ 12, got {order}")
         self.hold_intervals: list[tuple[float, float]] = []
-        if (ends == "rest" or holds) and (knots is not None or np.ndim(dt) != 0):
+        if (ends != "open" or holds) and (knots is not None or np.ndim(dt) != 0):
             raise ValueError(
-                f"{'ends' if ends == 'rest' else 'holds'}: rest ends and holds need uniform knots "
-                "(a scalar dt, no knots=)"
+                f"{'ends' if ends != 'open' else 'holds'}: closed and rest ends and holds need "
+                "uniform knots (a scalar dt, no knots=)"
             )
         if ends == "rest" or holds:
             from .keyframe import bspline_controls
