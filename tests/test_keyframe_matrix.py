@@ -424,3 +424,25 @@ def test_registry_bspline_holds(ends):
         assert np.abs(s.angular_velocity(x)).max() <= 1e-12
     if ends == "rest":
         assert np.abs(s.angular_velocity(np.array(s.domain))).max() < 1e-13
+
+
+@pytest.mark.parametrize("name", [m for m in METHODS if m != "bspline"])
+def test_a_hold_across_the_seam_of_a_closed_loop(name):
+    w = random_walk(3, 21, step=0.6)
+    # A B C A, then A again: the last key equals the first, so it is the closing key (dropped)
+    # and the segment from the fourth key (A) back to the first is a hold across the seam
+    q = np.vstack([w[0], w[1], w[2], -w[0], w[0]])
+    t = np.arange(5.0) * 0.8
+    if name.startswith("hermite"):  # the closing key's rows must repeat row 0
+        r, a = _rates(5), -_rates(5, 2)
+        r[4], a[4] = r[0], a[0]
+        s = qs.Hermite(q, t, r, a if name == "hermite_quintic" else None, ends="closed")
+    else:
+        s = METHODS[name][0](q, t, "closed", True)
+    assert len(s.joints) == 5 and s.closed
+    x = np.linspace(t[3], t[4], 41)
+    assert _angle(s(x), w[0]).max() <= 1e-12
+    assert np.abs(s.angular_velocity(x)).max() <= 1e-12
+    order = METHODS[name][4]
+    assert all_joint_jumps(s)[:, : order + 1].max() < 1e-10
+    assert min(c.order for c in qs.continuity(s)) >= order
