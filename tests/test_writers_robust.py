@@ -131,6 +131,10 @@ def test_bvh_without_positions_writes_no_position_channels(tmp_path):
 def test_formats_without_extra_columns_refuse_them_rather_than_drop(tmp_path, fmt):
     with pytest.raises(ValueError, match="has no columns for omega"):
         _write(tmp_path, fmt, _traj(extra={"omega": np.zeros((5, 3))}))
+    # a column name with a line break (found by hypothesis) stays a one-line message
+    with pytest.raises(ValueError, match=r"has no columns for '\\n', omega \(write") as e:
+        _write(tmp_path, fmt, _traj(extra={"\n": np.zeros(5), "omega": np.zeros((5, 3))}))
+    assert "\n" not in str(e.value)
 
 
 # ---- outputs: regular files only, symlinks followed, mode and owner kept ---------------------

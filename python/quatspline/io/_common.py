@@ -293,12 +293,18 @@ def check_for_writing(
         )
 
 
+def _name(key) -> str:
+    """A column name as written in a one-line message (quoted when it holds odd characters)."""
+    k = str(key)
+    return k if k.isidentifier() else repr(k)
+
+
 def refuse_extra(path, traj: Trajectory, fmt_name: str, positions: bool = True) -> None:
     """A format without columns for extra data (or positions) refuses it rather than
     dropping it silently."""
     if traj.extra:
         raise ValueError(
-            f"{path}: the {fmt_name} format has no columns for {', '.join(map(str, traj.extra))} "
+            f"{path}: the {fmt_name} format has no columns for {', '.join(map(_name, traj.extra))} "
             "(write csv, json or npz)"
         )
     if not positions and traj.positions is not None:
