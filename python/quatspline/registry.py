@@ -397,7 +397,7 @@ METHODS: dict[str, Method] = {
             "C2 (C4 with penalty=jerk)",
             {
                 "smoothing": Param(smoothing_spec, "auto", "λ: auto (GCV) | a number ≥ 0"),
-                "penalty": Param(str, "acceleration", "acceleration | jerk"),
+                "penalty": Param(str, "acceleration", "acceleration | jerk | auto (GCV picks)"),
                 "robust": Param(str_or_none, None, "none | huber | cauchy"),
                 "knots": Param(float_or_none, None, "knot spacing (default: the data rate)"),
             },

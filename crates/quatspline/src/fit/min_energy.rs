@@ -179,7 +179,7 @@ impl MinEnergySpline {
         let e0 = cache.energy(&me.x);
         me.energy_natural = e0;
         me.energy = e0;
-        if !(e0 > 0.0) || !e0.is_finite() {
+        if e0 <= 0.0 || !e0.is_finite() {
             return Ok(me);
         }
         let max_iter = 200;
