@@ -17,7 +17,8 @@
 //! it is minimised by Levenberg–Marquardt from δ = 0 accepting only steps that lower it:
 //! the result's energy is ≤ the natural spline's by construction, equal only when no
 //! descent exists (N already optimal to the solver's precision). Jacobians of the residuals
-//! √wₘ ω̇(tₘ) by central differences of the exact jet evaluation; the normal matrix is
+//! √wₘ ω̇(tₘ): the chain rule through δ's Taylor coefficients at each node (linear in the
+//! parameters, exact) times ∂ω̇/∂coefficients by central differences; the normal matrix is
 //! banded (a key interval couples its two keys' (v, a) and its own bubbles).
 //! Raising K nests the spaces (energy non-increasing) and, the polynomials being dense,
 //! converges to the continuous optimum: this is the Sping (discrete numerical) route to
@@ -362,9 +363,9 @@ impl Cache {
             Normal::Band(Band::zeros(npar, nl - 1))
         };
         let mut g = vec![0.0; npar];
-        let (mut r0, mut rp, mut rm) = (Vec::new(), Vec::new(), Vec::new());
+        let mut r0 = Vec::new();
         for i in 0..self.segs {
-            let mut p = local_params(x, i, st, self.segs, self.closed);
+            let p = local_params(x, i, st, self.segs, self.closed);
             let gidx: Vec<usize> = (0..nl)
                 .map(|c| {
                     if c < st {
@@ -380,25 +381,49 @@ impl Cache {
             let nr = r0.len();
             let mut jac = vec![0.0; nr * nl];
             let h = self.h[i];
-            for c in 0..nl {
-                if fixed[gidx[c]] {
-                    continue;
+            let m = PIECES * NODES;
+            for (node, n) in (i * m..(i + 1) * m).enumerate() {
+                // Chain rule: ω̇ depends on δ's Taylor coefficients (9 numbers) and those are
+                // linear in the parameters. ∂ω̇/∂coefficients by central differences (steps
+                // that move δ by about 1e-6 rad), then exact products with the basis jets.
+                let d = delta(&p, self.k, h, &self.herm[n], &self.bub[n]);
+                let sw = self.w[n].sqrt();
+                let mut dm = [[0.0f64; 9]; 3];
+                for c in 0..3 {
+                    for o in 0..3 {
+                        let e = 1e-6 / h.powi(o as i32);
+                        let mut dp = d;
+                        dp[c].0[o] += e;
+                        let ap = alpha_body(self.nq[n] * exp_rotvec(dp));
+                        dp[c].0[o] -= 2.0 * e;
+                        let am = alpha_body(self.nq[n] * exp_rotvec(dp));
+                        for r in 0..3 {
+                            dm[r][3 * c + o] = sw * (ap[r] - am[r]) / (2.0 * e);
+                        }
+                    }
                 }
-                // Steps that move δ by about 1e-6 rad.
-                let cc = if c < st { c } else { c - st };
-                let e = match cc {
-                    0..=2 => 1e-6 / h,
-                    3..=5 => 1e-6 / (h * h),
-                    _ => 1e-6,
-                };
-                let orig = p[c];
-                p[c] = orig + e;
-                self.residuals(i, &p, &mut rp);
-                p[c] = orig - e;
-                self.residuals(i, &p, &mut rm);
-                p[c] = orig;
-                for r in 0..nr {
-                    jac[r * nl + c] = (rp[r] - rm[r]) / (2.0 * e);
+                for j in 0..nl {
+                    if fixed[gidx[j]] {
+                        continue;
+                    }
+                    let (basis, scale, comp) = if j < 3 {
+                        (self.herm[n][0], h, j)
+                    } else if j < 6 {
+                        (self.herm[n][1], h * h, j - 3)
+                    } else if j < st {
+                        (self.bub[n][(j - 6) / 3], 1.0, (j - 6) % 3)
+                    } else if j < st + 3 {
+                        (self.herm[n][2], h, j - st)
+                    } else {
+                        (self.herm[n][3], h * h, j - st - 3)
+                    };
+                    for r in 0..3 {
+                        let mut v = 0.0;
+                        for o in 0..3 {
+                            v += dm[r][3 * comp + o] * scale * basis.0[o];
+                        }
+                        jac[(3 * node + r) * nl + j] = v;
+                    }
                 }
             }
             let mut blk = vec![0.0; nl * nl];
