@@ -72,6 +72,35 @@ def test_energy_decreases_under_refinement_and_converges():
     assert abs(energy(qs.NaturalSpline(q, t)) - s.natural_energy) <= 1e-9 * s.energy
 
 
+def euler_lagrange_residual(s, t):
+    """|ω‴ + ω × ω″| / |ω‴| (body frame) inside every key interval: zero for the continuous
+    optimum (Riemannian cubics, MATH.md §13); ω‴ by central differences of the exact ω″."""
+    out = []
+    for a, b in zip(t[:-1], t[1:]):
+        tt = np.linspace(a, b, 12)[2:-2]
+        h = 1e-4 * (b - a)
+        w, w2 = s.angular_velocity(tt, "body"), s.jerk(tt, "body")
+        w3 = (s.jerk(tt + h, "body") - s.jerk(tt - h, "body")) / (2 * h)
+        out.append(np.linalg.norm(w3 + np.cross(w, w2), axis=1) / np.linalg.norm(w3, axis=1))
+    return np.concatenate(out)
+
+
+def test_converges_to_the_continuous_optimum_the_riemannian_cubic():
+    # The discrete optimum (Sping) satisfies the continuous optimum's (Spicv's) Euler–Lagrange
+    # equation ω‴ + ω × ω″ = 0 better and better as the resolution grows; the natural spline
+    # does not satisfy it.
+    t, q = keys(seed=0)
+    nat = np.median(euler_lagrange_residual(qs.NaturalSpline(q, t), t))
+    res = [
+        np.median(euler_lagrange_residual(qs.MinimumEnergySpline(q, t, resolution=r), t))
+        for r in (2, 4, 8)
+    ]
+    assert nat > 0.01
+    assert res[0] < nat / 10 and res[1] < res[0] / 5 and res[2] < res[1] / 5
+    assert res[2] < 1e-5
+    assert np.max(euler_lagrange_residual(qs.MinimumEnergySpline(q, t, resolution=8), t)) < 1e-3
+
+
 def test_one_axis_is_the_natural_cubic_spline_of_the_angle():
     # About a fixed axis the optimum is the natural cubic spline of the angle; with uniform
     # keys the knot grid contains the key times, so the spline space contains it exactly.
