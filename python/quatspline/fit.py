@@ -563,7 +563,16 @@ class MinimumEnergySpline(Spline):
         for name, r in (("start_rate", start_rate), ("end_rate", end_rate)):
             if r is not None and ends != "clamped":
                 raise ValueError(f"{name}: only with ends='clamped'")
-            rates.append(None if r is None else as_real(r, name).reshape(3).tolist())
+            if r is not None:
+                r = as_real(r, name).reshape(-1)
+                if r.shape != (3,):
+                    raise ValueError(f"{name}: expected 3 components (rad/s), got {r.size}")
+                if not np.all(np.isfinite(r)):
+                    raise ValueError(
+                        f"{name}: non-finite component {int(np.argmin(np.isfinite(r)))}"
+                    )
+                r = r.tolist()
+            rates.append(r)
         cb = _progress(progress)
         try:
             if penalty == "jerk":
