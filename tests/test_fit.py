@@ -341,3 +341,17 @@ def test_progress_callback_and_cancel():
 
     with pytest.raises(ValueError, match="cancelled"):
         qs.fit(T, noisy(T, 1.0), smoothing=1e-3, progress=stop)
+
+
+def test_penalty_auto_keeps_the_penalty_with_the_lower_gcv_score():
+    t = np.linspace(0.0, 4.0, 161)
+    rng = np.random.default_rng(3)
+    truth = qs.from_rotvec(np.stack([np.sin(3 * t), 0.5 * np.cos(2 * t), 0.2 * t], axis=1))
+    q = qs.multiply(truth, qs.from_rotvec(rng.normal(0, 0.01, (len(t), 3))))
+    a, j = qs.fit(t, q), qs.fit(t, q, penalty="jerk")
+    f = qs.fit(t, q, penalty="auto")
+    best = a if a.score <= j.score else j
+    assert f.penalty == best.penalty and f.score == best.score
+    assert np.array_equal(f.control_quats, best.control_quats)
+    with pytest.raises(ValueError, match="penalty: 'auto' compares GCV scores"):
+        qs.fit(t, q, penalty="auto", smoothing=1e-6)

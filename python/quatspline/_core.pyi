@@ -192,4 +192,13 @@ def fit_positions(
 def min_energy(
     times: _A, quats: _A, penalty: str, resolution: int, progress: object = None
 ) -> dict: ...
+def min_energy_spline(
+    quats: _A,
+    times: _A | None,
+    ends: str,
+    start_rate: list[float] | None,
+    end_rate: list[float] | None,
+    resolution: int,
+    progress: object = None,
+) -> tuple[Spline, dict]: ...
 def position_bspline_eval(ctrl: _A, dt: float, t0: float, order: int, t: _A) -> _A: ...

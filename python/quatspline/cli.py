@@ -434,7 +434,7 @@ def build_parser() -> argparse.ArgumentParser:
     ft.add_argument("-o", "--output", required=True, help="output file, or - (as sample)")
     ft.add_argument("--format", choices=sorted(qio.FORMATS), help="output format")
     ft.add_argument("--smoothing", default="auto", help="λ: auto (GCV, default) or a number ≥ 0")
-    ft.add_argument("--penalty", choices=("acceleration", "jerk"), default="acceleration")
+    ft.add_argument("--penalty", choices=("acceleration", "jerk", "auto"), default="acceleration")
     ft.add_argument("--robust", choices=("huber", "cauchy"), help="robust loss against glitches")
     ft.add_argument("--knots", type=float, metavar="SPACING", help="knot spacing (default: data)")
     g = ft.add_mutually_exclusive_group(required=True)

@@ -67,6 +67,13 @@ def _times_or_default(times, n):
     return np.arange(n, dtype=float) if times is None else as_real(times, "times")
 
 
+def int_or_none(v):
+    """An int, or None for None / "none" / "" (an optional parameter)."""
+    if v is None or (isinstance(v, str) and v.strip().lower() in ("", "none")):
+        return None
+    return int(v)
+
+
 def float_or_none(v):
     """A float, or None for None / "none" / "" (an optional parameter)."""
     if v is None or (isinstance(v, str) and v.strip().lower() in ("none", "")):
@@ -96,6 +103,7 @@ def float_or_auto(v):
 # the control kind of each converter in the viewer (quatspline.design.method_specs)
 float_or_none.kind = "float"  # type: ignore[attr-defined]
 float_or_auto.kind = "float"  # type: ignore[attr-defined]
+int_or_none.kind = "int"  # type: ignore[attr-defined]
 flag.kind = "bool"  # type: ignore[attr-defined]
 
 
@@ -415,7 +423,7 @@ METHODS: dict[str, Method] = {
             "C2 (C4 with penalty=jerk)",
             {
                 "smoothing": Param(smoothing_spec, "auto", "λ: auto (GCV) | a number ≥ 0"),
-                "penalty": Param(str, "acceleration", "acceleration | jerk"),
+                "penalty": Param(str, "acceleration", "acceleration | jerk | auto (GCV picks)"),
                 "robust": Param(str_or_none, None, "none | huber | cauchy"),
                 "knots": Param(float_or_none, None, "knot spacing (default: the data rate)"),
             },
@@ -427,7 +435,12 @@ METHODS: dict[str, Method] = {
             "C2 (C4 with penalty=jerk)",
             {
                 "penalty": Param(str, "acceleration", "acceleration | jerk"),
-                "resolution": Param(int, 8, "knot intervals per key interval"),
+                "resolution": Param(
+                    int_or_none,
+                    None,
+                    "bubble polynomials (acceleration, default 4) or knot intervals (jerk, "
+                    "default 8) per key interval",
+                ),
             },
         ),
         Method(

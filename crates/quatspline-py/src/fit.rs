@@ -95,7 +95,7 @@ fn fit_rotations<'py>(
     Ok(d)
 }
 
-/// Minimum-energy interpolation; returns the same dict as `fit_rotations`.
+/// Minimum-jerk interpolation (B-spline form); returns the same dict as `fit_rotations`.
 #[pyfunction]
 #[pyo3(signature = (times, quats, penalty, resolution, progress=None))]
 fn min_energy<'py>(
@@ -110,7 +110,9 @@ fn min_energy<'py>(
     let q = quats_rows(&quats, "quats")?;
     let pen = Penalty::parse(penalty).map_err(crate::arrays::to_py)?;
     let mut rep = reporter(progress);
-    let r = guarded(py, "MinimumEnergySpline", move || fit::min_energy(&t, &q, pen, resolution, &mut rep))?;
+    let r = guarded(py, "MinimumEnergySpline", move || {
+        fit::min_energy::min_energy_bspline(&t, &q, pen, resolution, &mut rep)
+    })?;
     let d = PyDict::new(py);
     let ctrl: Vec<f64> = r.ctrl.iter().flat_map(|q| q.to_wxyz()).collect();
     d.set_item("ctrl", ctrl.into_pyarray(py).reshape([r.ctrl.len(), 4])?)?;
@@ -121,6 +123,45 @@ fn min_energy<'py>(
     d.set_item("iterations", r.iterations)?;
     d.set_item("final_step", r.final_step)?;
     Ok(d)
+}
+
+/// Minimum-∫|ω̇|² interpolation: the natural spline times Exp(δ) (`fit/min_energy.rs`);
+/// returns (spline, {energy, energy_natural, iterations}).
+#[pyfunction]
+#[pyo3(signature = (quats, times, ends, start_rate, end_rate, resolution, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn min_energy_spline<'py>(
+    py: Python<'py>,
+    quats: PyReadonlyArray2<'py, f64>,
+    times: Option<PyReadonlyArray1<'py, f64>>,
+    ends: &str,
+    start_rate: Option<[f64; 3]>,
+    end_rate: Option<[f64; 3]>,
+    resolution: usize,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<(crate::spline::PySpline, Bound<'py, PyDict>)> {
+    let q = quats_rows(&quats, "quats")?;
+    let t = times.as_ref().map(vec1);
+    let ends = match ends {
+        "natural" => quatspline::spline::NaturalEnds::Natural,
+        "clamped" => quatspline::spline::NaturalEnds::Clamped { start: start_rate, end: end_rate },
+        "rest" => quatspline::spline::NaturalEnds::Rest,
+        "closed" => quatspline::spline::NaturalEnds::Closed,
+        other => {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "ends: unknown end condition {other:?}; valid: natural, clamped, rest, closed"
+            )))
+        }
+    };
+    let mut rep = reporter(progress);
+    let s = guarded(py, "MinimumEnergySpline", move || {
+        fit::min_energy::MinEnergySpline::new(&q, t.as_deref(), ends, resolution, &mut rep)
+    })?;
+    let d = PyDict::new(py);
+    d.set_item("energy", s.energy)?;
+    d.set_item("energy_natural", s.energy_natural)?;
+    d.set_item("iterations", s.iterations)?;
+    Ok((crate::spline::wrap(Ok(s))?, d))
 }
 
 /// Position fit; returns a dict (ctrl (n, 3), dt, t0, order, residuals, robust_weights,
@@ -201,6 +242,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit_rotations, m)?)?;
     m.add_function(wrap_pyfunction!(fit_positions, m)?)?;
     m.add_function(wrap_pyfunction!(min_energy, m)?)?;
+    m.add_function(wrap_pyfunction!(min_energy_spline, m)?)?;
     m.add_function(wrap_pyfunction!(position_bspline_eval, m)?)?;
     Ok(())
 }

@@ -1,5 +1,5 @@
-//! Fitting splines on SO(3) (seed 003's 拟合样条; MATH.md §12) and minimum-energy
-//! interpolation (seed 003's Spicv/Sping; MATH.md §13).
+//! Fitting splines on SO(3) (seed 003's 拟合样条; MATH.md §12); minimum-energy
+//! interpolation (seed 003's Spicv/Sping; MATH.md §13) is in `min_energy.rs`.
 //!
 //! Model: a uniform cumulative B-spline of order k on SO(3) (`model.rs`; k = 4 for the
 //! acceleration penalty, 6 for jerk), knots at t₀ + jΔt spanning exactly the data's time range.
@@ -27,7 +27,7 @@
 //! equivalent kernel bandwidth h (ρ = samples per time unit, m = 1 or 2), a coarse log grid then
 //! golden-section refinement; it is re-selected at every linearisation until it settles.
 //!
-//! λ = 0 (interpolation, also [`min_energy`]): the limit λ → 0⁺, i.e. the minimum-penalty curve
+//! λ = 0 (interpolation, also [`min_energy::min_energy_bspline`]): the limit λ → 0⁺, i.e. the minimum-penalty curve
 //! of the spline space through every sample, by Bregman iteration (iterated Tikhonov): fit with
 //! a small λ to targets shifted by eₛ, then eₛ ← eₛ − r_s, until max |r_s| ≤ 1e-11 rad
 //! (Osher et al. 2005; for linear problems this is the augmented-Lagrangian method).
@@ -36,6 +36,7 @@
 //! iterations returns [`Error::NotConverged`] with the iteration count and the last step.
 
 pub mod banded;
+pub mod min_energy;
 pub mod model;
 pub mod position;
 pub mod so3;
@@ -890,69 +891,6 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
         final_step: step,
         converged: true,
     })
-}
-
-/// Minimum-energy interpolation through keys (MATH.md §13): the minimum-penalty curve of a
-/// uniform cumulative B-spline space through every key, with `per_interval` knot intervals per
-/// base interval, the base interval being the span divided by the number of key intervals
-/// (the mean key spacing), doubled until no knot interval holds more than two keys. Refining
-/// `per_interval` by an integer factor nests the spline spaces, so the energy can only
-/// decrease. See [`fit`] with λ = 0.
-pub fn min_energy(
-    times: &[f64],
-    quats: &[Quat],
-    penalty: Penalty,
-    per_interval: usize,
-    progress: Progress<'_>,
-) -> Result<FitResult> {
-    let m = penalty.m();
-    if !(1..=64).contains(&per_interval) {
-        return Err(Error::invalid(
-            "resolution",
-            format!("expected 1 … 64 knot intervals per key interval, got {per_interval}"),
-        ));
-    }
-    let data = validate(times, quats, None, m + 1, &format!("for penalty={:?}", pen_name(penalty)))?;
-    let n = data.t.len();
-    let span = data.t[n - 1] - data.t[0];
-    // Knot intervals: per_interval × (key intervals), doubled until no knot interval holds
-    // more than two keys (uneven keys; interpolation is then well posed), at most 64 per key.
-    let crowded = |segs: usize| {
-        let h = span / segs as f64;
-        let mut count = vec![0u8; segs];
-        data.t.iter().any(|&t| {
-            let i = (((t - data.t[0]) / h) as usize).min(segs - 1);
-            count[i] += 1;
-            count[i] > 2
-        })
-    };
-    let mut segs = (n - 1) * per_interval;
-    while crowded(segs) {
-        if segs > 64 * n {
-            return Err(Error::invalid(
-                "times",
-                format!(
-                    "key spacing too uneven for a uniform knot grid ({} knot intervals would be needed)",
-                    2 * segs
-                ),
-            ));
-        }
-        segs *= 2;
-    }
-    let opts = FitOptions {
-        penalty,
-        order: None,
-        smoothing: Smoothing::Fixed(0.0),
-        knots: Knots::Spacing(span / segs as f64),
-        robust: Robust::None,
-        robust_scale: None,
-        max_iter: 2000,
-        tol: 1e-12,
-    };
-    let k = penalty.default_order();
-    let (t0, dt, segs) = knot_layout(&opts.knots, &data.t)?;
-    let model = Model::new(initial_controls(&data, t0, dt, segs, k), dt, t0, k);
-    solve(model, &data, &opts, progress)
 }
 
 #[cfg(test)]

@@ -441,7 +441,7 @@ impl NaturalSpline {
     }
 
     #[inline(always)]
-    fn segment<const N: usize>(&self, i: usize, t: f64) -> JQuat<N> {
+    pub(crate) fn segment<const N: usize>(&self, i: usize, t: f64) -> JQuat<N> {
         self.seg.segment::<N>(i, t)
     }
 }
