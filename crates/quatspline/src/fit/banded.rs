@@ -59,6 +59,14 @@ impl Band {
         Band { n: self.n, p: self.p, a }
     }
 
+    /// out = self + s·other (same shape; `out` reused, no allocation).
+    pub fn axpy_into(&self, s: f64, other: &Band, out: &mut Band) {
+        out.n = self.n;
+        out.p = self.p;
+        out.a.clear();
+        out.a.extend(self.a.iter().zip(&other.a).map(|(x, y)| x + s * y));
+    }
+
     /// y = H x.
     pub fn matvec(&self, x: &[f64]) -> Vec<f64> {
         let mut y = vec![0.0; self.n];
@@ -83,15 +91,23 @@ impl Band {
     /// Cholesky factor L (same storage). Fails with the pivot index if H is not numerically
     /// positive definite.
     pub fn cholesky(&self) -> Result<Band> {
-        let (n, p) = (self.n, self.p);
         let mut l = self.clone();
+        l.cholesky_in_place()?;
+        Ok(l)
+    }
+
+    /// Overwrites H with its Cholesky factor L (no copy; on failure the band holds a partial
+    /// factor and must not be used).
+    pub fn cholesky_in_place(&mut self) -> Result<()> {
+        let (n, p) = (self.n, self.p);
         let w = p + 1;
+        let a = &mut self.a[..];
         for j in 0..n {
-            // L_jj
-            let lo = j.saturating_sub(p);
-            let mut s = l.a[j * w];
-            for k in lo..j {
-                let v = l.a[j * w + (j - k)];
+            // Row j of L left of the diagonal: L[j][j−d] = a[j·w + d], d = 1 … min(j, p).
+            let dj = j.min(p);
+            let mut s = a[j * w];
+            for d in 1..=dj {
+                let v = a[j * w + d];
                 s -= v * v;
             }
             if s.is_nan() || s <= 0.0 || !s.is_finite() {
@@ -99,19 +115,25 @@ impl Band {
                     "banded Cholesky: matrix not positive definite at pivot {j} (value {s:e})"
                 )));
             }
-            let d = s.sqrt();
-            l.a[j * w] = d;
+            let dg = s.sqrt();
+            a[j * w] = dg;
+            let inv = 1.0 / dg;
             let hi = (j + p).min(n - 1);
             for i in j + 1..=hi {
-                let lo2 = i.saturating_sub(p).max(lo);
-                let mut s = l.a[i * w + (i - j)];
-                for k in lo2..j {
-                    s -= l.a[i * w + (i - k)] * l.a[j * w + (j - k)];
+                // L[i][j] = (H[i][j] − Σ_{k<j} L[i][k] L[j][k]) / L[j][j], k ≥ i − p.
+                let e = i - j;
+                let m = dj.min(p - e);
+                let (head, tail) = a.split_at_mut(i * w);
+                let rj = &head[j * w..j * w + w];
+                let ri = &mut tail[..w];
+                let mut s = ri[e];
+                for d in 1..=m {
+                    s -= ri[e + d] * rj[d];
                 }
-                l.a[i * w + (i - j)] = s / d;
+                ri[e] = s * inv;
             }
         }
-        Ok(l)
+        Ok(())
     }
 
     /// Solves L Lᵀ x = b with `self` = L from [`Band::cholesky`].
@@ -166,6 +188,43 @@ impl Band {
             let lo = i.saturating_sub(self.p);
             for j in lo..i {
                 t += 2.0 * self.a[i * w + (i - j)] * b.a[i * w + (i - j)];
+            }
+        }
+        t
+    }
+
+    /// tr(H⁻¹ B) from the factor L = `self` for a symmetric banded B of the same shape: the
+    /// selected inversion of [`Band::selected_inverse`] fused with the trace, keeping only the
+    /// last p + 1 columns of Σ = H⁻¹ (O(p²) memory instead of the O(n p) band of Σ).
+    pub fn trace_inverse_product(&self, b: &Band) -> f64 {
+        let (n, p, w) = (self.n, self.p, self.p + 1);
+        // Ring of columns: col[i mod w][d] = Σ[i + d][i], d = 0 … p.
+        let mut col = vec![0.0; w * w];
+        let mut lc = vec![0.0; w];
+        let mut t = 0.0;
+        for i in (0..n).rev() {
+            let hi = (i + p).min(n - 1);
+            let m = hi - i;
+            let lii = self.a[i * w];
+            // L[k][i] for k = i+1 … hi.
+            for e in 1..=m {
+                lc[e] = self.a[(i + e) * w + e];
+            }
+            let ci = (i % w) * w;
+            for e in (0..=m).rev() {
+                // Σ[i + e][i] = (δ_e0 / L_ii − Σ_f L[i+f][i] Σ[i+f][i+e]) / L_ii, f = 1 … m.
+                let j = i + e;
+                let mut acc = if e == 0 { 1.0 / lii } else { 0.0 };
+                for f in 1..=m {
+                    let k = i + f;
+                    let skj = if k >= j { col[(j % w) * w + (k - j)] } else { col[(k % w) * w + (j - k)] };
+                    acc -= lc[f] * skj;
+                }
+                col[ci + e] = acc / lii;
+            }
+            t += col[ci] * b.a[i * w];
+            for e in 1..=m {
+                t += 2.0 * col[ci + e] * b.a[(i + e) * w + e];
             }
         }
         t
@@ -228,6 +287,26 @@ mod tests {
                 let v: f64 = (0..n).map(|k| hd[i][k] * col[k]).sum();
                 assert!((v - e[i]).abs() < 1e-12);
             }
+        }
+    }
+
+    /// The fused rolling trace equals the trace of the stored selected inverse, and the
+    /// in-place factor equals the copying one.
+    #[test]
+    fn fused_trace_matches_selected_inverse() {
+        for (n, p) in [(1, 0), (5, 3), (17, 5), (40, 11), (9, 11)] {
+            let h = random_spd(n, p, 11 + n as u64);
+            let b = random_spd(n, p, 3 + p as u64);
+            let l = h.cholesky().unwrap();
+            let mut l2 = h.clone();
+            l2.cholesky_in_place().unwrap();
+            assert_eq!(l.a, l2.a);
+            let want = l.selected_inverse().trace_product(&b);
+            let got = l.trace_inverse_product(&b);
+            assert!((want - got).abs() <= 1e-13 * want.abs(), "n {n} p {p}: {want} vs {got}");
+            let mut out = Band::zeros(0, 0);
+            h.axpy_into(0.5, &b, &mut out);
+            assert_eq!(out.a, h.axpy(0.5, &b).a);
         }
     }
 

@@ -24,6 +24,7 @@ use crate::jet::{Axis, JQuat, Jet};
 use crate::quat::Quat;
 use crate::spline::CumulativeBSpline;
 use crate::vec3::{self, Vec3};
+use rayon::prelude::*;
 
 /// The largest order the fitting solver uses.
 pub const MAXK: usize = 8;
@@ -113,29 +114,63 @@ impl Model {
         m
     }
 
-    /// Recomputes the chain logarithms and their inverse Jacobians after the controls moved.
+    /// Recomputes the chain logarithms and their inverse Jacobians after the controls moved
+    /// (element-wise, in parallel; the result does not depend on the thread count).
     pub fn refresh(&mut self) {
-        let n = self.ctrl.len();
-        self.d = vec![[0.0; 3]; n];
-        self.axes = vec![Axis::default(); n];
-        self.jri = vec![[[0.0; 3]; 3]; n];
-        self.jli = vec![[[0.0; 3]; 3]; n];
-        for m in 1..n {
-            let d = so3::log(self.ctrl[m - 1].conj() * self.ctrl[m]);
-            self.d[m] = d;
-            self.axes[m] = Axis::from_log(vec3::scale(d, 0.5));
-            self.jri[m] = so3::jr_inv(d);
-            self.jli[m] = so3::jl_inv(d);
-        }
+        let ctrl = &self.ctrl;
+        self.d = (0..ctrl.len())
+            .into_par_iter()
+            .with_min_len(4096)
+            .map(|m| if m == 0 { [0.0; 3] } else { so3::log(ctrl[m - 1].conj() * ctrl[m]) })
+            .collect();
+        let d = &self.d;
+        let each = |m: usize| m > 0;
+        self.axes = (0..d.len())
+            .into_par_iter()
+            .with_min_len(4096)
+            .map(|m| if each(m) { Axis::from_log(vec3::scale(d[m], 0.5)) } else { Axis::default() })
+            .collect();
+        self.jri = d
+            .par_iter()
+            .with_min_len(4096)
+            .enumerate()
+            .map(|(m, &v)| if each(m) { so3::jr_inv(v) } else { [[0.0; 3]; 3] })
+            .collect();
+        self.jli = d
+            .par_iter()
+            .with_min_len(4096)
+            .enumerate()
+            .map(|(m, &v)| if each(m) { so3::jl_inv(v) } else { [[0.0; 3]; 3] })
+            .collect();
     }
 
     /// Applies R_m ← R_m Exp(δ_m) (δ has 3 entries per control point).
     pub fn retract(&mut self, delta: &[f64]) {
-        for (m, q) in self.ctrl.iter_mut().enumerate() {
-            let v = [delta[3 * m], delta[3 * m + 1], delta[3 * m + 2]];
-            *q = (*q * so3::exp(v)).normalize();
-        }
-        self.refresh();
+        *self = self.retracted(delta);
+    }
+
+    /// A copy with R_m ← R_m Exp(δ_m), without copying the derived tables first.
+    pub fn retracted(&self, delta: &[f64]) -> Model {
+        let ctrl = self
+            .ctrl
+            .par_iter()
+            .with_min_len(4096)
+            .enumerate()
+            .map(|(m, q)| (*q * so3::exp([delta[3 * m], delta[3 * m + 1], delta[3 * m + 2]])).normalize())
+            .collect();
+        let mut out = Model {
+            order: self.order,
+            dt: self.dt,
+            t0: self.t0,
+            ctrl,
+            basis: self.basis.clone(),
+            d: vec![],
+            axes: vec![],
+            jri: vec![],
+            jli: vec![],
+        };
+        out.refresh();
+        out
     }
 
     pub fn segments(&self) -> usize {
@@ -163,13 +198,31 @@ impl Model {
     }
 
     /// The curve on segment i with the columns X_m(t) e_c, m = i … i+k−1, c = 0 … 2.
+    #[inline]
     pub fn value_and_columns<const N: usize>(&self, i: usize, u: Jet<N>, cols: &mut Cols<N>) -> JQuat<N> {
-        let k = self.order;
+        // Monomorphised per order (arrays of exactly k entries, loops unrolled).
+        match self.order {
+            4 => self.columns_k::<N, 4>(i, u, cols),
+            5 => self.columns_k::<N, 5>(i, u, cols),
+            6 => self.columns_k::<N, 6>(i, u, cols),
+            7 => self.columns_k::<N, 7>(i, u, cols),
+            8 => self.columns_k::<N, 8>(i, u, cols),
+            _ => self.columns_k::<N, MAXK>(i, u, cols),
+        }
+    }
+
+    fn columns_k<const N: usize, const KK: usize>(
+        &self,
+        i: usize,
+        u: Jet<N>,
+        cols: &mut Cols<N>,
+    ) -> JQuat<N> {
+        let k = self.order.min(KK);
         let one = JQuat::constant(Quat::IDENTITY);
         let zero = Jet::<N>::constant(0.0);
-        let mut b = [zero; MAXK];
-        let mut s = [one; MAXK];
-        let mut a = [one; MAXK];
+        let mut b = [zero; KK];
+        let mut s = [one; KK];
+        let mut a = [one; KK];
         for j in 1..k {
             b[j] = Jet::poly(&self.basis[j], u);
             a[j] = JQuat::exp_axis(&self.axes[i + j], b[j]);
@@ -179,7 +232,7 @@ impl Model {
         }
         let q = JQuat::constant(self.ctrl[i]) * s[0];
         // M_j = R(S_j)ᵀ (b I − f1 K + f2 K²), K = [n]×, K² = n nᵀ − I.
-        let mut mats: [JM3<N>; MAXK] = [[[zero; 3]; 3]; MAXK];
+        let mut mats: [JM3<N>; KK] = [[[zero; 3]; 3]; KK];
         for j in 1..k {
             let dj = self.d[i + j];
             let aa = vec3::norm(dj);

@@ -179,8 +179,8 @@ pub fn fit_positions(
             g.add_block(*i, k, &blk, 1.0);
         }
         let solve_at = |lam: f64| -> Result<(f64, f64, Vec<[f64; 3]>)> {
-            let h = g.axpy(lam, &pm);
-            let l = h.cholesky()?;
+            let mut l = g.axpy(lam, &pm);
+            l.cholesky_in_place()?;
             let mut cs = vec![[0.0; 3]; nc];
             let mut rss = xwx;
             for d in 0..3 {
@@ -193,7 +193,7 @@ pub fn fit_positions(
                     cs[j][d] = c[j];
                 }
             }
-            let tr = 3.0 * l.selected_inverse().trace_product(&g);
+            let tr = 3.0 * l.trace_inverse_product(&g);
             let den = nobs - tr;
             let score = if den > 1e-9 * nobs { nobs * rss.max(0.0) / (den * den) } else { f64::INFINITY };
             Ok((score, tr, cs))
