@@ -253,3 +253,31 @@ def test_small_call_fast_paths_equal_the_general_path():
     keep = np.ones(300, bool)
     keep[::7] = False
     np.testing.assert_array_equal(clamped(tt)[keep], clamped(tt2)[keep])
+
+
+@pytest.mark.parametrize("m", [0, 1, 2, 5, 255, 256, 257])
+def test_small_vector_path_any_layout(m):
+    # the binding copies vectors of < 256 times without borrow tracking: strided, read-only,
+    # other dtypes and the angular path must give the general path's rows and errors
+    s = BATCH["c3 knot"]()
+    a, b = s.domain
+    base = np.linspace(a, b, 2 * m + 1)
+    t = np.ascontiguousarray(base[1::2])
+    general = s(t.reshape(m, 1)).reshape(m, 4)
+    np.testing.assert_array_equal(s(t), general)
+    np.testing.assert_array_equal(s(base[1::2]), general)  # strided view
+    ro = t.copy()
+    ro.flags.writeable = False
+    np.testing.assert_array_equal(s(ro), general)
+    np.testing.assert_array_equal(s(list(t)), general)
+    np.testing.assert_array_equal(s(t.astype(np.float32)), s(t.astype(np.float32).astype(float)))
+    w = s.angular_velocity(t.reshape(m, 1)).reshape(m, 3)
+    np.testing.assert_array_equal(s.angular_velocity(t), w)
+    np.testing.assert_array_equal(
+        s.angular_velocity(base[1::2], frame="body"), s.angular_velocity(t, frame="body")
+    )
+    if m:
+        bad = t.copy()
+        bad[m - 1] = b + 1.0
+        with pytest.raises(ValueError, match=f"index {m - 1}|{m - 1}"):
+            s(bad)
