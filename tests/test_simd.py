@@ -33,7 +33,8 @@ BATCH = {
     "c3 knot": lambda: qs.C3Spline(Q, T),
     "c3 patent": lambda: qs.C3Spline(Q, T, alpha=0.2, beta=0.1, variant="patent"),
     "cumulative_bezier 8": lambda: qs.CumulativeBezier(Q[:8], domain=(T[0], T[-1])),
-    "natural": lambda: qs.NaturalSpline(Q, T),  # value kernel; derivatives keep the jets
+    "natural": lambda: qs.NaturalSpline(Q, T),  # closed-form derivatives and rates
+    "natural large steps": lambda: qs.NaturalSpline(random_walk(30, 9, step=2.6), T[:30]),
 }
 TOL = {0: 1e-14, 1: 1e-14, 2: 5e-14, 3: 2e-13}  # by derivative order (see the module doc)
 

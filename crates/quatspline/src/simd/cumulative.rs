@@ -209,7 +209,7 @@ type V3<V> = [V; 3];
 type Q4<V> = [V; 4];
 
 #[inline(always)]
-fn qmul<V: Lanes>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
+pub(super) fn qmul<V: Lanes>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
     [
         a[3].fnma(b[3], a[2].fnma(b[2], a[1].fnma(b[1], a[0] * b[0]))),
         a[3].fnma(b[2], a[2].fma(b[3], a[1].fma(b[0], a[0] * b[1]))),
@@ -230,7 +230,7 @@ fn qmul_pure<V: Lanes>(a: Q4<V>, v: V3<V>) -> Q4<V> {
 }
 
 #[inline(always)]
-fn cross<V: Lanes>(a: V3<V>, b: V3<V>) -> V3<V> {
+pub(super) fn cross<V: Lanes>(a: V3<V>, b: V3<V>) -> V3<V> {
     [a[2].fnma(b[1], a[1] * b[2]), a[0].fnma(b[2], a[2] * b[0]), a[1].fnma(b[0], a[0] * b[1])]
 }
 
@@ -275,7 +275,7 @@ fn rot_axis<V: Lanes>(n: V3<V>, s2: V, c2: V, omc: V, v: V3<V>) -> V3<V> {
 
 /// The vector rotated by the unit quaternion q: x + 2w (v × x) + 2 v × (v × x).
 #[inline(always)]
-fn rotate<V: Lanes>(q: Q4<V>, x: V3<V>) -> V3<V> {
+pub(super) fn rotate<V: Lanes>(q: Q4<V>, x: V3<V>) -> V3<V> {
     let v = [q[1], q[2], q[3]];
     let c1 = cross(v, x);
     let c1 = add3(c1, c1);
@@ -284,11 +284,11 @@ fn rotate<V: Lanes>(q: Q4<V>, x: V3<V>) -> V3<V> {
 }
 
 /// Output kinds.
-const EVAL: u8 = 0;
-const BODY: u8 = 1;
-const WORLD: u8 = 2;
+pub(super) const EVAL: u8 = 0;
+pub(super) const BODY: u8 = 1;
+pub(super) const WORLD: u8 = 2;
 
-const fn width(k: usize, out: u8) -> usize {
+pub(super) const fn width(k: usize, out: u8) -> usize {
     if out == EVAL {
         4 * (k + 1)
     } else {
