@@ -394,7 +394,8 @@ unsafe fn block<V: Lanes, S: Src<V>, const K: usize, const OUT: u8>(
             let r = match K {
                 1 => rotate(q, w),
                 2 => rotate(q, a),
-                _ => add3(rotate(q, jk), cross(rotate(q, w), rotate(q, a))),
+                // q j q* + (q ω q*) × (q α q*) = q (j + ω × α) q*: one rotation
+                _ => rotate(q, add3(jk, cross(w, a))),
             };
             o[..3].copy_from_slice(&r);
         }
@@ -419,19 +420,35 @@ unsafe fn run<V: Lanes, const K: usize, const OUT: u8>(
     let mut i = 0;
     while i < n {
         let m = (n - i).min(V::N);
-        let mut tl = [0.0; 4];
-        let mut rec = [0usize; 4];
-        for l in 0..V::N {
-            let k = i + l.min(m - 1);
-            let s = seg[k] as usize;
-            tl[l] = t[k];
-            rec[l] = 2 * s + (t[k] > tab.mid[s]) as usize;
-        }
-        let tv = V::load(tl.as_ptr());
-        let uniform = rec[..V::N].iter().all(|&r| r == rec[0]);
-        let o = if uniform {
-            block::<V, _, K, OUT>(nj, nd, &Bcast(base.add(rec[0] * tab.stride)), tv)
+        // a full vector loads its times directly (4 scalar stores then a vector load would
+        // miss store forwarding); the tail repeats its last sample
+        let tv = if m == V::N {
+            V::load(t.as_ptr().add(i))
         } else {
+            let mut tl = [0.0; 4];
+            for (l, x) in tl.iter_mut().enumerate().take(V::N) {
+                *x = t[i + l.min(m - 1)];
+            }
+            V::load(tl.as_ptr())
+        };
+        // the common case first: every lane in the first lane's segment and half (no gather
+        // of the midpoints)
+        let s0 = seg[i] as usize;
+        let mid0 = tab.mid[s0];
+        let h0 = t[i] > mid0;
+        let uniform = (1..V::N).all(|l| {
+            let k = i + l.min(m - 1);
+            seg[k] as usize == s0 && (t[k] > mid0) == h0
+        });
+        let o = if uniform {
+            block::<V, _, K, OUT>(nj, nd, &Bcast(base.add((2 * s0 + h0 as usize) * tab.stride)), tv)
+        } else {
+            let mut rec = [0usize; 4];
+            for (l, r) in rec.iter_mut().enumerate().take(V::N) {
+                let k = i + l.min(m - 1);
+                let s = seg[k] as usize;
+                *r = 2 * s + (t[k] > tab.mid[s]) as usize;
+            }
             let idx = [rec[0] * tab.stride, rec[1] * tab.stride, rec[2] * tab.stride, rec[3] * tab.stride];
             V::transpose_records(base, &idx, tab.stride, local.as_mut_ptr());
             block::<V, _, K, OUT>(nj, nd, &Local(&local[..tab.stride]), tv)

@@ -12,7 +12,7 @@
 //! f'' = f₂x'² + f₁x'', f''' = f₃x'³ + 3f₂x'x'' + f₁x'''. Then e⁽ᵏ⁾ = (C⁽ᵏ⁾, Σ binom S⁽ʲ⁾v⁽ᵏ⁻ʲ⁾),
 //! q⁽ᵏ⁾ = qᵢ e⁽ᵏ⁾, and the body rates ω = 2 vec(e* e'), α = 2 vec(e* e''),
 //! jerk = 2 vec(e'* e'' + e* e''') (qᵢ cancels); world frame by one rotation by q
-//! (jerk_w = q jerk q* + ω_w × α_w).
+//! (jerk_w = q jerk q* + ω_w × α_w = q (jerk + ω × α) q*).
 
 use super::cumulative::{cross, qmul, rotate, width, BODY, EVAL, WORLD};
 use super::lanes::Lanes;
@@ -202,10 +202,10 @@ fn block<V: Lanes, const K: usize, const OUT: u8>(f: &[V], s: V) -> [V; 16] {
             let j2 = vec_conj_mul(c0, ev, cd3, e3v);
             let jb = [two * (j1[0] + j2[0]), two * (j1[1] + j2[1]), two * (j1[2] + j2[2])];
             if OUT == WORLD {
+                // q j q* + (q ω q*) × (q α q*) = q (j + ω × α) q*: one rotation
                 let a = scale3(vec_conj_mul(c0, ev, cd2, e2v), two);
-                let (jw, ww, aw) = (rotate(q, jb), rotate(q, w), rotate(q, a));
-                let c = cross(ww, aw);
-                [jw[0] + c[0], jw[1] + c[1], jw[2] + c[2]]
+                let c = cross(w, a);
+                rotate(q, [jb[0] + c[0], jb[1] + c[1], jb[2] + c[2]])
             } else {
                 jb
             }
@@ -230,12 +230,20 @@ unsafe fn run<V: Lanes, const K: usize, const OUT: u8>(
     let mut i = 0;
     while i < n {
         let m = (n - i).min(V::N);
-        let mut tl = [0.0; 4];
+        // a full vector loads its times directly (no store-forwarding stall); the tail
+        // repeats its last sample
+        let tv = if m == V::N {
+            V::load(t.as_ptr().add(i))
+        } else {
+            let mut tl = [0.0; 4];
+            for (l, x) in tl.iter_mut().enumerate().take(V::N) {
+                *x = t[i + l.min(m - 1)];
+            }
+            V::load(tl.as_ptr())
+        };
         let mut idx = [0usize; 4];
-        for l in 0..V::N {
-            let k = i + l.min(m - 1);
-            tl[l] = t[k];
-            idx[l] = seg[k] as usize * STRIDE;
+        for (l, x) in idx.iter_mut().enumerate().take(V::N) {
+            *x = seg[i + l.min(m - 1)] as usize * STRIDE;
         }
         if idx[..V::N].iter().all(|&x| x == idx[0]) {
             // broadcast: splat the record once per run of vectors in one segment
@@ -249,7 +257,7 @@ unsafe fn run<V: Lanes, const K: usize, const OUT: u8>(
             V::transpose_records(base, &idx, STRIDE, local.as_mut_ptr());
             cur = usize::MAX;
         }
-        let s = V::load(tl.as_ptr()) - local[0];
+        let s = tv - local[0];
         let o = block::<V, K, OUT>(&local, s);
         let rows = &mut out[w * i..w * (i + m)];
         if m == V::N && OUT == EVAL {
