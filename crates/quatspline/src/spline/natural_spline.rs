@@ -418,7 +418,9 @@ impl System<'_> {
     /// block-tridiagonal pattern, so each step is one block Thomas elimination (cyclic
     /// bordering when closed), linear in the keys; quadratic convergence takes ~4–6 steps
     /// where the fixed-point iteration takes ~55 sweeps. Stops at |Δw| ≤ 1e-14 (1 + |w|)
-    /// (the fixed point's criterion) or when Δ stops shrinking below 1e-11 (rounding floor).
+    /// (the fixed point's criterion), when Δ stops shrinking below 1e-11 (rounding floor),
+    /// or in the quadratic phase when the error left after a step (≈ (δ/δ_prev²) δ²) is below
+    /// 1e-16.
     /// None when it does not converge (or meets a singular block): the caller falls back.
     fn newton(&self, w0: &[Vec3]) -> Option<Vec<Vec3>> {
         let n = w0.len();
@@ -474,7 +476,13 @@ impl System<'_> {
             if !delta.is_finite() {
                 return None;
             }
-            if delta <= 1e-14 || (delta < 1e-11 && delta >= prev) {
+            // done when the step is below the criterion, when rounding stops it shrinking, or in
+            // the quadratic phase (δ < 1e-10) when the error left after this step, estimated
+            // (δ/δ_prev²) δ², is below 1e-16
+            if delta <= 1e-14
+                || (delta < 1e-11 && delta >= prev)
+                || (delta < 1e-10 && delta.powi(3) <= 1e-16 * prev * prev)
+            {
                 return Some(w);
             }
             prev = delta;
@@ -518,7 +526,6 @@ impl NaturalSpline {
         let (base, rho) = bases_and_chords(&kl);
         let h: Vec<f64> = (0..segs).map(|i| kl.h(i)).collect();
         let a: Vec<Matrix3<f64>> = rho.iter().map(|&r| rate_to_rotvec_dot(r)).collect();
-        let ai: Vec<Matrix3<f64>> = rho.iter().map(|&r| rotvec_dot_to_rate(r)).collect();
         let chord = |i: usize| vec3::scale(rho[i], 1.0 / h[i]);
         let mut rows: Vec<Row> = (0..n)
             .map(|k| {
@@ -578,13 +585,13 @@ impl NaturalSpline {
                 }
                 Row::NaturalEnd => {
                     let m = k - 1;
-                    l[k] = ai[m] * (2.0 / h[m]);
+                    l[k] = rotvec_dot_to_rate(rho[m]) * (2.0 / h[m]);
                     d[k] = eye * (4.0 / h[m]);
                     b0[k] = v3(rho[m]) * (6.0 / (h[m] * h[m]));
                 }
                 Row::Continuity => {
                     let (p, q) = (left(k), k);
-                    l[k] = ai[p] * (2.0 / h[p]);
+                    l[k] = rotvec_dot_to_rate(rho[p]) * (2.0 / h[p]);
                     d[k] = eye * (4.0 * (1.0 / h[p] + 1.0 / h[q]));
                     u[k] = a[q] * (2.0 / h[q]);
                     b0[k] = v3(rho[p]) * (6.0 / (h[p] * h[p])) + v3(rho[q]) * (6.0 / (h[q] * h[q]));
