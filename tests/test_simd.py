@@ -126,7 +126,7 @@ def test_kernel_actually_in_use():
     assert np.max(np.abs(s(t) - ref)) <= 1e-14
 
 
-@pytest.mark.parametrize("name", ["bspline", "c3 knot", "slerp"])
+@pytest.mark.parametrize("name", ["bspline", "c3 knot", "slerp", "natural"])
 def test_thread_count_independent_bits(name):
     s = BATCH[name]()
     rng = np.random.default_rng(4)
