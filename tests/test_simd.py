@@ -33,7 +33,8 @@ BATCH = {
     "c3 knot": lambda: qs.C3Spline(Q, T),
     "c3 patent": lambda: qs.C3Spline(Q, T, alpha=0.2, beta=0.1, variant="patent"),
     "cumulative_bezier 8": lambda: qs.CumulativeBezier(Q[:8], domain=(T[0], T[-1])),
-    "natural": lambda: qs.NaturalSpline(Q, T),  # value kernel; derivatives keep the jets
+    "natural": lambda: qs.NaturalSpline(Q, T),  # closed-form derivatives and rates
+    "natural large steps": lambda: qs.NaturalSpline(random_walk(30, 9, step=2.6), T[:30]),
 }
 TOL = {0: 1e-14, 1: 1e-14, 2: 5e-14, 3: 2e-13}  # by derivative order (see the module doc)
 
@@ -125,7 +126,7 @@ def test_kernel_actually_in_use():
     assert np.max(np.abs(s(t) - ref)) <= 1e-14
 
 
-@pytest.mark.parametrize("name", ["bspline", "c3 knot", "slerp"])
+@pytest.mark.parametrize("name", ["bspline", "c3 knot", "slerp", "natural"])
 def test_thread_count_independent_bits(name):
     s = BATCH[name]()
     rng = np.random.default_rng(4)
@@ -253,3 +254,31 @@ def test_small_call_fast_paths_equal_the_general_path():
     keep = np.ones(300, bool)
     keep[::7] = False
     np.testing.assert_array_equal(clamped(tt)[keep], clamped(tt2)[keep])
+
+
+@pytest.mark.parametrize("m", [0, 1, 2, 5, 255, 256, 257])
+def test_small_vector_path_any_layout(m):
+    # the binding copies vectors of < 256 times without borrow tracking: strided, read-only,
+    # other dtypes and the angular path must give the general path's rows and errors
+    s = BATCH["c3 knot"]()
+    a, b = s.domain
+    base = np.linspace(a, b, 2 * m + 1)
+    t = np.ascontiguousarray(base[1::2])
+    general = s(t.reshape(m, 1)).reshape(m, 4)
+    np.testing.assert_array_equal(s(t), general)
+    np.testing.assert_array_equal(s(base[1::2]), general)  # strided view
+    ro = t.copy()
+    ro.flags.writeable = False
+    np.testing.assert_array_equal(s(ro), general)
+    np.testing.assert_array_equal(s(list(t)), general)
+    np.testing.assert_array_equal(s(t.astype(np.float32)), s(t.astype(np.float32).astype(float)))
+    w = s.angular_velocity(t.reshape(m, 1)).reshape(m, 3)
+    np.testing.assert_array_equal(s.angular_velocity(t), w)
+    np.testing.assert_array_equal(
+        s.angular_velocity(base[1::2], frame="body"), s.angular_velocity(t, frame="body")
+    )
+    if m:
+        bad = t.copy()
+        bad[m - 1] = b + 1.0
+        with pytest.raises(ValueError, match=f"index {m - 1}|{m - 1}"):
+            s(bad)

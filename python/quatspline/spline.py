@@ -54,6 +54,8 @@ __all__ = [
 
 _FRAMES = ("world", "body")
 # scipy's RotationSpline(t, order) returns body-frame rates; ours takes an output array there.
+_F64 = np.dtype(np.float64)
+
 _ORDER_HINT = (
     "{name}(t, {order}): the second argument is `out`, an output array, not scipy's derivative "
     "order; for RotationSpline(t, 1) / (t, 2) use s.angular_velocity(t, frame='body') / "
@@ -228,16 +230,14 @@ class Spline:
         True
         """
         if out is None:
-            # small-call fast paths: one float, or a contiguous float64 vector
-            if type(t) is float:
-                return self._core.evaluate1(t, self.extrapolate)
-            if (
-                type(t) is np.ndarray
-                and t.dtype == np.float64
-                and t.ndim == 1
-                and t.flags.c_contiguous
-            ):
+            # small-call fast paths: a float64 vector (the binding copies small ones without
+            # borrow tracking and takes any strides), or one float; `is` against the canonical
+            # dtype is a pointer test (`==` converts its operand first)
+            tt = type(t)
+            if tt is np.ndarray and t.dtype is _F64 and t.ndim == 1:
                 return self._core.evaluate(t, 0, self.extrapolate)
+            if tt is float:
+                return self._core.evaluate1(t, self.extrapolate)
             shape, res = self._eval(t, 0)
             return res.reshape((*shape, 4))
         if isinstance(out, (int, np.integer)) and not isinstance(out, bool):

@@ -192,7 +192,7 @@ impl<const N: usize> Mul<f64> for Jet<N> {
 }
 
 /// Below this x = |u|², C and S take their derivatives from series.
-const CS_SERIES: f64 = 0.5;
+pub(crate) const CS_SERIES: f64 = 0.5;
 
 /// Derivatives 0..5 of C(x) = cos√x and S(x) = sin√x/√x at x ≥ 0 (values exact by libm).
 /// Closed forms: C^(n) = −S^(n−1)/2, S^(n) = (C^(n−1) − (2n − 1) S^(n−1))/(2x).
@@ -228,10 +228,10 @@ fn cos_sinc_sqrt<const N: usize>(x: f64) -> ([f64; N], [f64; N]) {
     (take(c), take(s))
 }
 
-const CS_TERMS: usize = 12;
+pub(crate) const CS_TERMS: usize = 12;
 
 /// Series coefficients of C^(n) and S^(n), n = 1..5 (computed once, at compile time).
-const CS_TABLE: ([[f64; CS_TERMS]; 5], [[f64; CS_TERMS]; 5]) = {
+pub(crate) const CS_TABLE: ([[f64; CS_TERMS]; 5], [[f64; CS_TERMS]; 5]) = {
     let mut c = [[0.0; CS_TERMS]; 5];
     let mut s = [[0.0; CS_TERMS]; 5];
     let mut n = 1;

@@ -6,8 +6,8 @@
 use quatspline::simd::{self, Isa};
 use quatspline::spline::{
     angular_into, angular_reference_into, evaluate_into, evaluate_reference_into, BetaSpline, C3Spline,
-    C3Variant, CumulativeBSpline, CumulativeBezier, Extrapolate, Frame, NaturalEnds, NaturalSpline,
-    PiecewiseSlerp, Spline,
+    C3Variant, CumulativeBSpline, CumulativeBezier, Extrapolate, Frame, Hermite, KeyEnds, NaturalEnds,
+    NaturalSpline, PiecewiseSlerp, Spline,
 };
 use quatspline::Quat;
 
@@ -64,6 +64,41 @@ fn splines() -> Vec<(&'static str, Box<dyn Spline>)> {
         "natural clamped",
         Box::new(
             NaturalSpline::new(&q, Some(&t), NaturalEnds::Clamped { start: None, end: None }, true).unwrap(),
+        ),
+    ));
+    // small steps (|v|² below the series switch 0.5 everywhere) and large ones (above it),
+    // closed loops; Hermite keys share the kernel (cubic and quintic segments)
+    let qs = walk(30, 4, 0.02);
+    v.push((
+        "natural small",
+        Box::new(NaturalSpline::new(&qs, Some(&t), NaturalEnds::Natural, true).unwrap()),
+    ));
+    let ql = walk(30, 5, 2.6);
+    v.push((
+        "natural large",
+        Box::new(NaturalSpline::new(&ql, Some(&t), NaturalEnds::Natural, true).unwrap()),
+    ));
+    let mut tc = t.clone();
+    tc.push(t[29] + 0.8);
+    v.push((
+        "natural closed",
+        Box::new(NaturalSpline::with_keyframes(&q, Some(&tc), NaturalEnds::Closed, false, true).unwrap()),
+    ));
+    let mut r = Rng(6);
+    let mut vecs = |scale: f64| -> Vec<[f64; 3]> {
+        (0..30)
+            .map(|_| [scale * (r.next() - 0.5), scale * (r.next() - 0.5), scale * (r.next() - 0.5)])
+            .collect()
+    };
+    let (rates, accels) = (vecs(2.0), vecs(3.0));
+    v.push((
+        "hermite cubic",
+        Box::new(Hermite::new(&q, Some(&t), &rates, None, Frame::Body, KeyEnds::Open, true).unwrap()),
+    ));
+    v.push((
+        "hermite quintic",
+        Box::new(
+            Hermite::new(&q, Some(&t), &rates, Some(&accels), Frame::World, KeyEnds::Open, true).unwrap(),
         ),
     ));
     for k in [2, 3, 4, 5, 6, 9, 12] {
@@ -135,26 +170,26 @@ fn isas() -> Vec<Isa> {
     v
 }
 
-/// Kernel rows for `t`, segments by `Spline::locate`.
-/// Kernel rows, or the reference rows where the kernel declines (the natural spline's
-/// derivatives keep the jets).
+/// Kernel rows for `t`, segments by `Spline::locate` (every kernel covers every order).
 fn kernel_eval(s: &dyn Spline, isa: Isa, t: &[f64], order: usize) -> Vec<f64> {
     let seg: Vec<u32> = t.iter().map(|&x| s.locate(x) as u32).collect();
     let mut out = vec![f64::NAN; t.len() * 4 * (order + 1)];
-    if !s.batch().expect("batch kernel").evaluate(isa, &seg, t, order, &mut out) {
-        assert!(order > 0, "{}: order 0 must have a kernel", s.name());
-        return reference_eval(s, t, order);
-    }
+    assert!(
+        s.batch().expect("batch kernel").evaluate(isa, &seg, t, order, &mut out),
+        "{}: the kernel declined order {order}",
+        s.name()
+    );
     out
 }
 
 fn kernel_angular(s: &dyn Spline, isa: Isa, t: &[f64], order: usize, frame: Frame) -> Vec<f64> {
     let seg: Vec<u32> = t.iter().map(|&x| s.locate(x) as u32).collect();
     let mut out = vec![f64::NAN; t.len() * 3];
-    if !s.batch().unwrap().angular(isa, &seg, t, order, frame, &mut out) {
-        assert!(s.name() == "natural", "{}: closed-form rates expected", s.name());
-        return reference_angular(s, t, order, frame);
-    }
+    assert!(
+        s.batch().unwrap().angular(isa, &seg, t, order, frame, &mut out),
+        "{}: closed-form rates expected",
+        s.name()
+    );
     out
 }
 

@@ -209,7 +209,7 @@ type V3<V> = [V; 3];
 type Q4<V> = [V; 4];
 
 #[inline(always)]
-fn qmul<V: Lanes>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
+pub(super) fn qmul<V: Lanes>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
     [
         a[3].fnma(b[3], a[2].fnma(b[2], a[1].fnma(b[1], a[0] * b[0]))),
         a[3].fnma(b[2], a[2].fma(b[3], a[1].fma(b[0], a[0] * b[1]))),
@@ -230,7 +230,7 @@ fn qmul_pure<V: Lanes>(a: Q4<V>, v: V3<V>) -> Q4<V> {
 }
 
 #[inline(always)]
-fn cross<V: Lanes>(a: V3<V>, b: V3<V>) -> V3<V> {
+pub(super) fn cross<V: Lanes>(a: V3<V>, b: V3<V>) -> V3<V> {
     [a[2].fnma(b[1], a[1] * b[2]), a[0].fnma(b[2], a[2] * b[0]), a[1].fnma(b[0], a[0] * b[1])]
 }
 
@@ -275,7 +275,7 @@ fn rot_axis<V: Lanes>(n: V3<V>, s2: V, c2: V, omc: V, v: V3<V>) -> V3<V> {
 
 /// The vector rotated by the unit quaternion q: x + 2w (v × x) + 2 v × (v × x).
 #[inline(always)]
-fn rotate<V: Lanes>(q: Q4<V>, x: V3<V>) -> V3<V> {
+pub(super) fn rotate<V: Lanes>(q: Q4<V>, x: V3<V>) -> V3<V> {
     let v = [q[1], q[2], q[3]];
     let c1 = cross(v, x);
     let c1 = add3(c1, c1);
@@ -284,11 +284,11 @@ fn rotate<V: Lanes>(q: Q4<V>, x: V3<V>) -> V3<V> {
 }
 
 /// Output kinds.
-const EVAL: u8 = 0;
-const BODY: u8 = 1;
-const WORLD: u8 = 2;
+pub(super) const EVAL: u8 = 0;
+pub(super) const BODY: u8 = 1;
+pub(super) const WORLD: u8 = 2;
 
-const fn width(k: usize, out: u8) -> usize {
+pub(super) const fn width(k: usize, out: u8) -> usize {
     if out == EVAL {
         4 * (k + 1)
     } else {
@@ -394,7 +394,8 @@ unsafe fn block<V: Lanes, S: Src<V>, const K: usize, const OUT: u8>(
             let r = match K {
                 1 => rotate(q, w),
                 2 => rotate(q, a),
-                _ => add3(rotate(q, jk), cross(rotate(q, w), rotate(q, a))),
+                // q j q* + (q ω q*) × (q α q*) = q (j + ω × α) q*: one rotation
+                _ => rotate(q, add3(jk, cross(w, a))),
             };
             o[..3].copy_from_slice(&r);
         }
@@ -419,19 +420,35 @@ unsafe fn run<V: Lanes, const K: usize, const OUT: u8>(
     let mut i = 0;
     while i < n {
         let m = (n - i).min(V::N);
-        let mut tl = [0.0; 4];
-        let mut rec = [0usize; 4];
-        for l in 0..V::N {
-            let k = i + l.min(m - 1);
-            let s = seg[k] as usize;
-            tl[l] = t[k];
-            rec[l] = 2 * s + (t[k] > tab.mid[s]) as usize;
-        }
-        let tv = V::load(tl.as_ptr());
-        let uniform = rec[..V::N].iter().all(|&r| r == rec[0]);
-        let o = if uniform {
-            block::<V, _, K, OUT>(nj, nd, &Bcast(base.add(rec[0] * tab.stride)), tv)
+        // a full vector loads its times directly (4 scalar stores then a vector load would
+        // miss store forwarding); the tail repeats its last sample
+        let tv = if m == V::N {
+            V::load(t.as_ptr().add(i))
         } else {
+            let mut tl = [0.0; 4];
+            for (l, x) in tl.iter_mut().enumerate().take(V::N) {
+                *x = t[i + l.min(m - 1)];
+            }
+            V::load(tl.as_ptr())
+        };
+        // the common case first: every lane in the first lane's segment and half (no gather
+        // of the midpoints)
+        let s0 = seg[i] as usize;
+        let mid0 = tab.mid[s0];
+        let h0 = t[i] > mid0;
+        let uniform = (1..V::N).all(|l| {
+            let k = i + l.min(m - 1);
+            seg[k] as usize == s0 && (t[k] > mid0) == h0
+        });
+        let o = if uniform {
+            block::<V, _, K, OUT>(nj, nd, &Bcast(base.add((2 * s0 + h0 as usize) * tab.stride)), tv)
+        } else {
+            let mut rec = [0usize; 4];
+            for (l, r) in rec.iter_mut().enumerate().take(V::N) {
+                let k = i + l.min(m - 1);
+                let s = seg[k] as usize;
+                *r = 2 * s + (t[k] > tab.mid[s]) as usize;
+            }
             let idx = [rec[0] * tab.stride, rec[1] * tab.stride, rec[2] * tab.stride, rec[3] * tab.stride];
             V::transpose_records(base, &idx, tab.stride, local.as_mut_ptr());
             block::<V, _, K, OUT>(nj, nd, &Local(&local[..tab.stride]), tv)
