@@ -9,11 +9,10 @@
 //!
 //! **Value** (the formulas of `spline/squad.rs`, `kochanek_bartels.rs`, `spherical_bezier.rs`,
 //! evaluated as the jet path does): u = (t − t₀)/h; the first level cⱼ exp(u aⱼ nⱼ) by the
-//! vector sin/cos; each slerp(a, b; w) = a exp(w log(a* b)) with d = a* b,
-//! s = |vec d|, θ = atan2(s, d_w) (the vector atan2 of `lanes.rs`) and
-//! exp(w log d) = (cos wθ, sin wθ / s · vec d) — at s = 0 the identity, or for d = −1 the
-//! reference's log(−1) = (π, 0, 0) choice, (cos wπ, sin wπ, 0, 0). Derivatives and rates keep
-//! the exact jets (the kernels decline and the engine falls back per run).
+//! vector sin/cos; each slerp(a, b; w) = a exp(w log(a* b)) by [`slerp`] (no quaternion
+//! product: c = a·b, r = b − c a, θ = atan2(|r|, c) with the vector atan2 of `lanes.rs`).
+//! Derivatives and rates keep the exact jets (the kernels decline and the engine falls back
+//! per run).
 
 use super::lanes::{Lanes, LanesExt};
 use super::{BatchKernel, Isa, Locator};
@@ -46,17 +45,38 @@ fn times_exp<V: Lanes>(c: Q4<V>, n: [V; 3], x: V) -> Q4<V> {
     qmul(c, [co, s * n[0], s * n[1], s * n[2]])
 }
 
-/// slerp(a, b; w) = a exp(w log(a* b)), no hemisphere flip (as `JQuat::slerp`).
+/// slerp(a, b; w) = a exp(w log(a* b)), no hemisphere flip (as `JQuat::slerp`), for unit a
+/// and b, written without quaternion products: with c = a·b and r = b − c a (= a ⊗ vec(a* b),
+/// orthogonal to a, |r| = sin θ), θ = atan2(|r|, c) and the result is
+/// a cos wθ + r sin wθ / |r|. Where |r| = 0 exactly: a, or for c < 0 the reference's
+/// log(−1) = (π, 0, 0) choice, a ⊗ (cos wπ, sin wπ, 0, 0).
 #[inline(always)]
 pub(crate) fn slerp<V: LanesExt>(a: Q4<V>, b: Q4<V>, w: V) -> Q4<V> {
-    let d = qmul([a[0], -a[1], -a[2], -a[3]], b);
-    let s = d[3].fma(d[3], d[2].fma(d[2], d[1] * d[1])).sqrt();
-    let th = s.atan2(d[0]);
+    let c = a[3].fma(b[3], a[2].fma(b[2], a[1].fma(b[1], a[0] * b[0])));
+    let r = [c.fnma(a[0], b[0]), c.fnma(a[1], b[1]), c.fnma(a[2], b[2]), c.fnma(a[3], b[3])];
+    let s = r[3].fma(r[3], r[2].fma(r[2], r[1].fma(r[1], r[0] * r[0]))).sqrt();
+    let th = s.atan2(c);
     let (sn, cs) = (w * th).sin_cos();
     let zero = V::splat(0.0);
-    let r = zero.lt_select(s, sn / s, zero);
-    let extra = zero.lt_select(s, zero, sn);
-    qmul(a, [cs, d[1].fma(r, extra), d[2] * r, d[3] * r])
+    let k = zero.lt_select(s, sn / s, zero);
+    let o = [r[0].fma(k, a[0] * cs), r[1].fma(k, a[1] * cs), r[2].fma(k, a[2] * cs), r[3].fma(k, a[3] * cs)];
+    if !s.any_lt(V::splat(f64::MIN_POSITIVE)) {
+        return o;
+    }
+    // a ⊗ (cs, sn, 0, 0) = a cs + (a ⊗ i) sn, a ⊗ i = (−a_x, a_w, a_z, −a_y)
+    let special = [
+        a[1].fnma(sn, a[0] * cs),
+        a[0].fma(sn, a[1] * cs),
+        a[3].fma(sn, a[2] * cs),
+        a[2].fnma(sn, a[3] * cs),
+    ];
+    let tiny = V::splat(f64::MIN_POSITIVE);
+    [
+        s.lt_select(tiny, special[0], o[0]),
+        s.lt_select(tiny, special[1], o[1]),
+        s.lt_select(tiny, special[2], o[2]),
+        s.lt_select(tiny, special[3], o[3]),
+    ]
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
