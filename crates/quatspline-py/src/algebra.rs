@@ -300,6 +300,23 @@ fn sclerp<'py>(py: Python<'py>, dq0: Arr<'py>, dq1: Arr<'py>, t: Arr<'py>) -> Ou
     let (a, b, t) =
         (Rows::new(&dq0, "dq0", 8)?, Rows::new(&dq1, "dq1", 8)?, Rows::new(&t, "t", 1)?.parameters()?);
     let n = same_len(&[("dq0", a.len()), ("dq1", b.len()), ("t", t.len())])?;
+    // contiguous rows: the pairs kernel of the SIMD engine (AVX2 where the CPU has it)
+    if let (Some(a8), Some(b8), Some(tt), Some(isa)) = (a.flat, b.flat, t.flat, quatspline::simd::isa()) {
+        return fill_blocks(py, "sclerp", n, 8, |first, block| {
+            let r = first..first + block.len() / 8;
+            quatspline::simd::pairs::sclerp_pairs(
+                isa,
+                &a8[8 * r.start..8 * r.end],
+                &b8[8 * r.start..8 * r.end],
+                &tt[r],
+                block,
+            )
+            .map_err(|e| match e {
+                Error::ZeroNorm { arg, index } => Error::ZeroNorm { arg, index: first + index },
+                e => e,
+            })
+        });
+    }
     fill(py, "sclerp", n, |i| Ok(interp::sclerp(unit_dq(&a, i)?, unit_dq(&b, i)?, t.scalar(i)).to_array()))
 }
 

@@ -467,3 +467,70 @@ fn slerp_pairs_report_the_first_zero_key() {
         assert!(e.contains("q1") && e.contains('6'), "{e}");
     }
 }
+
+fn dq_of(r: Quat, t: [f64; 3]) -> [f64; 8] {
+    quatspline::DualQuat::from_rotation_translation(r, t).to_array()
+}
+
+#[test]
+fn sclerp_pairs_equal_the_scalar_sclerp() {
+    let mut r = Rng(31);
+    let n = 1001;
+    let (mut a, mut b, mut t) = (Vec::new(), Vec::new(), Vec::new());
+    for i in 0..n {
+        let (p, q) = (r.quat(), r.quat());
+        let tp = [4.0 * r.next() - 2.0, 4.0 * r.next() - 2.0, 4.0 * r.next() - 2.0];
+        let tq = [4.0 * r.next() - 2.0, 4.0 * r.next() - 2.0, 4.0 * r.next() - 2.0];
+        let (x, y) = match i % 6 {
+            0 => (dq_of(p, tp), dq_of(p, tq)), // pure translation
+            1 => (dq_of(p, tp), dq_of(p, tp)), // the same pose
+            2 => (dq_of(p, tp), dq_of(-(p * Quat::new(1e-9, 0.3, -0.2, 0.9).normalize()), tq)), // w ≈ 0
+            3 => (dq_of(p, tp), dq_of((p * Quat::new(1.0, 2e-9, 0.0, -1e-9)).normalize(), tq)), // tiny angle
+            _ => (dq_of(p, tp), dq_of(q, tq)),
+        };
+        // some rows not normalised (scaled)
+        let sc = if i % 5 == 0 { 2.5 } else { 1.0 };
+        a.extend(x.map(|c| c * sc));
+        b.extend(y);
+        t.push(if i % 9 == 0 {
+            0.0
+        } else if i % 9 == 1 {
+            1.0
+        } else {
+            1.4 * r.next() - 0.2
+        });
+    }
+    let mut want = vec![0.0; 8 * n];
+    pairs::sclerp_pairs_reference(&a, &b, &t, &mut want).unwrap();
+    for isa in isas() {
+        let mut got = vec![f64::NAN; 8 * n];
+        pairs::sclerp_pairs(isa, &a, &b, &t, &mut got).unwrap();
+        for i in 0..n {
+            let (g, w) = (&got[8 * i..8 * i + 8], &want[8 * i..8 * i + 8]);
+            let scale = w.iter().map(|v| v * v).sum::<f64>().sqrt().max(1.0);
+            for c in 0..8 {
+                assert!((g[c] - w[c]).abs() <= 1e-14 * scale, "{isa:?} row {i} comp {c}: {g:?} vs {w:?}");
+            }
+        }
+        for len in 0..=9 {
+            let mut o = vec![0.0; 8 * len];
+            pairs::sclerp_pairs(
+                isa,
+                &a[8 * 3..8 * (3 + len)],
+                &b[8 * 3..8 * (3 + len)],
+                &t[3..3 + len],
+                &mut o,
+            )
+            .unwrap();
+            assert_eq!(&o[..], &got[8 * 3..8 * (3 + len)], "{isa:?} len {len}");
+        }
+        // a zero rotation part: the first one is reported, as by the scalar path
+        let mut bad = b[..8 * 9].to_vec();
+        bad[8 * 5..8 * 5 + 4].copy_from_slice(&[0.0; 4]);
+        let mut o = vec![0.0; 72];
+        let e = pairs::sclerp_pairs(isa, &a[..72], &bad, &t[..9], &mut o).unwrap_err().to_string();
+        let w = pairs::sclerp_pairs_reference(&a[..72], &bad, &t[..9], &mut o).unwrap_err().to_string();
+        assert_eq!(e, w);
+        assert!(e.starts_with("dq1") && e.contains('5'), "{e}");
+    }
+}

@@ -204,3 +204,178 @@ pub fn slerp_pairs(
     // SAFETY: lengths checked above.
     unsafe { run::<f64>(q0, q1, t, long_path, out) }
 }
+
+// ------------------------------------------------------------------------------- sclerp
+
+use crate::dual_quat::DualQuat;
+
+fn unit_dq(rows: &[f64], i: usize, arg: &'static str) -> Result<DualQuat> {
+    DualQuat::from_array(rows[8 * i..8 * i + 8].try_into().expect("row of 8"))
+        .try_normalize()
+        .map_err(|_| Error::ZeroNorm { arg, index: i })
+}
+
+fn sclerp_row(a: &[f64], b: &[f64], t: &[f64], i: usize) -> Result<[f64; 8]> {
+    Ok(crate::interp::sclerp(unit_dq(a, i, "dq0")?, unit_dq(b, i, "dq1")?, t[i]).to_array())
+}
+
+/// The scalar reference of [`sclerp_pairs`]: `interp::sclerp` row by row.
+pub fn sclerp_pairs_reference(a: &[f64], b: &[f64], t: &[f64], out: &mut [f64]) -> Result<()> {
+    check8(a, b, t, out);
+    for i in 0..t.len() {
+        out[8 * i..8 * i + 8].copy_from_slice(&sclerp_row(a, b, t, i)?);
+    }
+    Ok(())
+}
+
+fn check8(a: &[f64], b: &[f64], t: &[f64], out: &[f64]) {
+    let n = t.len();
+    assert!(a.len() == 8 * n && b.len() == 8 * n && out.len() == 8 * n, "sclerp_pairs: bad lengths");
+}
+
+#[inline(always)]
+fn qmul<V: Lanes>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
+    super::slerp::qmul(a, b)
+}
+
+#[inline(always)]
+fn conj<V: Lanes>(a: Q4<V>) -> Q4<V> {
+    [a[0], -a[1], -a[2], -a[3]]
+}
+
+#[inline(always)]
+fn add4<V: Lanes>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3]]
+}
+
+/// `DualQuat::try_normalize` (r with the bits of `Quat::try_normalize`, d/|r| made
+/// orthogonal to r) for squared norms of r in [1e-290, 1e290].
+#[inline(always)]
+fn unit_dual<V: LanesExt>(r: Q4<V>, d: Q4<V>, n2: V) -> (Q4<V>, Q4<V>) {
+    let ru = unit(r, n2);
+    let k = V::splat(1.0) / n2.sqrt();
+    let d = [d[0] * k, d[1] * k, d[2] * k, d[3] * k];
+    let p = dot(ru, d);
+    (ru, [p.fnma(ru[0], d[0]), p.fnma(ru[1], d[1]), p.fnma(ru[2], d[2]), p.fnma(ru[3], d[3])])
+}
+
+/// `DualQuat::powf` of a unit dual quaternion with r_w ≥ 0: the screw power by its
+/// parameters (half angle h = atan2(|v|, w), axis u = v/|v|, translation t = 2 vec(d r*)):
+/// real part (cos sh, sin sh · u), dual part (−½ s (u·t) sin sh, m + ½ s (u·t) cos sh · u)
+/// with m = ½ (sin sh (t × u) + (t − (u·t) u) sin(sh)/sin(h) cos h); at |v| = 0 the pure
+/// translation (1, 0) + ε (0, ½ s t).
+#[inline(always)]
+fn screw_power<V: LanesExt>(r: Q4<V>, d: Q4<V>, s: V) -> (Q4<V>, Q4<V>) {
+    let zero = V::splat(0.0);
+    let (half, one) = (V::splat(0.5), V::splat(1.0));
+    let dr = qmul(d, conj(r));
+    let t = [dr[1] + dr[1], dr[2] + dr[2], dr[3] + dr[3]];
+    let sn = r[3].fma(r[3], r[2].fma(r[2], r[1] * r[1])).sqrt();
+    let h = sn.atan2(r[0]);
+    let pos = |x: V, y: V| zero.lt_select(sn, x, y);
+    let inv = pos(one / sn, zero);
+    let u = [pos(r[1] * inv, one), r[2] * inv, r[3] * inv];
+    let ut = u[2].fma(t[2], u[1].fma(t[1], u[0] * t[0]));
+    let (sh, ch) = (s * h).sin_cos();
+    // sin(sh)/sin(h) · cos h = sin(sh) w / |v| (|r| = 1); s at |v| = 0
+    let ratio = pos(sh * r[0] * inv, s);
+    let cr = [t[1] * u[2] - t[2] * u[1], t[2] * u[0] - t[0] * u[2], t[0] * u[1] - t[1] * u[0]];
+    let hd = half * s * ut;
+    let hdc = hd * ch;
+    let mut dv = [zero; 3];
+    for c in 0..3 {
+        let m = half * cr[c].fma(sh, ratio * ut.fnma(u[c], t[c]));
+        // pure translation (|v| = 0): ½ s t exactly
+        dv[c] = pos(hdc.fma(u[c], m), half * s * t[c]);
+    }
+    ([ch, sh * u[0], sh * u[1], sh * u[2]], [-(hd * sh), dv[0], dv[1], dv[2]])
+}
+
+#[inline(always)]
+unsafe fn run_sclerp<V: LanesExt>(a8: &[f64], b8: &[f64], t: &[f64], out: &mut [f64]) -> Result<()> {
+    let n = t.len();
+    let (lo, hi) = (V::splat(1e-290), V::splat(1e290));
+    let zero = V::splat(0.0);
+    let mut i = 0;
+    while i < n {
+        let m = (n - i).min(V::N);
+        let (mut pa, mut pb, mut pt) = ([0.0; 32], [0.0; 32], [0.0; 4]);
+        let (ap, bp, tp) = if m == V::N {
+            (a8.as_ptr().add(8 * i), b8.as_ptr().add(8 * i), t.as_ptr().add(i))
+        } else {
+            for l in 0..4 {
+                let k = i + l.min(m - 1);
+                pa[8 * l..8 * l + 8].copy_from_slice(&a8[8 * k..8 * k + 8]);
+                pb[8 * l..8 * l + 8].copy_from_slice(&b8[8 * k..8 * k + 8]);
+                pt[l] = t[k];
+            }
+            (pa.as_ptr(), pb.as_ptr(), pt.as_ptr())
+        };
+        let idx = [0, 8, 16, 24];
+        let (mut fa, mut fb) = ([zero; 8], [zero; 8]);
+        V::transpose_records(ap, &idx, 8, fa.as_mut_ptr());
+        V::transpose_records(bp, &idx, 8, fb.as_mut_ptr());
+        let tv = V::load(tp);
+        let (ar, ad) = ([fa[0], fa[1], fa[2], fa[3]], [fa[4], fa[5], fa[6], fa[7]]);
+        let (br, bd) = ([fb[0], fb[1], fb[2], fb[3]], [fb[4], fb[5], fb[6], fb[7]]);
+        let (na, nb) = (norm2_plain(ar), norm2_plain(br));
+        let (ar, ad) = unit_dual(ar, ad, na);
+        let (br, bd) = unit_dual(br, bd, nb);
+        // rel = a* b, negated when its real w < 0 (w summed as the scalar product does, so the
+        // shortest-screw choice is the scalar path's)
+        let w = ar[0] * br[0] + ar[1] * br[1] + ar[2] * br[2] + ar[3] * br[3];
+        let sg = w.lt_select(zero, V::splat(-1.0), V::splat(1.0));
+        let rr = qmul(conj(ar), br);
+        let rd = add4(qmul(conj(ar), bd), qmul(conj(ad), br));
+        let rr = [w * sg, rr[1] * sg, rr[2] * sg, rr[3] * sg];
+        let rd = [rd[0] * sg, rd[1] * sg, rd[2] * sg, rd[3] * sg];
+        let (pr, pd) = screw_power(rr, rd, tv);
+        let or = qmul(ar, pr);
+        let od = add4(qmul(ar, pd), qmul(ad, pr));
+        let rows = &mut out[8 * i..8 * (i + m)];
+        if m == V::N {
+            V::store_rows4(or, rows.as_mut_ptr(), 8);
+            V::store_rows4(od, rows.as_mut_ptr().add(4), 8);
+        } else {
+            for (c, v) in or.iter().chain(od.iter()).enumerate() {
+                let x = v.to_array();
+                for l in 0..m {
+                    rows[8 * l + c] = x[l];
+                }
+            }
+        }
+        if na.any_lt(lo) || hi.any_lt(na) || nb.any_lt(lo) || hi.any_lt(nb) {
+            let (na, nb) = (na.to_array(), nb.to_array());
+            for l in 0..m {
+                let ok = |x: f64| (1e-290..=1e290).contains(&x);
+                if !ok(na[l]) || !ok(nb[l]) {
+                    rows[8 * l..8 * l + 8].copy_from_slice(&sclerp_row(a8, b8, t, i + l)?);
+                }
+            }
+        }
+        i += m;
+    }
+    Ok(())
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn run_sclerp_avx2(a: &[f64], b: &[f64], t: &[f64], out: &mut [f64]) -> Result<()> {
+    run_sclerp::<super::lanes::Avx2>(a, b, t, out)
+}
+
+/// ScLerp of independent pose pairs: rows of 8 (dual quaternions, normalised as
+/// `DualQuat::try_normalize` does) in `a`, `b`, parameters `t`, rows of 8 out; equals
+/// [`crate::interp::sclerp`] row by row within the kernels' bound. Errors name the first
+/// zero rotation part (`dq0`/`dq1` and its row).
+pub fn sclerp_pairs(isa: Isa, a: &[f64], b: &[f64], t: &[f64], out: &mut [f64]) -> Result<()> {
+    check8(a, b, t, out);
+    #[cfg(target_arch = "x86_64")]
+    if isa == Isa::Avx2 && super::avx2_available() {
+        // SAFETY: AVX2 and FMA detected; lengths checked above.
+        return unsafe { run_sclerp_avx2(a, b, t, out) };
+    }
+    let _ = isa;
+    // SAFETY: lengths checked above.
+    unsafe { run_sclerp::<f64>(a, b, t, out) }
+}
