@@ -325,9 +325,9 @@ fn vector_atan2_within_two_ulp_of_libm() {
         y.push(ang.sin());
         x.push(ang.cos());
     }
-    for ratio in [0.66, 2.414_213_562_373_095, 1.0, 1e-300, 1e-20, 1e20, 1e300] {
+    for ratio in [0.66f64, 2.414_213_562_373_095, 1.0, 1e-300, 1e-20, 1e20, 1e300] {
         for d in -20i64..=20 {
-            let v = f64::from_bits((ratio as f64).to_bits().wrapping_add(d as u64));
+            let v = f64::from_bits(ratio.to_bits().wrapping_add(d as u64));
             for (sy, sx) in [(1.0, 1.0), (-1.0, 1.0), (1.0, -1.0), (-1.0, -1.0)] {
                 y.push(sy * v);
                 x.push(sx);
@@ -439,8 +439,7 @@ fn slerp_pairs_equal_the_scalar_slerp() {
 
 #[test]
 fn slerp_pairs_report_the_first_zero_key() {
-    let (mut a, mut b, t) =
-        (vec![1.0, 0.0, 0.0, 0.0].repeat(9), vec![0.0, 1.0, 0.0, 0.0].repeat(9), vec![0.5; 9]);
+    let (mut a, mut b, t) = ([1.0, 0.0, 0.0, 0.0].repeat(9), [0.0, 1.0, 0.0, 0.0].repeat(9), vec![0.5; 9]);
     b[4 * 6..4 * 6 + 4].copy_from_slice(&[0.0; 4]);
     a[4 * 7..4 * 7 + 4].copy_from_slice(&[0.0; 4]);
     // a tiny key (its squared norm underflows) and a huge one normalise (scaled first), as in
