@@ -234,7 +234,7 @@ fn check8(a: &[f64], b: &[f64], t: &[f64], out: &[f64]) {
 }
 
 #[inline(always)]
-fn qmul<V: Lanes>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
+fn qmul<V: LanesExt>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
     super::slerp::qmul(a, b)
 }
 

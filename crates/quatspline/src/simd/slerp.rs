@@ -19,6 +19,123 @@ use super::{BatchKernel, Isa, Locator};
 use crate::jet::Axis;
 use crate::quat::Quat;
 use crate::spline::Frame;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// The arithmetic the slerp-family bodies use: any [`LanesExt`] vector, or [`P2`], two of
+/// them in lockstep.
+pub(crate) trait Arith:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
+{
+    fn splat(x: f64) -> Self;
+    fn fma(self, b: Self, c: Self) -> Self;
+    fn fnma(self, b: Self, c: Self) -> Self;
+    fn sin_cos(self) -> (Self, Self);
+    fn sqrt(self) -> Self;
+    fn lt_select(self, b: Self, x: Self, y: Self) -> Self;
+    fn atan2(self, x: Self) -> Self;
+    fn any_lt(self, b: Self) -> bool;
+}
+
+impl<V: LanesExt> Arith for V {
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        <V as Lanes>::splat(x)
+    }
+    #[inline(always)]
+    fn fma(self, b: Self, c: Self) -> Self {
+        <V as Lanes>::fma(self, b, c)
+    }
+    #[inline(always)]
+    fn fnma(self, b: Self, c: Self) -> Self {
+        <V as Lanes>::fnma(self, b, c)
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        <V as Lanes>::sin_cos(self)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        <V as Lanes>::sqrt(self)
+    }
+    #[inline(always)]
+    fn lt_select(self, b: Self, x: Self, y: Self) -> Self {
+        <V as Lanes>::lt_select(self, b, x, y)
+    }
+    #[inline(always)]
+    fn atan2(self, x: Self) -> Self {
+        <V as LanesExt>::atan2(self, x)
+    }
+    #[inline(always)]
+    fn any_lt(self, b: Self) -> bool {
+        <V as LanesExt>::any_lt(self, b)
+    }
+}
+
+/// Two vectors of samples evaluated in lockstep: every operation is issued for both, so the
+/// long dependency chains of a slerp (square root, atan2's divisions, sin/cos, division)
+/// of one vector overlap those of the other. Each lane's result is the same as alone.
+#[derive(Clone, Copy)]
+pub(crate) struct P2<V>(V, V);
+
+macro_rules! p2_op {
+    ($tr:ident, $f:ident) => {
+        impl<V: Arith> $tr for P2<V> {
+            type Output = Self;
+            #[inline(always)]
+            fn $f(self, b: Self) -> Self {
+                P2(self.0.$f(b.0), self.1.$f(b.1))
+            }
+        }
+    };
+}
+p2_op!(Add, add);
+p2_op!(Sub, sub);
+p2_op!(Mul, mul);
+p2_op!(Div, div);
+
+impl<V: Arith> Neg for P2<V> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        P2(-self.0, -self.1)
+    }
+}
+
+impl<V: Arith> Arith for P2<V> {
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        P2(V::splat(x), V::splat(x))
+    }
+    #[inline(always)]
+    fn fma(self, b: Self, c: Self) -> Self {
+        P2(self.0.fma(b.0, c.0), self.1.fma(b.1, c.1))
+    }
+    #[inline(always)]
+    fn fnma(self, b: Self, c: Self) -> Self {
+        P2(self.0.fnma(b.0, c.0), self.1.fnma(b.1, c.1))
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        let ((s0, c0), (s1, c1)) = (self.0.sin_cos(), self.1.sin_cos());
+        (P2(s0, s1), P2(c0, c1))
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        P2(self.0.sqrt(), self.1.sqrt())
+    }
+    #[inline(always)]
+    fn lt_select(self, b: Self, x: Self, y: Self) -> Self {
+        P2(self.0.lt_select(b.0, x.0, y.0), self.1.lt_select(b.1, x.1, y.1))
+    }
+    #[inline(always)]
+    fn atan2(self, x: Self) -> Self {
+        P2(self.0.atan2(x.0), self.1.atan2(x.1))
+    }
+    #[inline(always)]
+    fn any_lt(self, b: Self) -> bool {
+        self.0.any_lt(b.0) | self.1.any_lt(b.1)
+    }
+}
 
 /// The most control points a de Casteljau table takes (a cubic segment has 4; spherical
 /// Bézier curves beyond this keep the jets).
@@ -29,7 +146,7 @@ const SQUAD_STRIDE: usize = 20;
 type Q4<V> = [V; 4];
 
 #[inline(always)]
-pub(crate) fn qmul<V: Lanes>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
+pub(crate) fn qmul<V: Arith>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
     [
         a[3].fnma(b[3], a[2].fnma(b[2], a[1].fnma(b[1], a[0] * b[0]))),
         a[3].fnma(b[2], a[2].fma(b[3], a[1].fma(b[0], a[0] * b[1]))),
@@ -40,7 +157,7 @@ pub(crate) fn qmul<V: Lanes>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
 
 /// c exp(x n) for a constant quaternion c, unit axis n and angle x.
 #[inline(always)]
-fn times_exp<V: Lanes>(c: Q4<V>, n: [V; 3], x: V) -> Q4<V> {
+fn times_exp<V: Arith>(c: Q4<V>, n: [V; 3], x: V) -> Q4<V> {
     let (s, co) = x.sin_cos();
     qmul(c, [co, s * n[0], s * n[1], s * n[2]])
 }
@@ -51,7 +168,7 @@ fn times_exp<V: Lanes>(c: Q4<V>, n: [V; 3], x: V) -> Q4<V> {
 /// a cos wθ + r sin wθ / |r|. Where |r| = 0 exactly: a, or for c < 0 the reference's
 /// log(−1) = (π, 0, 0) choice, a ⊗ (cos wπ, sin wπ, 0, 0).
 #[inline(always)]
-pub(crate) fn slerp<V: LanesExt>(a: Q4<V>, b: Q4<V>, w: V) -> Q4<V> {
+pub(crate) fn slerp<V: Arith>(a: Q4<V>, b: Q4<V>, w: V) -> Q4<V> {
     let c = a[3].fma(b[3], a[2].fma(b[2], a[1].fma(b[1], a[0] * b[0])));
     let r = [c.fnma(a[0], b[0]), c.fnma(a[1], b[1]), c.fnma(a[2], b[2]), c.fnma(a[3], b[3])];
     let s = r[3].fma(r[3], r[2].fma(r[2], r[1].fma(r[1], r[0] * r[0]))).sqrt();
@@ -141,26 +258,34 @@ impl SlerpTable {
     }
 }
 
+/// Field `o` of the two vectors' records.
 #[inline(always)]
-fn q4<V: Lanes>(f: &[V], o: usize) -> Q4<V> {
-    [f[o], f[o + 1], f[o + 2], f[o + 3]]
+fn g<V: Copy>(f: &[V], h: &[V], o: usize) -> P2<V> {
+    P2(f[o], h[o])
 }
 
-/// One vector of samples on the lanes' records `f`.
 #[inline(always)]
-fn body<V: LanesExt, const SQUAD: bool>(f: &[V], points: usize, tv: V) -> Q4<V> {
-    let u = (tv - f[0]) / f[1];
+fn q4<V: Copy>(f: &[V], h: &[V], o: usize) -> Q4<P2<V>> {
+    [g(f, h, o), g(f, h, o + 1), g(f, h, o + 2), g(f, h, o + 3)]
+}
+
+/// Two vectors of samples on the lanes' records `f` (first vector) and `h` (second).
+#[inline(always)]
+fn body<V: LanesExt, const SQUAD: bool>(f: &[V], h: &[V], points: usize, tv: P2<V>) -> Q4<P2<V>> {
+    let u = (tv - g(f, h, 0)) / g(f, h, 1);
+    let axis = |o: usize| [g(f, h, o), g(f, h, o + 1), g(f, h, o + 2)];
     if SQUAD {
-        let a = times_exp(q4(f, 4), [f[8], f[9], f[10]], u * f[11]);
-        let b = times_exp(q4(f, 12), [f[16], f[17], f[18]], u * f[19]);
-        let w = (u - u * u) * V::splat(2.0);
+        let a = times_exp(q4(f, h, 4), axis(8), u * g(f, h, 11));
+        let b = times_exp(q4(f, h, 12), axis(16), u * g(f, h, 19));
+        let w = (u - u * u) * <P2<V> as Arith>::splat(2.0);
         return slerp(a, b, w);
     }
-    let mut b = [[V::splat(0.0); 4]; MAX_POINTS - 1];
+    let zero = <P2<V> as Arith>::splat(0.0);
+    let mut b = [[zero; 4]; MAX_POINTS - 1];
     let m = points - 1;
     for (j, bj) in b.iter_mut().enumerate().take(m) {
         let o = 4 + 8 * j;
-        *bj = times_exp(q4(f, o), [f[o + 4], f[o + 5], f[o + 6]], u * f[o + 7]);
+        *bj = times_exp(q4(f, h, o), axis(o + 4), u * g(f, h, o + 7));
     }
     for level in (1..m).rev() {
         for j in 0..level {
@@ -168,6 +293,25 @@ fn body<V: LanesExt, const SQUAD: bool>(f: &[V], points: usize, tv: V) -> Q4<V> 
         }
     }
     b[0]
+}
+
+/// Loads the records of lanes `idx` into `local` (broadcast when they share one; `cached`
+/// remembers a broadcast record).
+#[inline(always)]
+unsafe fn fetch<V: LanesExt>(tab: &SlerpTable, idx: &[usize; 4], local: &mut [V], cached: &mut usize) {
+    let stride = tab.stride;
+    if idx[..V::N].iter().all(|&x| x == idx[0]) {
+        // runs of one segment keep its broadcast record
+        if *cached != idx[0] {
+            for (o, v) in local.iter_mut().zip(&tab.data[idx[0]..idx[0] + stride]) {
+                *o = <V as Lanes>::splat(*v);
+            }
+            *cached = idx[0];
+        }
+    } else {
+        V::transpose_records(tab.data.as_ptr(), idx, stride, local.as_mut_ptr());
+        *cached = usize::MAX;
+    }
 }
 
 #[inline(always)]
@@ -180,40 +324,34 @@ unsafe fn run<V: LanesExt, const SQUAD: bool>(
 ) {
     let n = t.len();
     let stride = tab.stride;
-    let base = tab.data.as_ptr();
-    let mut local = [V::splat(0.0); MAX_STRIDE];
-    let mut cached = usize::MAX;
+    let z = <V as Lanes>::splat(0.0);
+    let (mut la, mut lb) = ([z; MAX_STRIDE], [z; MAX_STRIDE]);
+    let (mut ca, mut cb) = (usize::MAX, usize::MAX);
+    let w = 2 * V::N;
     let mut i = 0;
     while i < n {
-        let m = (n - i).min(V::N);
-        let mut tl = [0.0; 4];
-        let mut idx = [0usize; 4];
-        for l in 0..V::N {
+        // two vectors of lanes; a tail is padded with copies of its last sample
+        let m = (n - i).min(w);
+        let mut tl = [0.0; 8];
+        let mut idx = [[0usize; 4]; 2];
+        for l in 0..w {
             let k = i + l.min(m - 1);
             tl[l] = t[k];
-            idx[l] = seg[k] as usize * stride;
+            idx[l / V::N][l % V::N] = seg[k] as usize * stride;
         }
-        if idx[..V::N].iter().all(|&x| x == idx[0]) {
-            // runs of one segment keep its broadcast record
-            if cached != idx[0] {
-                for (o, v) in local.iter_mut().zip(&tab.data[idx[0]..idx[0] + stride]) {
-                    *o = V::splat(*v);
-                }
-                cached = idx[0];
-            }
-        } else {
-            V::transpose_records(base, &idx, stride, local.as_mut_ptr());
-            cached = usize::MAX;
-        }
-        let o = body::<V, SQUAD>(&local[..stride], points, V::load(tl.as_ptr()));
+        fetch(tab, &idx[0], &mut la, &mut ca);
+        fetch(tab, &idx[1], &mut lb, &mut cb);
+        let tv = P2(V::load(tl.as_ptr()), V::load(tl.as_ptr().add(V::N)));
+        let o = body::<V, SQUAD>(&la[..stride], &lb[..stride], points, tv);
         let rows = &mut out[4 * i..4 * (i + m)];
-        if m == V::N {
-            V::store_rows4(o, rows.as_mut_ptr(), 4);
+        if m == w {
+            V::store_rows4([o[0].0, o[1].0, o[2].0, o[3].0], rows.as_mut_ptr(), 4);
+            V::store_rows4([o[0].1, o[1].1, o[2].1, o[3].1], rows.as_mut_ptr().add(4 * V::N), 4);
         } else {
             for (c, v) in o.iter().enumerate() {
-                let a = v.to_array();
+                let (a, b) = (v.0.to_array(), v.1.to_array());
                 for l in 0..m {
-                    rows[4 * l + c] = a[l];
+                    rows[4 * l + c] = if l < V::N { a[l] } else { b[l - V::N] };
                 }
             }
         }
