@@ -70,6 +70,7 @@ def _methods(keys: int):
         ("NaturalSpline", qs.NaturalSpline(q, times)),
         ("Squad", qs.Squad(q, times)),
         ("CatmullRom", qs.CatmullRom(q, times)),
+        ("KochanekBartels (T=0.3)", qs.KochanekBartels(q, times, tension=0.3)),
         ("CumulativeBezier (8 points)", qs.CumulativeBezier(q[:8], domain=(0.0, keys - 1.0))),
         ("SphericalBezier (8 points)", qs.SphericalBezier(q[:8], domain=(0.0, keys - 1.0))),
     ]
@@ -167,6 +168,38 @@ def engine(n: int, repeat: int, keys: int = 1000) -> None:
         scal = best_ns(lambda s=s, ts=ts: s(ts), n, repeat)
         qs.set_simd(mode)
         print(f"| {name} | {auto:.1f} | {scal:.1f} | {scal / auto:.2f}× |")
+
+    pairs(n, repeat)
+
+
+def pairs(n: int, repeat: int) -> None:
+    """Independent slerp / sclerp pairs through the SIMD pairs kernels."""
+    from bench import random_quats
+
+    mode = qs.simd_status()[0]
+    a, b = random_quats(n, 1), random_quats(n, 2)
+    b = qs.canonicalize(b, reference=a)
+    t = np.random.default_rng(3).uniform(0, 1, n)
+    rng = np.random.default_rng(6)
+    da = qs.dq_from_pose(random_quats(n, 5), rng.normal(size=(n, 3)))
+    db = qs.dq_from_pose(random_quats(n, 7), rng.normal(size=(n, 3)))
+    print("\n### Independent pairs: ns per pair\n")
+    print("| operation | auto, 1 thread | auto, 2 threads | scalar kernel | reference (per row) |")
+    print("|---|---:|---:|---:|---:|")
+    for name, fn in (
+        ("slerp", lambda: qs.slerp(a, b, t)),
+        ("sclerp", lambda: qs.sclerp(da, db, t)),
+    ):
+        qs.set_num_threads(1)
+        one = best_ns(fn, n, repeat)
+        qs.set_num_threads(0)
+        two = best_ns(fn, n, repeat)
+        cells = []
+        for m in ("scalar", "reference"):
+            qs.set_simd(m)
+            cells.append(best_ns(fn, n, repeat))
+        qs.set_simd(mode)
+        print(f"| {name} | {one:.1f} | {two:.1f} | {cells[0]:.1f} | {cells[1]:.1f} |")
 
 
 def lscpu() -> str:

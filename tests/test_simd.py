@@ -282,3 +282,129 @@ def test_small_vector_path_any_layout(m):
         bad[m - 1] = b + 1.0
         with pytest.raises(ValueError, match=f"index {m - 1}|{m - 1}"):
             s(bad)
+
+
+# ---- slerp family (Squad, Catmull–Rom / Kochanek–Bartels, spherical Bézier) and pairs ----
+
+QH = Q.copy()
+QH[11] = QH[12] = QH[10]  # a hold
+SLERP_FAMILY = {
+    "squad": lambda: qs.Squad(Q, T),
+    "squad closed holds": lambda: qs.Squad(QH, np.append(T, T[-1] + 0.8), ends="closed"),
+    "squad rest": lambda: qs.Squad(Q, T, ends="rest"),
+    "catmull_rom": lambda: qs.CatmullRom(Q, T),
+    "catmull_rom duplicate": lambda: qs.CatmullRom(Q, T, ends="duplicate"),
+    "catmull_rom centripetal closed": lambda: qs.CatmullRom(Q[:20], alpha=0.5, ends="closed"),
+    "kochanek_bartels": lambda: qs.KochanekBartels(
+        Q, T, tension=0.3, continuity=np.linspace(-0.4, 0.4, 40), bias=-0.2
+    ),
+    "bezier 8": lambda: qs.SphericalBezier(Q[:8], domain=(T[0], T[-1])),
+    "bezier 16": lambda: qs.SphericalBezier(Q[:16], domain=(-1.0, 1.0)),
+}
+
+
+@pytest.mark.parametrize("name", list(SLERP_FAMILY))
+@pytest.mark.parametrize("mode", ["auto", "scalar"])
+def test_slerp_family_kernels_equal_reference(name, mode):
+    # values by the kernels; derivatives and rates by the batched jets (same rows as reference)
+    s = SLERP_FAMILY[name]()
+    qs.set_simd("reference")
+    ref = run_all(s)
+    qs.set_simd(mode)
+    got = run_all(s)
+    for key, (t, r) in ref.items():
+        kind, what, order = key
+        block = 4 if what == "q" else 3
+        assert got[key][1].shape == r.shape, key
+        assert worst(s, t, got[key][1], r, block, order) <= 1.0, key
+    t = sample_sets(s)["sorted"]
+    qs.set_simd("reference")
+    r0 = s(t)
+    qs.set_simd(mode)
+    assert not np.array_equal(s(t), r0)  # the kernel, not the reference, ran
+
+
+@pytest.mark.parametrize("name", ["squad", "catmull_rom", "bezier 8"])
+def test_slerp_family_thread_count_independent_bits(name):
+    s = SLERP_FAMILY[name]()
+    t = np.random.default_rng(4).uniform(*s.domain, 60_000)
+    try:
+        results = []
+        for n in (1, 2, 3):
+            qs.set_num_threads(n)
+            results.append(s(t))
+    finally:
+        qs.set_num_threads(0)
+    for r in results[1:]:
+        np.testing.assert_array_equal(results[0], r)
+    order = np.argsort(t)
+    np.testing.assert_array_equal(results[0][order], s(np.sort(t)))
+
+
+def _pairs(n, seed):
+    rng = np.random.default_rng(seed)
+    a = rng.normal(size=(n, 4))
+    b = rng.normal(size=(n, 4))
+    b[::7] = a[::7]  # equal keys
+    b[1::7] = -a[1::7]  # opposite signs
+    t = rng.uniform(-0.2, 1.2, n)
+    t[::11] = 0.0
+    t[1::11] = 1.0
+    return a, b, t
+
+
+@pytest.mark.parametrize("mode", ["auto", "scalar"])
+@pytest.mark.parametrize("long_path", [False, True])
+def test_slerp_pairs_equal_reference(mode, long_path):
+    a, b, t = _pairs(40_003, 1)  # several parallel blocks and a tail
+    qs.set_simd("reference")
+    ref = qs.slerp(a, b, t, long_path=long_path)
+    qs.set_simd(mode)
+    got = qs.slerp(a, b, t, long_path=long_path)
+    assert np.max(np.abs(got - ref)) <= 1e-14
+    ends = (t == 0.0) | (t == 1.0)
+    np.testing.assert_array_equal(got[ends], ref[ends])
+    # broadcast (non-contiguous) inputs take the row-by-row path: same values
+    contiguous = qs.slerp(np.repeat(a[:1], 50, 0), np.repeat(b[:1], 50, 0), t[:50], long_path)
+    broadcast = qs.slerp(a[0], b[0], t[:50], long_path)
+    np.testing.assert_allclose(broadcast, contiguous, rtol=0, atol=1e-14)
+
+
+@pytest.mark.parametrize("mode", ["auto", "scalar"])
+def test_sclerp_pairs_equal_reference(mode):
+    rng = np.random.default_rng(2)
+    n = 30_001
+    a = qs.dq_from_pose(qs.normalize(rng.normal(size=(n, 4))), rng.normal(size=(n, 3)))
+    b = qs.dq_from_pose(qs.normalize(rng.normal(size=(n, 4))), rng.normal(size=(n, 3)))
+    b[::5, :4] = a[::5, :4]  # pure translations
+    t = rng.uniform(-0.2, 1.2, n)
+    qs.set_simd("reference")
+    ref = qs.sclerp(a, b, t)
+    qs.set_simd(mode)
+    got = qs.sclerp(a, b, t)
+    scale = np.maximum(1.0, np.linalg.norm(ref, axis=1))[:, None]
+    assert np.max(np.abs(got - ref) / scale) <= 1e-14
+
+
+def test_pairs_thread_count_independent_and_errors():
+    a, b, t = _pairs(50_001, 3)
+    da = qs.dq_from_pose(qs.normalize(a), b[:, :3])
+    db = qs.dq_from_pose(qs.normalize(b), a[:, 1:])
+    try:
+        results = []
+        for n in (1, 2, 3):
+            qs.set_num_threads(n)
+            results.append((qs.slerp(a, b, t), qs.sclerp(da, db, t)))
+    finally:
+        qs.set_num_threads(0)
+    for r in results[1:]:
+        for x, y in zip(results[0], r):
+            np.testing.assert_array_equal(x, y)
+    a[30_000] = 0.0
+    a[45_000] = 0.0
+    with pytest.raises(ValueError, match="q0: quaternion 30000 has zero"):
+        qs.slerp(a, b, t)
+    db[40_000, :4] = 0.0
+    db[20_000, :4] = 0.0
+    with pytest.raises(ValueError, match="dq1: quaternion 20000 has zero"):
+        qs.sclerp(da, db, t)

@@ -1,6 +1,6 @@
 //! Bindings of the algebra, conversions and two-keyframe interpolation (flat batches).
 
-use crate::arrays::{fill, same_len, to_py, Rows};
+use crate::arrays::{fill, fill_blocks, same_len, to_py, Rows};
 use numpy::{PyArray2, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -170,6 +170,25 @@ fn slerp<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>, long_pat
     let (a, b, t) =
         (Rows::new(&q0, "q0", 4)?, Rows::new(&q1, "q1", 4)?, Rows::new(&t, "t", 1)?.parameters()?);
     let n = same_len(&[("q0", a.len()), ("q1", b.len()), ("t", t.len())])?;
+    // contiguous rows: the pairs kernel of the SIMD engine (AVX2 where the CPU has it)
+    if let (Some(q0), Some(q1), Some(tt), Some(isa)) = (a.flat, b.flat, t.flat, quatspline::simd::isa()) {
+        return fill_blocks(py, "slerp", n, 4, |first, block| {
+            let m = block.len() / 4;
+            let r = first..first + m;
+            quatspline::simd::pairs::slerp_pairs(
+                isa,
+                &q0[4 * r.start..4 * r.end],
+                &q1[4 * r.start..4 * r.end],
+                &tt[r],
+                long_path,
+                block,
+            )
+            .map_err(|e| match e {
+                Error::ZeroNorm { arg, index } => Error::ZeroNorm { arg, index: first + index },
+                e => e,
+            })
+        });
+    }
     fill(py, "slerp", n, |i| {
         Ok(interp::slerp(a.rotation(i)?, b.rotation(i)?, t.scalar(i), long_path).to_wxyz())
     })
@@ -281,6 +300,23 @@ fn sclerp<'py>(py: Python<'py>, dq0: Arr<'py>, dq1: Arr<'py>, t: Arr<'py>) -> Ou
     let (a, b, t) =
         (Rows::new(&dq0, "dq0", 8)?, Rows::new(&dq1, "dq1", 8)?, Rows::new(&t, "t", 1)?.parameters()?);
     let n = same_len(&[("dq0", a.len()), ("dq1", b.len()), ("t", t.len())])?;
+    // contiguous rows: the pairs kernel of the SIMD engine (AVX2 where the CPU has it)
+    if let (Some(a8), Some(b8), Some(tt), Some(isa)) = (a.flat, b.flat, t.flat, quatspline::simd::isa()) {
+        return fill_blocks(py, "sclerp", n, 8, |first, block| {
+            let r = first..first + block.len() / 8;
+            quatspline::simd::pairs::sclerp_pairs(
+                isa,
+                &a8[8 * r.start..8 * r.end],
+                &b8[8 * r.start..8 * r.end],
+                &tt[r],
+                block,
+            )
+            .map_err(|e| match e {
+                Error::ZeroNorm { arg, index } => Error::ZeroNorm { arg, index: first + index },
+                e => e,
+            })
+        });
+    }
     fill(py, "sclerp", n, |i| Ok(interp::sclerp(unit_dq(&a, i)?, unit_dq(&b, i)?, t.scalar(i)).to_array()))
 }
 

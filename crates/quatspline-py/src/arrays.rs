@@ -149,7 +149,7 @@ pub fn guarded_here<T>(what: &str, f: impl FnOnce() -> Result<T, Error>) -> PyRe
 /// Read access to the rows of an (N, W) array with any strides (a slice when C-contiguous).
 pub struct Rows<'a> {
     pub view: ArrayView2<'a, f64>,
-    flat: Option<&'a [f64]>,
+    pub flat: Option<&'a [f64]>,
     pub name: &'static str,
 }
 
@@ -304,6 +304,40 @@ pub fn fill_serial<'py, const W: usize>(
                 chunk.copy_from_slice(&f(i)?);
             }
             Ok(())
+        })?;
+    }
+    Ok(out)
+}
+
+/// Allocates an (n, `width`) output and fills it block by block with `f(first_row, block)`
+/// (a batch kernel over rows first_row..): GIL released, blocks of `CHUNK` rows across the
+/// rayon pool for large inputs, panics guarded. On errors the one of the lowest block is
+/// reported (each block reports its own first failing row), whatever thread finished first.
+pub fn fill_blocks<'py>(
+    py: Python<'py>,
+    what: &str,
+    n: usize,
+    width: usize,
+    f: impl Fn(usize, &mut [f64]) -> Result<(), Error> + Sync,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    // Every element is written below before the array is returned; on error it is dropped.
+    let out = alloc2(py, n, width, what)?;
+    {
+        let mut rw = out.readwrite();
+        let slice = rw.as_slice_mut().map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        guarded(py, what, || {
+            if n < 2 * CHUNK {
+                return f(0, slice);
+            }
+            let first_err = slice
+                .par_chunks_mut(CHUNK * width)
+                .enumerate()
+                .filter_map(|(c, block)| f(c * CHUNK, block).err().map(|e| (c, e)))
+                .min_by_key(|(c, _)| *c);
+            match first_err {
+                Some((_, e)) => Err(e),
+                None => Ok(()),
+            }
         })?;
     }
     Ok(out)

@@ -335,3 +335,140 @@ mod avx2 {
 
 #[cfg(target_arch = "x86_64")]
 pub(crate) use avx2::sin_cos_slice as avx2_sin_cos_slice;
+
+// ------------------------------------------------------------------ slerp-family helpers
+
+/// Cephes `atan`: atan(x) = x + x³ P(x²)/Q(x²) on |x| ≤ 0.66 (Moshier, Cephes Math Library
+/// 2.8, atan.c; peak relative error 2.6e-18 of the rational form), with the reductions
+/// x > tan(3π/8): π/2 − atan(1/x) and 0.66 < x ≤ tan(3π/8): π/4 + atan((x−1)/(x+1)).
+const ATAN_P: [f64; 5] = [
+    -8.750_608_600_031_904_122_785e-1,
+    -1.615_753_718_733_365_076_637e1,
+    -7.500_855_792_314_704_667_340e1,
+    -1.228_866_684_490_136_173_410e2,
+    -6.485_021_904_942_025_371_773e1,
+];
+const ATAN_Q: [f64; 5] = [
+    2.485_846_490_142_306_297_962e1,
+    1.650_270_098_316_988_542_046e2,
+    4.328_810_604_912_902_668_951e2,
+    4.853_903_996_359_136_964_868e2,
+    1.945_506_571_482_613_964_425e2,
+];
+/// π/2 − fl(π/2) (Cephes MOREBITS).
+const MOREBITS: f64 = 6.123_233_995_736_765_886_130e-17;
+const T3P8: f64 = 2.414_213_562_373_095_048_80;
+
+/// What the slerp-family kernels (`squad`, `casteljau`, `pairs`) need beyond [`Lanes`].
+pub(crate) trait LanesExt: Lanes {
+    /// atan2(self, x) per lane (self = y), within 2 ulp of libm (the f64 lane is libm).
+    fn atan2(self, x: Self) -> Self;
+    /// Whether any lane has `self < b`.
+    fn any_lt(self, b: Self) -> bool;
+}
+
+impl LanesExt for f64 {
+    #[inline(always)]
+    fn atan2(self, x: Self) -> Self {
+        f64::atan2(self, x)
+    }
+    #[inline(always)]
+    fn any_lt(self, b: Self) -> bool {
+        self < b
+    }
+}
+
+/// atan2(y, x) of `y.len()` values with the kernel of `isa`'s lanes (accuracy tests).
+pub(crate) fn atan2_slice(avx2: bool, y: &[f64], x: &[f64], out: &mut [f64]) {
+    #[cfg(target_arch = "x86_64")]
+    if avx2 {
+        // SAFETY: the caller checked AVX2 and FMA.
+        unsafe { avx2_ext::atan2_slice(y, x, out) };
+        return;
+    }
+    let _ = avx2;
+    for i in 0..y.len() {
+        out[i] = y[i].atan2(x[i]);
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+mod avx2_ext {
+    use super::{Avx2, Lanes, LanesExt, ATAN_P, ATAN_Q, MOREBITS, T3P8};
+    use std::arch::x86_64::*;
+
+    #[inline(always)]
+    unsafe fn s1(v: f64) -> __m256d {
+        _mm256_set1_pd(v)
+    }
+
+    /// Four-lane atan2: the Cephes reduction chosen per lane by comparisons of |y| against
+    /// multiples of |x| (no division to pick the branch), one division for the reduced
+    /// argument, one for the rational form; the quadrant by the sign bits of x and y.
+    #[inline(always)]
+    unsafe fn atan2_4(y: __m256d, x: __m256d) -> __m256d {
+        let sign = s1(-0.0);
+        let ay = _mm256_andnot_pd(sign, y);
+        let ax = _mm256_andnot_pd(sign, x);
+        let small = _mm256_cmp_pd::<_CMP_LE_OQ>(ay, _mm256_mul_pd(s1(0.66), ax));
+        let big = _mm256_cmp_pd::<_CMP_GT_OQ>(ay, _mm256_mul_pd(s1(T3P8), ax));
+        // middle: ((|y| − |x|) / (|y| + |x|), π/4); big: (−|x| / |y|, π/2); small: (|y| / |x|, 0)
+        let mut num = _mm256_sub_pd(ay, ax);
+        let mut den = _mm256_add_pd(ay, ax);
+        let mut base = s1(std::f64::consts::FRAC_PI_4);
+        let mut more = s1(0.5 * MOREBITS);
+        num = _mm256_blendv_pd(num, _mm256_xor_pd(ax, sign), big);
+        den = _mm256_blendv_pd(den, ay, big);
+        base = _mm256_blendv_pd(base, s1(std::f64::consts::FRAC_PI_2), big);
+        more = _mm256_blendv_pd(more, s1(MOREBITS), big);
+        num = _mm256_blendv_pd(num, ay, small);
+        den = _mm256_blendv_pd(den, ax, small);
+        base = _mm256_blendv_pd(base, _mm256_setzero_pd(), small);
+        more = _mm256_blendv_pd(more, _mm256_setzero_pd(), small);
+        // 0/0 (y = x = 0): the reduced argument 0
+        let zero_den = _mm256_cmp_pd::<_CMP_EQ_OQ>(den, _mm256_setzero_pd());
+        den = _mm256_blendv_pd(den, s1(1.0), zero_den);
+        let z = _mm256_div_pd(num, den);
+        let zz = _mm256_mul_pd(z, z);
+        let mut p = _mm256_fmadd_pd(zz, s1(ATAN_P[0]), s1(ATAN_P[1]));
+        p = _mm256_fmadd_pd(zz, p, s1(ATAN_P[2]));
+        p = _mm256_fmadd_pd(zz, p, s1(ATAN_P[3]));
+        p = _mm256_fmadd_pd(zz, p, s1(ATAN_P[4]));
+        let mut q = _mm256_add_pd(zz, s1(ATAN_Q[0]));
+        q = _mm256_fmadd_pd(zz, q, s1(ATAN_Q[1]));
+        q = _mm256_fmadd_pd(zz, q, s1(ATAN_Q[2]));
+        q = _mm256_fmadd_pd(zz, q, s1(ATAN_Q[3]));
+        q = _mm256_fmadd_pd(zz, q, s1(ATAN_Q[4]));
+        let r = _mm256_fmadd_pd(_mm256_mul_pd(z, zz), _mm256_div_pd(p, q), z);
+        let a = _mm256_add_pd(base, _mm256_add_pd(r, more));
+        // x < 0 (sign bit, so −0 too): π − a, with π's low part 2·MOREBITS
+        let pi_hi = s1(std::f64::consts::PI);
+        let flipped = _mm256_add_pd(_mm256_sub_pd(pi_hi, a), s1(2.0 * MOREBITS));
+        let a = _mm256_blendv_pd(a, flipped, x);
+        // the sign of y
+        _mm256_or_pd(a, _mm256_and_pd(y, sign))
+    }
+
+    impl LanesExt for Avx2 {
+        #[inline(always)]
+        fn atan2(self, x: Self) -> Self {
+            // SAFETY: an Avx2 value exists only where AVX2+FMA were detected.
+            Avx2(unsafe { atan2_4(self.0, x.0) })
+        }
+        #[inline(always)]
+        fn any_lt(self, b: Self) -> bool {
+            unsafe { _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(self.0, b.0)) != 0 }
+        }
+    }
+
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) unsafe fn atan2_slice(y: &[f64], x: &[f64], out: &mut [f64]) {
+        for ((yc, xc), oc) in y.chunks(4).zip(x.chunks(4)).zip(out.chunks_mut(4)) {
+            let (mut by, mut bx) = ([0.0; 4], [1.0; 4]);
+            by[..yc.len()].copy_from_slice(yc);
+            bx[..xc.len()].copy_from_slice(xc);
+            let a = Avx2::load(by.as_ptr()).atan2(Avx2::load(bx.as_ptr())).to_array();
+            oc.copy_from_slice(&a[..oc.len()]);
+        }
+    }
+}

@@ -19,6 +19,8 @@ pub mod cumulative;
 pub mod engine;
 pub(crate) mod lanes;
 pub mod natural;
+pub mod pairs;
+pub mod slerp;
 
 use crate::spline::Frame;
 use std::sync::atomic::{AtomicU8, Ordering};
@@ -127,6 +129,12 @@ pub fn sin_cos_slice(isa: Isa, x: &[f64], s: &mut [f64], c: &mut [f64]) {
     for i in 0..x.len() {
         (s[i], c[i]) = crate::special::sin_cos(x[i]);
     }
+}
+
+/// atan2(y\[i\], x\[i\]) with the kernel `isa` would use (for accuracy tests).
+pub fn atan2_slice(isa: Isa, y: &[f64], x: &[f64], out: &mut [f64]) {
+    assert!(x.len() == y.len() && out.len() == y.len(), "atan2_slice: length mismatch");
+    lanes::atan2_slice(isa == Isa::Avx2 && avx2_available(), y, x, out);
 }
 
 /// A spline's batch evaluation, offered to the engine by `Spline::batch`.

@@ -94,4 +94,7 @@ impl Spline for CatmullRom {
     fn closed(&self) -> bool {
         self.inner.closed()
     }
+    fn batch(&self) -> Option<&dyn crate::simd::BatchKernel> {
+        self.inner.batch_kernel()
+    }
 }

@@ -128,6 +128,8 @@ pub struct KochanekBartels {
     closed: bool,
     order: u8,
     name: &'static str,
+    /// Flat per-segment data of the batch kernel (`crate::simd::slerp`).
+    batch: Option<crate::simd::slerp::SlerpTable>,
 }
 
 impl KochanekBartels {
@@ -197,7 +199,18 @@ impl KochanekBartels {
             let interior = closed || (k > 0 && k < n - 1);
             interior && vec3::norm(vec3::sub(incoming[k], outgoing[k])) > 0.0
         });
-        Ok(KochanekBartels { times: kl.times, ctrl, logs, closed, order: if corner { 0 } else { 1 }, name })
+        let batch = crate::simd::slerp::SlerpTable::casteljau(
+            &kl.times,
+            &ctrl.iter().map(|c| &c[..]).collect::<Vec<_>>(),
+            &logs.iter().map(|l| &l[..]).collect::<Vec<_>>(),
+        );
+        let order = if corner { 0 } else { 1 };
+        Ok(KochanekBartels { times: kl.times, ctrl, logs, closed, order, name, batch })
+    }
+
+    #[inline(always)]
+    pub(crate) fn batch_kernel(&self) -> Option<&dyn crate::simd::BatchKernel> {
+        self.batch.as_ref().map(|b| b as &dyn crate::simd::BatchKernel)
     }
 
     #[inline(always)]
@@ -285,6 +298,9 @@ impl Spline for KochanekBartels {
     }
     fn closed(&self) -> bool {
         self.closed
+    }
+    fn batch(&self) -> Option<&dyn crate::simd::BatchKernel> {
+        self.batch_kernel()
     }
 }
 

@@ -54,6 +54,8 @@ pub struct SphericalBezier {
     ctrl: Vec<Quat>,
     logs: Vec<Axis>,
     joints: [f64; 2],
+    /// Flat data of the batch kernel (`crate::simd::slerp`), up to its point limit.
+    batch: Option<crate::simd::slerp::SlerpTable>,
 }
 
 impl SphericalBezier {
@@ -77,7 +79,8 @@ impl SphericalBezier {
         }
         let ctrl = prepare_keys(ctrl, "control_points", 2, canonicalize)?;
         let logs = super::chain_logs(&ctrl);
-        Ok(SphericalBezier { ctrl, logs, joints })
+        let batch = crate::simd::slerp::SlerpTable::casteljau(&joints, &[&ctrl[..]], &[&logs[..]]);
+        Ok(SphericalBezier { ctrl, logs, joints, batch })
     }
 
     #[inline(always)]
@@ -99,6 +102,9 @@ impl Spline for SphericalBezier {
     }
     fn continuity(&self) -> u8 {
         u8::MAX
+    }
+    fn batch(&self) -> Option<&dyn crate::simd::BatchKernel> {
+        self.batch.as_ref().map(|b| b as &dyn crate::simd::BatchKernel)
     }
 }
 

@@ -27,6 +27,8 @@ pub struct Squad {
     s_out: Vec<Quat>,
     inner_logs: Vec<Axis>,
     closed: bool,
+    /// Flat per-segment data of the batch kernel (`crate::simd::slerp`).
+    batch: crate::simd::slerp::SlerpTable,
 }
 
 impl Squad {
@@ -98,10 +100,11 @@ impl Squad {
                 s_in[j] = joint_keys[j] * Quat::pure(li).exp();
             }
         }
-        let inner_logs =
+        let inner_logs: Vec<Axis> =
             (0..segs).map(|i| Axis::from_log((s_out[i].conj() * s_in[i + 1]).log().vec())).collect();
-        let logs = raw.iter().map(|&v| Axis::from_log(v)).collect();
-        Ok(Squad { keys: joint_keys, times: kl.times, logs, s_out, inner_logs, closed })
+        let logs: Vec<Axis> = raw.iter().map(|&v| Axis::from_log(v)).collect();
+        let batch = crate::simd::slerp::SlerpTable::squad(&kl.times, &joint_keys, &logs, &s_out, &inner_logs);
+        Ok(Squad { keys: joint_keys, times: kl.times, logs, s_out, inner_logs, closed, batch })
     }
 
     #[inline(always)]
@@ -130,5 +133,8 @@ impl Spline for Squad {
     }
     fn closed(&self) -> bool {
         self.closed
+    }
+    fn batch(&self) -> Option<&dyn crate::simd::BatchKernel> {
+        Some(&self.batch)
     }
 }

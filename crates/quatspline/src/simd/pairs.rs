@@ -1,0 +1,381 @@
+//! Independent pairs through the batch machinery: `slerp` of rows q0\[i\], q1\[i\] at t\[i\],
+//! four pairs per AVX2 vector (rows transposed in, results transposed out), the same lanes,
+//! vector sin/cos and atan2 as the spline kernels.
+//!
+//! Each row equals [`crate::interp::slerp`] of the normalised keys (within the kernels' 1e-14
+//! bound; exactly q0 at t = 0 and the shortest-path q1 at t = 1): θ = atan2(|r|, q0·q1) with
+//! r = q1 − (q0·q1) q0, result q0 cos tθ + r sin tθ / |r| (q0 where r = 0). A vector with a
+//! key whose squared norm lies outside [1e-290, 1e290] (zero, denormal or huge keys: the
+//! scalar normalisation scales first, or reports the zero key) or, with `long_path`, a pair
+//! on opposite hemispheres (the scalar path's antipodal rules) is done row by row by the
+//! scalar function; results are a function of each row alone, so they are bit-identical for
+//! any chunking.
+
+use super::lanes::{Lanes, LanesExt};
+use super::Isa;
+use crate::error::{Error, Result};
+use crate::quat::Quat;
+
+type Q4<V> = [V; 4];
+
+/// One row by the scalar path (the reference).
+fn scalar_row(q0: &[f64], q1: &[f64], t: &[f64], i: usize, long_path: bool) -> Result<[f64; 4]> {
+    let a = Quat::from_wxyz(q0[4 * i..4 * i + 4].try_into().expect("row of 4"))
+        .try_normalize()
+        .map_err(|_| Error::ZeroNorm { arg: "q0", index: i })?;
+    let b = Quat::from_wxyz(q1[4 * i..4 * i + 4].try_into().expect("row of 4"))
+        .try_normalize()
+        .map_err(|_| Error::ZeroNorm { arg: "q1", index: i })?;
+    Ok(crate::interp::slerp(a, b, t[i], long_path).to_wxyz())
+}
+
+/// The scalar reference of [`slerp_pairs`]: `interp::slerp` row by row.
+pub fn slerp_pairs_reference(
+    q0: &[f64],
+    q1: &[f64],
+    t: &[f64],
+    long_path: bool,
+    out: &mut [f64],
+) -> Result<()> {
+    check(q0, q1, t, out);
+    for i in 0..t.len() {
+        out[4 * i..4 * i + 4].copy_from_slice(&scalar_row(q0, q1, t, i, long_path)?);
+    }
+    Ok(())
+}
+
+fn check(q0: &[f64], q1: &[f64], t: &[f64], out: &[f64]) {
+    let n = t.len();
+    assert!(q0.len() == 4 * n && q1.len() == 4 * n && out.len() == 4 * n, "slerp_pairs: bad lengths");
+}
+
+#[inline(always)]
+fn dot<V: Lanes>(a: Q4<V>, b: Q4<V>) -> V {
+    a[3].fma(b[3], a[2].fma(b[2], a[1].fma(b[1], a[0] * b[0])))
+}
+
+/// q·q summed as `Quat::norm_squared` does (no FMA), so that the unit test below keeps the
+/// same keys' bits as the scalar path.
+#[inline(always)]
+fn norm2_plain<V: Lanes>(q: Q4<V>) -> V {
+    q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]
+}
+
+/// `Quat::try_normalize` of a key with a squared norm in [1e-290, 1e290]: the key as given
+/// when |q·q − 1| ≤ 4ε, else (q/m)/|q/m| with m the largest |component| — the same
+/// operations, so the same bits.
+#[inline(always)]
+fn unit<V: LanesExt>(q: Q4<V>, n2: V) -> Q4<V> {
+    let one = V::splat(1.0);
+    let dev = n2 - one;
+    let tol = V::splat(4.0 * f64::EPSILON);
+    // |dev| ≤ tol  ⇔  not (dev < −tol or tol < dev)
+    if !(dev.any_lt(-tol) || tol.any_lt(dev)) {
+        return q;
+    }
+    let zero = V::splat(0.0);
+    let abs = |x: V| x.lt_select(zero, -x, x);
+    let max = |a: V, b: V| a.lt_select(b, b, a);
+    let m = max(max(max(abs(q[0]), abs(q[1])), abs(q[2])), abs(q[3]));
+    let s = [q[0] / m, q[1] / m, q[2] / m, q[3] / m];
+    let k = one / norm2_plain(s).sqrt();
+    let keep = |c: usize| dev.lt_select(-tol, s[c] * k, tol.lt_select(dev, s[c] * k, q[c]));
+    [keep(0), keep(1), keep(2), keep(3)]
+}
+
+/// Per lane `if a == b { x } else { y }` (no NaN here).
+#[inline(always)]
+fn eq_select<V: Lanes>(a: V, b: V, x: V, y: V) -> V {
+    a.lt_select(b, y, b.lt_select(a, y, x))
+}
+
+#[inline(always)]
+unsafe fn run<V: LanesExt>(
+    q0: &[f64],
+    q1: &[f64],
+    t: &[f64],
+    long_path: bool,
+    out: &mut [f64],
+) -> Result<()> {
+    let n = t.len();
+    let (lo, hi) = (V::splat(1e-290), V::splat(1e290));
+    let zero = V::splat(0.0);
+    let one = V::splat(1.0);
+    let mut i = 0;
+    while i < n {
+        let m = (n - i).min(V::N);
+        // full vectors read the rows in place; a tail is padded with copies of its last row
+        let (mut pa, mut pb, mut pt) = ([0.0; 16], [0.0; 16], [0.0; 4]);
+        let (ap, bp, tp) = if m == V::N {
+            (q0.as_ptr().add(4 * i), q1.as_ptr().add(4 * i), t.as_ptr().add(i))
+        } else {
+            for l in 0..4 {
+                let k = i + l.min(m - 1);
+                pa[4 * l..4 * l + 4].copy_from_slice(&q0[4 * k..4 * k + 4]);
+                pb[4 * l..4 * l + 4].copy_from_slice(&q1[4 * k..4 * k + 4]);
+                pt[l] = t[k];
+            }
+            (pa.as_ptr(), pb.as_ptr(), pt.as_ptr())
+        };
+        let idx = [0, 4, 8, 12];
+        let mut a = [zero; 4];
+        let mut b = [zero; 4];
+        V::transpose_records(ap, &idx, 4, a.as_mut_ptr());
+        V::transpose_records(bp, &idx, 4, b.as_mut_ptr());
+        let tv = V::load(tp);
+        let (na, nb) = (norm2_plain(a), norm2_plain(b));
+        let a = unit(a, na);
+        let mut b = unit(b, nb);
+        // q0·q1 as `Quat::dot` sums it: the hemisphere test sees the scalar path's sign
+        let mut d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
+        let d_in = d;
+        if !long_path {
+            let neg = d.lt_select(zero, -one, one);
+            b = [b[0] * neg, b[1] * neg, b[2] * neg, b[3] * neg];
+            d = d * neg;
+        }
+        let rows = &mut out[4 * i..4 * (i + m)];
+        let r: Q4<V> = [d.fnma(a[0], b[0]), d.fnma(a[1], b[1]), d.fnma(a[2], b[2]), d.fnma(a[3], b[3])];
+        let s = dot(r, r).sqrt();
+        let th = s.atan2(d);
+        let (st, ct) = (tv * th).sin_cos();
+        let w = zero.lt_select(s, st / s, tv);
+        let mut o: Q4<V> =
+            [r[0].fma(w, a[0] * ct), r[1].fma(w, a[1] * ct), r[2].fma(w, a[2] * ct), r[3].fma(w, a[3] * ct)];
+        for c in 0..4 {
+            // exact ends: q0 at t = 0, the (flipped) q1 at t = 1
+            o[c] = eq_select(tv, zero, a[c], eq_select(tv, one, b[c], o[c]));
+        }
+        if m == V::N {
+            V::store_rows4(o, rows.as_mut_ptr(), 4);
+        } else {
+            for (c, v) in o.iter().enumerate() {
+                let x = v.to_array();
+                for l in 0..m {
+                    rows[4 * l + c] = x[l];
+                }
+            }
+        }
+        // lanes the vector formula does not cover go through the scalar path, lane by lane
+        // (so that no row depends on its neighbours)
+        let rare = na.any_lt(lo)
+            || hi.any_lt(na)
+            || nb.any_lt(lo)
+            || hi.any_lt(nb)
+            || (long_path && d_in.any_lt(zero));
+        if rare {
+            let (na, nb, dd) = (na.to_array(), nb.to_array(), d_in.to_array());
+            for l in 0..m {
+                let ok = |x: f64| (1e-290..=1e290).contains(&x);
+                if !ok(na[l]) || !ok(nb[l]) || (long_path && dd[l] < 0.0) {
+                    rows[4 * l..4 * l + 4].copy_from_slice(&scalar_row(q0, q1, t, i + l, long_path)?);
+                }
+            }
+        }
+        i += m;
+    }
+    Ok(())
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn run_avx2(q0: &[f64], q1: &[f64], t: &[f64], long_path: bool, out: &mut [f64]) -> Result<()> {
+    run::<super::lanes::Avx2>(q0, q1, t, long_path, out)
+}
+
+/// slerp of independent pairs: rows of 4 in `q0`, `q1` (any nonzero norm; normalised as
+/// `Quat::try_normalize` does), parameters `t` (finite, validated by the caller), rows of 4
+/// out. Errors name the first zero key (`q0`/`q1` and its row).
+pub fn slerp_pairs(
+    isa: Isa,
+    q0: &[f64],
+    q1: &[f64],
+    t: &[f64],
+    long_path: bool,
+    out: &mut [f64],
+) -> Result<()> {
+    check(q0, q1, t, out);
+    #[cfg(target_arch = "x86_64")]
+    if isa == Isa::Avx2 && super::avx2_available() {
+        // SAFETY: AVX2 and FMA detected; lengths checked above.
+        return unsafe { run_avx2(q0, q1, t, long_path, out) };
+    }
+    let _ = isa;
+    // SAFETY: lengths checked above.
+    unsafe { run::<f64>(q0, q1, t, long_path, out) }
+}
+
+// ------------------------------------------------------------------------------- sclerp
+
+use crate::dual_quat::DualQuat;
+
+fn unit_dq(rows: &[f64], i: usize, arg: &'static str) -> Result<DualQuat> {
+    DualQuat::from_array(rows[8 * i..8 * i + 8].try_into().expect("row of 8"))
+        .try_normalize()
+        .map_err(|_| Error::ZeroNorm { arg, index: i })
+}
+
+fn sclerp_row(a: &[f64], b: &[f64], t: &[f64], i: usize) -> Result<[f64; 8]> {
+    Ok(crate::interp::sclerp(unit_dq(a, i, "dq0")?, unit_dq(b, i, "dq1")?, t[i]).to_array())
+}
+
+/// The scalar reference of [`sclerp_pairs`]: `interp::sclerp` row by row.
+pub fn sclerp_pairs_reference(a: &[f64], b: &[f64], t: &[f64], out: &mut [f64]) -> Result<()> {
+    check8(a, b, t, out);
+    for i in 0..t.len() {
+        out[8 * i..8 * i + 8].copy_from_slice(&sclerp_row(a, b, t, i)?);
+    }
+    Ok(())
+}
+
+fn check8(a: &[f64], b: &[f64], t: &[f64], out: &[f64]) {
+    let n = t.len();
+    assert!(a.len() == 8 * n && b.len() == 8 * n && out.len() == 8 * n, "sclerp_pairs: bad lengths");
+}
+
+#[inline(always)]
+fn qmul<V: LanesExt>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
+    super::slerp::qmul(a, b)
+}
+
+#[inline(always)]
+fn conj<V: Lanes>(a: Q4<V>) -> Q4<V> {
+    [a[0], -a[1], -a[2], -a[3]]
+}
+
+#[inline(always)]
+fn add4<V: Lanes>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3]]
+}
+
+/// `DualQuat::try_normalize` (r with the bits of `Quat::try_normalize`, d/|r| made
+/// orthogonal to r) for squared norms of r in [1e-290, 1e290].
+#[inline(always)]
+fn unit_dual<V: LanesExt>(r: Q4<V>, d: Q4<V>, n2: V) -> (Q4<V>, Q4<V>) {
+    let ru = unit(r, n2);
+    let k = V::splat(1.0) / n2.sqrt();
+    let d = [d[0] * k, d[1] * k, d[2] * k, d[3] * k];
+    let p = dot(ru, d);
+    (ru, [p.fnma(ru[0], d[0]), p.fnma(ru[1], d[1]), p.fnma(ru[2], d[2]), p.fnma(ru[3], d[3])])
+}
+
+/// `DualQuat::powf` of a unit dual quaternion with r_w ≥ 0: the screw power by its
+/// parameters (half angle h = atan2(|v|, w), axis u = v/|v|, translation t = 2 vec(d r*)):
+/// real part (cos sh, sin sh · u), dual part (−½ s (u·t) sin sh, m + ½ s (u·t) cos sh · u)
+/// with m = ½ (sin sh (t × u) + (t − (u·t) u) sin(sh)/sin(h) cos h); at |v| = 0 the pure
+/// translation (1, 0) + ε (0, ½ s t).
+#[inline(always)]
+fn screw_power<V: LanesExt>(r: Q4<V>, d: Q4<V>, s: V) -> (Q4<V>, Q4<V>) {
+    let zero = V::splat(0.0);
+    let (half, one) = (V::splat(0.5), V::splat(1.0));
+    let dr = qmul(d, conj(r));
+    let t = [dr[1] + dr[1], dr[2] + dr[2], dr[3] + dr[3]];
+    let sn = r[3].fma(r[3], r[2].fma(r[2], r[1] * r[1])).sqrt();
+    let h = sn.atan2(r[0]);
+    let pos = |x: V, y: V| zero.lt_select(sn, x, y);
+    let inv = pos(one / sn, zero);
+    let u = [pos(r[1] * inv, one), r[2] * inv, r[3] * inv];
+    let ut = u[2].fma(t[2], u[1].fma(t[1], u[0] * t[0]));
+    let (sh, ch) = (s * h).sin_cos();
+    // sin(sh)/sin(h) · cos h = sin(sh) w / |v| (|r| = 1); s at |v| = 0
+    let ratio = pos(sh * r[0] * inv, s);
+    let cr = [t[1] * u[2] - t[2] * u[1], t[2] * u[0] - t[0] * u[2], t[0] * u[1] - t[1] * u[0]];
+    let hd = half * s * ut;
+    let hdc = hd * ch;
+    let mut dv = [zero; 3];
+    for c in 0..3 {
+        let m = half * cr[c].fma(sh, ratio * ut.fnma(u[c], t[c]));
+        // pure translation (|v| = 0): ½ s t exactly
+        dv[c] = pos(hdc.fma(u[c], m), half * s * t[c]);
+    }
+    ([ch, sh * u[0], sh * u[1], sh * u[2]], [-(hd * sh), dv[0], dv[1], dv[2]])
+}
+
+#[inline(always)]
+unsafe fn run_sclerp<V: LanesExt>(a8: &[f64], b8: &[f64], t: &[f64], out: &mut [f64]) -> Result<()> {
+    let n = t.len();
+    let (lo, hi) = (V::splat(1e-290), V::splat(1e290));
+    let zero = V::splat(0.0);
+    let mut i = 0;
+    while i < n {
+        let m = (n - i).min(V::N);
+        let (mut pa, mut pb, mut pt) = ([0.0; 32], [0.0; 32], [0.0; 4]);
+        let (ap, bp, tp) = if m == V::N {
+            (a8.as_ptr().add(8 * i), b8.as_ptr().add(8 * i), t.as_ptr().add(i))
+        } else {
+            for l in 0..4 {
+                let k = i + l.min(m - 1);
+                pa[8 * l..8 * l + 8].copy_from_slice(&a8[8 * k..8 * k + 8]);
+                pb[8 * l..8 * l + 8].copy_from_slice(&b8[8 * k..8 * k + 8]);
+                pt[l] = t[k];
+            }
+            (pa.as_ptr(), pb.as_ptr(), pt.as_ptr())
+        };
+        let idx = [0, 8, 16, 24];
+        let (mut fa, mut fb) = ([zero; 8], [zero; 8]);
+        V::transpose_records(ap, &idx, 8, fa.as_mut_ptr());
+        V::transpose_records(bp, &idx, 8, fb.as_mut_ptr());
+        let tv = V::load(tp);
+        let (ar, ad) = ([fa[0], fa[1], fa[2], fa[3]], [fa[4], fa[5], fa[6], fa[7]]);
+        let (br, bd) = ([fb[0], fb[1], fb[2], fb[3]], [fb[4], fb[5], fb[6], fb[7]]);
+        let (na, nb) = (norm2_plain(ar), norm2_plain(br));
+        let (ar, ad) = unit_dual(ar, ad, na);
+        let (br, bd) = unit_dual(br, bd, nb);
+        // rel = a* b, negated when its real w < 0 (w summed as the scalar product does, so the
+        // shortest-screw choice is the scalar path's)
+        let w = ar[0] * br[0] + ar[1] * br[1] + ar[2] * br[2] + ar[3] * br[3];
+        let sg = w.lt_select(zero, V::splat(-1.0), V::splat(1.0));
+        let rr = qmul(conj(ar), br);
+        let rd = add4(qmul(conj(ar), bd), qmul(conj(ad), br));
+        let rr = [w * sg, rr[1] * sg, rr[2] * sg, rr[3] * sg];
+        let rd = [rd[0] * sg, rd[1] * sg, rd[2] * sg, rd[3] * sg];
+        let (pr, pd) = screw_power(rr, rd, tv);
+        let or = qmul(ar, pr);
+        let od = add4(qmul(ar, pd), qmul(ad, pr));
+        let rows = &mut out[8 * i..8 * (i + m)];
+        if m == V::N {
+            V::store_rows4(or, rows.as_mut_ptr(), 8);
+            V::store_rows4(od, rows.as_mut_ptr().add(4), 8);
+        } else {
+            for (c, v) in or.iter().chain(od.iter()).enumerate() {
+                let x = v.to_array();
+                for l in 0..m {
+                    rows[8 * l + c] = x[l];
+                }
+            }
+        }
+        if na.any_lt(lo) || hi.any_lt(na) || nb.any_lt(lo) || hi.any_lt(nb) {
+            let (na, nb) = (na.to_array(), nb.to_array());
+            for l in 0..m {
+                let ok = |x: f64| (1e-290..=1e290).contains(&x);
+                if !ok(na[l]) || !ok(nb[l]) {
+                    rows[8 * l..8 * l + 8].copy_from_slice(&sclerp_row(a8, b8, t, i + l)?);
+                }
+            }
+        }
+        i += m;
+    }
+    Ok(())
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn run_sclerp_avx2(a: &[f64], b: &[f64], t: &[f64], out: &mut [f64]) -> Result<()> {
+    run_sclerp::<super::lanes::Avx2>(a, b, t, out)
+}
+
+/// ScLerp of independent pose pairs: rows of 8 (dual quaternions, normalised as
+/// `DualQuat::try_normalize` does) in `a`, `b`, parameters `t`, rows of 8 out; equals
+/// [`crate::interp::sclerp`] row by row within the kernels' bound. Errors name the first
+/// zero rotation part (`dq0`/`dq1` and its row).
+pub fn sclerp_pairs(isa: Isa, a: &[f64], b: &[f64], t: &[f64], out: &mut [f64]) -> Result<()> {
+    check8(a, b, t, out);
+    #[cfg(target_arch = "x86_64")]
+    if isa == Isa::Avx2 && super::avx2_available() {
+        // SAFETY: AVX2 and FMA detected; lengths checked above.
+        return unsafe { run_sclerp_avx2(a, b, t, out) };
+    }
+    let _ = isa;
+    // SAFETY: lengths checked above.
+    unsafe { run_sclerp::<f64>(a, b, t, out) }
+}
