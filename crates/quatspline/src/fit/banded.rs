@@ -198,30 +198,36 @@ impl Band {
     /// last p + 1 columns of Σ = H⁻¹ (O(p²) memory instead of the O(n p) band of Σ).
     pub fn trace_inverse_product(&self, b: &Band) -> f64 {
         let (n, p, w) = (self.n, self.p, self.p + 1);
-        // Ring of columns: col[i mod w][d] = Σ[i + d][i], d = 0 … p.
+        // Ring of columns: col[slot(i) + d] = Σ[i + d][i], d = 0 … p, slot(i) = (i mod w)·w.
         let mut col = vec![0.0; w * w];
         let mut lc = vec![0.0; w];
+        let mut slot = vec![0usize; w];
         let mut t = 0.0;
         for i in (0..n).rev() {
             let hi = (i + p).min(n - 1);
             let m = hi - i;
             let lii = self.a[i * w];
-            // L[k][i] for k = i+1 … hi.
-            for e in 1..=m {
+            let base = i % w;
+            for e in 0..=m {
+                // L[i+e][i] and the ring slot of column i + e.
                 lc[e] = self.a[(i + e) * w + e];
+                let r = base + e;
+                slot[e] = if r >= w { r - w } else { r } * w;
             }
-            let ci = (i % w) * w;
             for e in (0..=m).rev() {
-                // Σ[i + e][i] = (δ_e0 / L_ii − Σ_f L[i+f][i] Σ[i+f][i+e]) / L_ii, f = 1 … m.
-                let j = i + e;
+                // Σ[i + e][i] = (δ_e0 / L_ii − Σ_f L[i+f][i] Σ[i+f][i+e]) / L_ii, f = 1 … m:
+                // Σ[i+f][i+e] is in column i+f (f < e) or column i+e (f ≥ e).
                 let mut acc = if e == 0 { 1.0 / lii } else { 0.0 };
-                for f in 1..=m {
-                    let k = i + f;
-                    let skj = if k >= j { col[(j % w) * w + (k - j)] } else { col[(k % w) * w + (j - k)] };
-                    acc -= lc[f] * skj;
+                for f in 1..e {
+                    acc -= lc[f] * col[slot[f] + (e - f)];
                 }
-                col[ci + e] = acc / lii;
+                let ce = &col[slot[e]..slot[e] + w];
+                for f in e.max(1)..=m {
+                    acc -= lc[f] * ce[f - e];
+                }
+                col[slot[0] + e] = acc / lii;
             }
+            let ci = slot[0];
             t += col[ci] * b.a[i * w];
             for e in 1..=m {
                 t += 2.0 * col[ci + e] * b.a[(i + e) * w + e];
