@@ -123,8 +123,11 @@ fn splines() -> Vec<(String, Box<dyn Spline>)> {
         let c = walk(n, 30 + n as u64, 0.4);
         v.push((format!("bezier {n} small"), Box::new(SphericalBezier::new(&c, (-1.0, 2.5), true).unwrap())));
     }
-    // every neighbour at the series' largest angle (half-angle 0.2999), and just beyond it
-    for (tag, half) in [("at", 0.2999), ("beyond", 0.3001)] {
+    // every neighbour at a series tier's largest angle, and just beyond it
+    // (`simd::slerp::SERIES_MAX_ANGLE`: 0.3 and 0.5)
+    for (tag, half) in
+        [("at 1st", 0.2999), ("beyond 1st", 0.3001), ("at 2nd", 0.4999), ("beyond 2nd", 0.5001)]
+    {
         let c = steps(8, 43, half);
         v.push((
             format!("bezier 8 {tag} switch"),

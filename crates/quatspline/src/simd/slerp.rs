@@ -12,13 +12,13 @@
 //! evaluated as the jet path does): u = (t − t₀)/h; the first level cⱼ exp(u aⱼ nⱼ) by the
 //! vector sin/cos; each slerp(a, b; w) = a exp(w log(a* b)) by [`slerp`] (no quaternion
 //! product: c = a·b, r = b − c a, θ = atan2(|r|, c) with the vector atan2 of `lanes.rs`).
-//! Where every angle between consecutive control points is at most [`SERIES_MAX_ANGLE`] (the
-//! flag), de Casteljau instead takes [`slerp_series`] for every slerp, the first level
-//! included: a sin((1 − w)θ)/sin θ + b sin(wθ)/sin θ with both ratios as [`SERIES_TERMS`]-term
-//! series in cos θ − 1 whose coefficients depend on w = u only, so they are computed once per
-//! sample for the whole pyramid: no square root, division or trigonometric function per
-//! slerp. Derivatives and rates keep the exact jets (the kernels decline and the engine falls
-//! back per run).
+//! Where every angle between consecutive control points is at most one of
+//! [`SERIES_MAX_ANGLE`] (the record's flag names the tier), de Casteljau instead takes
+//! [`slerp_series`] for every slerp, the first level included: a sin((1 − w)θ)/sin θ +
+//! b sin(wθ)/sin θ with both ratios as [`SERIES_TERMS`]-term series in cos θ − 1 whose
+//! coefficients depend on w = u only, so they are computed once per sample for the whole
+//! pyramid: no square root, division or trigonometric function per slerp. Derivatives and
+//! rates keep the exact jets (the kernels decline and the engine falls back per run).
 
 use super::lanes::{Lanes, LanesExt};
 use super::{BatchKernel, Isa, Locator};
@@ -150,12 +150,16 @@ pub const MAX_POINTS: usize = 16;
 const PER_POINT: usize = 16;
 const MAX_STRIDE: usize = 4 + PER_POINT * (MAX_POINTS - 1);
 const SQUAD_STRIDE: usize = 20;
-/// The series slerp below is used on a de Casteljau segment when every angle between
-/// consecutive control points is at most this (half the rotation angle, rad) …
-pub const SERIES_MAX_ANGLE: f64 = 0.3;
-/// … with this many terms: the truncation error is below 3e-18 for every weight in [0, 1]
-/// at that angle (computed with mpmath, 40 digits), and smaller for smaller angles.
-pub const SERIES_TERMS: usize = 9;
+/// The series slerp below serves a de Casteljau segment when every angle between consecutive
+/// control points (half the rotation angle, rad) is at most `SERIES_MAX_ANGLE[i]` for a tier
+/// i, with `SERIES_TERMS[i]` terms: the truncation error is below 3e-18 (tier 0) and 1.4e-17
+/// (tier 1) for every weight in [0, 1] at those angles (mpmath, 40 digits), smaller below.
+pub const SERIES_MAX_ANGLE: [f64; 2] = [0.3, 0.5];
+/// See [`SERIES_MAX_ANGLE`].
+pub const SERIES_TERMS: [usize; 2] = [9, 12];
+const MAX_TERMS: usize = 12;
+/// Series coefficients βₖ, k = 0…K (entries beyond K unused).
+pub(crate) type Coef<V> = [V; MAX_TERMS + 1];
 
 type Q4<V> = [V; 4];
 
@@ -216,10 +220,10 @@ pub(crate) fn slerp<V: Arith>(a: Q4<V>, b: Q4<V>, w: V) -> Q4<V> {
 /// and Game Tools 15 (3), 2011, eq. 11, here to double precision). The terms shrink like
 /// sin²(θ/2)ᵏ.
 #[inline(always)]
-pub(crate) fn series_coefficients<V: Arith>(w: V) -> [V; SERIES_TERMS + 1] {
+pub(crate) fn series_coefficients<V: Arith, const K: usize>(w: V) -> Coef<V> {
     let w2 = w * w;
-    let mut b = [w; SERIES_TERMS + 1];
-    for k in 1..=SERIES_TERMS {
+    let mut b = [w; MAX_TERMS + 1];
+    for k in 1..=K {
         let kk = (k * k) as f64;
         let inv = 1.0 / (k * (2 * k + 1)) as f64;
         // (w² − k²) / (k(2k + 1)) as w² · inv − k² · inv (both products of exact inputs)
@@ -230,40 +234,35 @@ pub(crate) fn series_coefficients<V: Arith>(w: V) -> [V; SERIES_TERMS + 1] {
 
 /// Σₖ βₖ xᵏ by Horner.
 #[inline(always)]
-fn series<V: Arith>(b: &[V; SERIES_TERMS + 1], x: V) -> V {
-    let mut acc = b[SERIES_TERMS];
-    for k in (0..SERIES_TERMS).rev() {
+fn series<V: Arith, const K: usize>(b: &Coef<V>, x: V) -> V {
+    let mut acc = b[K];
+    for k in (0..K).rev() {
         acc = acc.fma(x, b[k]);
     }
     acc
 }
 
 /// slerp(a, b; w) = a sin((1 − w)θ)/sin θ + b sin(wθ)/sin θ for unit a, b at an angle θ up to
-/// [`SERIES_MAX_ANGLE`], with `bw` = βₖ(w) and `bv` = βₖ(1 − w) from [`series_coefficients`]:
+/// `SERIES_MAX_ANGLE[i]` and K = `SERIES_TERMS[i]`, with `bw` = βₖ(w) and `bv` = βₖ(1 − w)
+/// from [`series_coefficients`]:
 /// no square root, division or trigonometric function. x = a·b − 1 is summed from −1 on (its
 /// absolute error is a few ulp of 1, and ∂/∂x of either coefficient is below 0.2). Exact at
 /// the ends: βₖ(0) = 0 and βₖ(1) = (1, 0, 0, …), so w = 0 gives a and w = 1 gives b.
 #[inline(always)]
-pub(crate) fn slerp_series<V: Arith>(
+pub(crate) fn slerp_series<V: Arith, const K: usize>(
     a: Q4<V>,
     b: Q4<V>,
-    bw: &[V; SERIES_TERMS + 1],
-    bv: &[V; SERIES_TERMS + 1],
+    bw: &Coef<V>,
+    bv: &Coef<V>,
 ) -> Q4<V> {
     let x = a[3].fma(b[3], a[2].fma(b[2], a[1].fma(b[1], a[0].fma(b[0], V::splat(-1.0)))));
-    lin_series(a, b, x, bw, bv)
+    lin_series::<V, K>(a, b, x, bw, bv)
 }
 
 /// a sin((1 − w)θ)/sin θ + b sin(wθ)/sin θ for a given x = cos θ − 1.
 #[inline(always)]
-fn lin_series<V: Arith>(
-    a: Q4<V>,
-    b: Q4<V>,
-    x: V,
-    bw: &[V; SERIES_TERMS + 1],
-    bv: &[V; SERIES_TERMS + 1],
-) -> Q4<V> {
-    let (fa, fb) = (series(bv, x), series(bw, x));
+fn lin_series<V: Arith, const K: usize>(a: Q4<V>, b: Q4<V>, x: V, bw: &Coef<V>, bv: &Coef<V>) -> Q4<V> {
+    let (fa, fb) = (series::<V, K>(bv, x), series::<V, K>(bw, x));
     [b[0].fma(fb, a[0] * fa), b[1].fma(fb, a[1] * fa), b[2].fma(fb, a[2] * fa), b[3].fma(fb, a[3] * fa)]
 }
 
@@ -303,9 +302,11 @@ impl SlerpTable {
             let r = &mut data[i * stride..(i + 1) * stride];
             r[0] = joints[i];
             r[1] = joints[i + 1] - joints[i];
-            // field 2: 1 where the series slerp applies (see `body`)
-            let series = l[..n - 1].iter().all(|ax| ax.a <= SERIES_MAX_ANGLE);
-            r[2] = if series { 1.0 } else { 0.0 };
+            // field 2: 1 + the series tier where one applies, else 0 (see `body`)
+            r[2] = match SERIES_MAX_ANGLE.iter().position(|&m| l[..n - 1].iter().all(|ax| ax.a <= m)) {
+                Some(tier) => (tier + 1) as f64,
+                None => 0.0,
+            };
             for j in 0..n - 1 {
                 let o = 4 + PER_POINT * j;
                 r[o..o + 4].copy_from_slice(&c[j].to_wxyz());
@@ -352,35 +353,25 @@ fn q4<V: Copy>(f: &[V], h: &[V], o: usize) -> Q4<P2<V>> {
 
 /// Two vectors of samples on the lanes' records `f` (first vector) and `h` (second).
 ///
-/// With `SERIES` (every lane's record flags it: all control-point angles at most
-/// [`SERIES_MAX_ANGLE`], hence every angle of the pyramid too, since on the sphere
+/// With `TIER` t > 0 (every lane's record is flagged t: all control-point angles at most
+/// `SERIES_MAX_ANGLE[t − 1]`, hence every angle of the pyramid too, since on the sphere
 /// d(slerp(P, Q; u), slerp(Q, R; u)) ≤ (1 − u) d(P, Q) + u d(Q, R)), every slerp of the
 /// pyramid, the first level included (from cⱼ to eⱼ), is [`slerp_series`] with the same
 /// coefficients βₖ(u), βₖ(1 − u) for all of them.
 #[inline(always)]
-fn body<V: LanesExt, const SQUAD: bool, const SERIES: bool>(
+fn body<V: LanesExt, const SQUAD: bool, const TIER: usize>(
     f: &[V],
     h: &[V],
     points: usize,
     tv: P2<V>,
 ) -> Q4<P2<V>> {
     let u = (tv - g(f, h, 0)) / g(f, h, 1);
-    if SERIES && !SQUAD {
-        let one = <P2<V> as Arith>::splat(1.0);
-        let (bw, bv) = (series_coefficients(u), series_coefficients(one - u));
-        let zero = <P2<V> as Arith>::splat(0.0);
-        let mut b = [[zero; 4]; MAX_POINTS - 1];
-        let m = points - 1;
-        for (j, bj) in b.iter_mut().enumerate().take(m) {
-            let o = 4 + PER_POINT * j;
-            *bj = lin_series(q4(f, h, o), q4(f, h, o + 8), g(f, h, o + 12), &bw, &bv);
+    if !SQUAD {
+        match TIER {
+            1 => return series_pyramid::<V, { SERIES_TERMS[0] }>(f, h, points, u),
+            2 => return series_pyramid::<V, { SERIES_TERMS[1] }>(f, h, points, u),
+            _ => {}
         }
-        for level in (1..m).rev() {
-            for j in 0..level {
-                b[j] = slerp_series(b[j], b[j + 1], &bw, &bv);
-            }
-        }
-        return b[0];
     }
     let axis = |o: usize| [g(f, h, o), g(f, h, o + 1), g(f, h, o + 2)];
     if SQUAD {
@@ -402,6 +393,33 @@ fn body<V: LanesExt, const SQUAD: bool, const SERIES: bool>(
         }
     }
     b[0]
+}
+
+/// The de Casteljau pyramid by [`slerp_series`] with K terms (see [`body`]).
+#[inline(always)]
+fn series_pyramid<V: LanesExt, const K: usize>(f: &[V], h: &[V], points: usize, u: P2<V>) -> Q4<P2<V>> {
+    let one = <P2<V> as Arith>::splat(1.0);
+    let (bw, bv) = (series_coefficients::<_, K>(u), series_coefficients::<_, K>(one - u));
+    let zero = <P2<V> as Arith>::splat(0.0);
+    let mut b = [[zero; 4]; MAX_POINTS - 1];
+    let m = points - 1;
+    for (j, bj) in b.iter_mut().enumerate().take(m) {
+        let o = 4 + PER_POINT * j;
+        *bj = lin_series::<_, K>(q4(f, h, o), q4(f, h, o + 8), g(f, h, o + 12), &bw, &bv);
+    }
+    for level in (1..m).rev() {
+        for j in 0..level {
+            b[j] = slerp_series::<_, K>(b[j], b[j + 1], &bw, &bv);
+        }
+    }
+    b[0]
+}
+
+/// 1 in the lanes whose flag is `k`, else 0.
+#[inline(always)]
+fn tier_indicator<V: Arith>(flag: V, k: f64) -> V {
+    let (zero, one) = (V::splat(0.0), V::splat(1.0));
+    V::splat(k - 0.5).lt_select(flag, flag.lt_select(V::splat(k + 0.5), one, zero), zero)
 }
 
 /// Loads the records of lanes `idx` into `local` (broadcast when they share one; `cached`
@@ -452,22 +470,38 @@ unsafe fn run<V: LanesExt, const SQUAD: bool>(
         fetch(tab, &idx[1], &mut lb, &mut cb);
         let tv = P2(V::load(tl.as_ptr()), V::load(tl.as_ptr().add(V::N)));
         let o = if SQUAD {
-            body::<V, true, false>(&la[..stride], &lb[..stride], points, tv)
+            body::<V, true, 0>(&la[..stride], &lb[..stride], points, tv)
         } else {
-            // each lane's path is chosen by its own record's flag (field 2), so that no row
-            // depends on its neighbours: a vector mixing both kinds computes both and blends
-            let half = <P2<V> as Arith>::splat(0.5);
+            // each lane's path is chosen by its own record's flag (field 2: 0 general, else
+            // 1 + series tier), so that no row depends on its neighbours: a vector mixing
+            // paths computes each and blends
+            // (no closures here: they would not inherit the caller's target features)
             let flag = P2(la[2], lb[2]);
-            let (some_general, some_series) = (flag.any_lt(half), half.any_lt(flag));
-            if !some_general {
-                body::<V, false, true>(&la[..stride], &lb[..stride], points, tv)
-            } else if !some_series {
-                body::<V, false, false>(&la[..stride], &lb[..stride], points, tv)
-            } else {
-                let a = body::<V, false, true>(&la[..stride], &lb[..stride], points, tv);
-                let b = body::<V, false, false>(&la[..stride], &lb[..stride], points, tv);
-                [0, 1, 2, 3].map(|c| flag.lt_select(half, b[c], a[c]))
+            let half = <P2<V> as Arith>::splat(0.5);
+            let ind = [tier_indicator(flag, 0.0), tier_indicator(flag, 1.0), tier_indicator(flag, 2.0)];
+            let present = [half.any_lt(ind[0]), half.any_lt(ind[1]), half.any_lt(ind[2])];
+            let (f, h) = (&la[..stride], &lb[..stride]);
+            let mut o: Option<Q4<P2<V>>> = None;
+            for k in 0..3 {
+                if !present[k] {
+                    continue;
+                }
+                let r = match k {
+                    1 => body::<V, false, 1>(f, h, points, tv),
+                    2 => body::<V, false, 2>(f, h, points, tv),
+                    _ => body::<V, false, 0>(f, h, points, tv),
+                };
+                o = Some(match o {
+                    None => r,
+                    Some(p) => [
+                        ind[k].lt_select(half, p[0], r[0]),
+                        ind[k].lt_select(half, p[1], r[1]),
+                        ind[k].lt_select(half, p[2], r[2]),
+                        ind[k].lt_select(half, p[3], r[3]),
+                    ],
+                });
             }
+            o.expect("every lane has a flag of 0, 1 or 2")
         };
         let rows = &mut out[4 * i..4 * (i + m)];
         if m == w {
@@ -556,7 +590,7 @@ mod tests {
     }
 
     /// The series slerp against the trigonometric one (f64 lanes) for angles from 0 to
-    /// [`SERIES_MAX_ANGLE`] and weights across [0, 1], ends exact.
+    /// [`SERIES_MAX_ANGLE`] (both tiers) and weights across [0, 1], ends exact.
     #[test]
     fn series_slerp_equals_the_trigonometric_slerp() {
         let mut x: u64 = 5;
@@ -574,16 +608,31 @@ mod tests {
             let d: f64 = (0..4).map(|c| r[c] * a[c]).sum();
             let p = unit([0, 1, 2, 3].map(|c| r[c] - d * a[c]));
             let th = match i % 4 {
-                0 => SERIES_MAX_ANGLE,
-                1 => SERIES_MAX_ANGLE * next(),
+                0 => SERIES_MAX_ANGLE[0],
+                1 => SERIES_MAX_ANGLE[0] * next(),
                 2 => 1e-9 * next(),
                 _ => 0.0,
             };
             let (s, c) = f64::sin_cos(th);
             let b = [0, 1, 2, 3].map(|k| a[k] * c + p[k] * s);
+            // the same for tier 1 (angles up to 0.5)
+            let (s2, c2) = f64::sin_cos(th / SERIES_MAX_ANGLE[0] * SERIES_MAX_ANGLE[1]);
             for w in [0.0, 1.0, next(), 0.5, 1e-3 * next(), 1.0 - 1e-3 * next()] {
-                let (bw, bv) = (series_coefficients(w), series_coefficients(1.0 - w));
-                let got = slerp_series(a, b, &bw, &bv);
+                let (bw, bv) = (
+                    series_coefficients::<_, { SERIES_TERMS[0] }>(w),
+                    series_coefficients::<_, { SERIES_TERMS[0] }>(1.0 - w),
+                );
+                let got = slerp_series::<_, { SERIES_TERMS[0] }>(a, b, &bw, &bv);
+                let (cw, cv) = (
+                    series_coefficients::<_, { SERIES_TERMS[1] }>(w),
+                    series_coefficients::<_, { SERIES_TERMS[1] }>(1.0 - w),
+                );
+                let (a2, b2) = (a, [0, 1, 2, 3].map(|k| a[k] * c2 + p[k] * s2));
+                let got2 = slerp_series::<_, { SERIES_TERMS[1] }>(a2, b2, &cw, &cv);
+                let want2 = slerp(a2, b2, w);
+                for k in 0..4 {
+                    worst = worst.max((got2[k] - want2[k]).abs());
+                }
                 let want = slerp(a, b, w);
                 for k in 0..4 {
                     worst = worst.max((got[k] - want[k]).abs());
@@ -599,11 +648,13 @@ mod tests {
         assert!(worst <= 1e-15, "worst {worst:e}");
     }
 
-    /// The table flags a curve for the series exactly when every neighbour angle is at most
-    /// [`SERIES_MAX_ANGLE`].
+    /// The table flags a curve with the first series tier whose angle bounds every neighbour
+    /// angle, or 0 (the trigonometric path).
     #[test]
     fn series_flag_follows_the_largest_angle() {
-        for (half, want) in [(0.1, 1.0), (0.2999, 1.0), (0.3001, 0.0), (3.0, 0.0)] {
+        for (half, want) in
+            [(0.1, 1.0), (0.2999, 1.0), (0.3001, 2.0), (0.4999, 2.0), (0.5001, 0.0), (3.0, 0.0)]
+        {
             let (s, c) = f64::sin_cos(half);
             let ctrl = [Quat::IDENTITY, Quat::new(c, s, 0.0, 0.0), Quat::new(c * c, s * c, s * c, s * s)];
             let logs: Vec<Axis> =
