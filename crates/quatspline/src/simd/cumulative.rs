@@ -21,11 +21,13 @@
 //! one rotation by q (jerk_w = q j q* + ω_w × α_w); q' = ½ q ω, q'' = ½ (q' ω + q α),
 //! q''' = ½ (q'' ω + 2 q' α + q j) give the quaternion derivatives.
 
-use super::lanes::Lanes;
+use super::lanes::{Lanes, LanesExt};
+use super::slerp::P2;
 use super::{BatchKernel, Isa, Locator};
 use crate::jet::Axis;
 use crate::quat::Quat;
 use crate::spline::Frame;
+use std::ops::{Add, Mul, Neg, Sub};
 
 /// The most factors / the highest degree a table supports (B-spline order 12, Bézier of 12
 /// points); beyond, the spline has no batch kernel and the engine uses the jets.
@@ -55,6 +57,9 @@ pub struct CumulativeTable {
     nj: usize,
     nd: usize,
     stride: usize,
+    /// The prefix of a record the value and body-frame kernels read (a multiple of 4): the
+    /// world-frame axes come after it.
+    vlen: usize,
     data: Vec<f64>,
     mid: Vec<f64>,
     locator: Locator,
@@ -129,8 +134,9 @@ impl CumulativeTable {
         if nj == 0 || nj > MAX_FACTORS || nd > MAX_DEGREE {
             return None;
         }
-        // a multiple of 4, so that records can be read 4 doubles at a time
-        let stride = (6 + nj * (nd + 4)).next_multiple_of(4);
+        // multiples of 4, so that records can be read 4 doubles at a time
+        let vlen = (6 + nj * (nd + 4)).next_multiple_of(4);
+        let stride = (vlen + 3 * nj).next_multiple_of(4);
         let mut data = vec![0.0; 2 * nseg * stride];
         let mut mid = Vec::with_capacity(nseg);
         for (s, f) in forms.iter().enumerate() {
@@ -162,11 +168,14 @@ impl CumulativeTable {
                     for (m, v) in p.iter().enumerate() {
                         r[off + 3 + m] = v * ax.a;
                     }
+                    // the axis in the world frame, q_s n q_s* (the world-frame rate recursion)
+                    let mw = f.base.rotate(ax.n);
+                    r[vlen + 3 * j..vlen + 3 * j + 3].copy_from_slice(&mw);
                 }
                 // factors beyond this segment's count stay zero: exp(0) = 1, exact
             }
         }
-        Some(CumulativeTable { nj, nd, stride, data, mid, locator: Locator::new(joints) })
+        Some(CumulativeTable { nj, nd, stride, vlen, data, mid, locator: Locator::new(joints) })
     }
 
     /// (factors, degree).
@@ -177,39 +186,105 @@ impl CumulativeTable {
 
 // ------------------------------------------------------------------------------- kernel
 
-/// Where a vector's per-segment fields come from: one record for all lanes (broadcast) or
-/// one per lane (gather).
-trait Src<V: Lanes> {
-    /// Field `off` of the lanes' records.
-    unsafe fn get(&self, off: usize) -> V;
+/// What the quaternion and vector helpers need: `+ − × neg` and fused multiply-adds, on a
+/// vector of lanes ([`Lanes`]) or two of them in lockstep ([`P2`]).
+pub(super) trait Fused:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Neg<Output = Self>
+{
+    /// `self · b + c`.
+    fn fma(self, b: Self, c: Self) -> Self;
+    /// `c − self · b`.
+    fn fnma(self, b: Self, c: Self) -> Self;
 }
 
-struct Bcast(*const f64);
-impl<V: Lanes> Src<V> for Bcast {
+/// [`Fused`] plus constants and the vector sin/cos: what a kernel body uses.
+pub(super) trait Trig: Fused {
+    /// Every lane `x`.
+    fn splat(x: f64) -> Self;
+    /// (sin, cos) of every lane.
+    fn sin_cos(self) -> (Self, Self);
+}
+
+impl<V: Lanes> Fused for V {
     #[inline(always)]
-    unsafe fn get(&self, off: usize) -> V {
-        V::splat(*self.0.add(off))
+    fn fma(self, b: Self, c: Self) -> Self {
+        Lanes::fma(self, b, c)
+    }
+    #[inline(always)]
+    fn fnma(self, b: Self, c: Self) -> Self {
+        Lanes::fnma(self, b, c)
     }
 }
 
-/// Records of the lanes transposed into vectors (4×4 transposes of plain loads: cheaper than
-/// one AVX2 gather per field).
-struct Local<'a, V>(&'a [V]);
-impl<V: Lanes> Src<V> for Local<'_, V> {
+impl<V: Lanes> Trig for V {
     #[inline(always)]
-    unsafe fn get(&self, off: usize) -> V {
-        *self.0.get_unchecked(off)
+    fn splat(x: f64) -> Self {
+        <V as Lanes>::splat(x)
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        Lanes::sin_cos(self)
+    }
+}
+
+impl<V: LanesExt> Fused for P2<V> {
+    #[inline(always)]
+    fn fma(self, b: Self, c: Self) -> Self {
+        P2(Lanes::fma(self.0, b.0, c.0), Lanes::fma(self.1, b.1, c.1))
+    }
+    #[inline(always)]
+    fn fnma(self, b: Self, c: Self) -> Self {
+        P2(Lanes::fnma(self.0, b.0, c.0), Lanes::fnma(self.1, b.1, c.1))
+    }
+}
+
+impl<V: LanesExt> Trig for P2<V> {
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        let v = <V as Lanes>::splat(x);
+        P2(v, v)
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        let ((s0, c0), (s1, c1)) = (Lanes::sin_cos(self.0), Lanes::sin_cos(self.1));
+        (P2(s0, s1), P2(c0, c1))
+    }
+}
+
+/// Where the per-segment fields of a block's lanes come from: one record for all of them
+/// (broadcast) or one per lane (transposed).
+trait Src<A> {
+    /// Field `off` of the lanes' records.
+    unsafe fn get(&self, off: usize) -> A;
+}
+
+struct Bcast(*const f64);
+impl<A: Trig> Src<A> for Bcast {
+    #[inline(always)]
+    unsafe fn get(&self, off: usize) -> A {
+        A::splat(*self.0.add(off))
+    }
+}
+
+/// Records of the two vectors' lanes transposed into vectors (4×4 transposes of plain
+/// loads: cheaper than one AVX2 gather per field).
+struct Local2<'a, V>(&'a [V], &'a [V]);
+impl<V: LanesExt> Src<P2<V>> for Local2<'_, V> {
+    #[inline(always)]
+    unsafe fn get(&self, off: usize) -> P2<V> {
+        P2(*self.0.get_unchecked(off), *self.1.get_unchecked(off))
     }
 }
 
 /// The largest record (MAX_FACTORS, MAX_DEGREE), rounded up to a multiple of 4.
-const MAX_STRIDE: usize = (6 + MAX_FACTORS * (MAX_DEGREE + 4)).next_multiple_of(4);
+const MAX_STRIDE: usize =
+    ((6 + MAX_FACTORS * (MAX_DEGREE + 4)).next_multiple_of(4) + 3 * MAX_FACTORS).next_multiple_of(4);
 
 type V3<V> = [V; 3];
 type Q4<V> = [V; 4];
 
 #[inline(always)]
-pub(super) fn qmul<V: Lanes>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
+pub(super) fn qmul<V: Fused>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
     [
         a[3].fnma(b[3], a[2].fnma(b[2], a[1].fnma(b[1], a[0] * b[0]))),
         a[3].fnma(b[2], a[2].fma(b[3], a[1].fma(b[0], a[0] * b[1]))),
@@ -220,7 +295,7 @@ pub(super) fn qmul<V: Lanes>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
 
 /// q ⊗ (0, v).
 #[inline(always)]
-fn qmul_pure<V: Lanes>(a: Q4<V>, v: V3<V>) -> Q4<V> {
+fn qmul_pure<V: Fused>(a: Q4<V>, v: V3<V>) -> Q4<V> {
     [
         a[3].fnma(v[2], a[2].fnma(v[1], -(a[1] * v[0]))),
         a[3].fnma(v[1], a[2].fma(v[2], a[0] * v[0])),
@@ -230,40 +305,41 @@ fn qmul_pure<V: Lanes>(a: Q4<V>, v: V3<V>) -> Q4<V> {
 }
 
 #[inline(always)]
-pub(super) fn cross<V: Lanes>(a: V3<V>, b: V3<V>) -> V3<V> {
+pub(super) fn cross<V: Fused>(a: V3<V>, b: V3<V>) -> V3<V> {
     [a[2].fnma(b[1], a[1] * b[2]), a[0].fnma(b[2], a[2] * b[0]), a[1].fnma(b[0], a[0] * b[1])]
 }
 
 #[inline(always)]
-fn add3<V: Lanes>(a: V3<V>, b: V3<V>) -> V3<V> {
+fn add3<V: Fused>(a: V3<V>, b: V3<V>) -> V3<V> {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
 }
 
 #[inline(always)]
-fn sub3<V: Lanes>(a: V3<V>, b: V3<V>) -> V3<V> {
+fn sub3<V: Fused>(a: V3<V>, b: V3<V>) -> V3<V> {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
 #[inline(always)]
-fn scale3<V: Lanes>(a: V3<V>, s: V) -> V3<V> {
+fn scale3<V: Fused>(a: V3<V>, s: V) -> V3<V> {
     [a[0] * s, a[1] * s, a[2] * s]
 }
 
 #[inline(always)]
-fn add4<V: Lanes>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
+fn add4<V: Fused>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3]]
 }
 
 #[inline(always)]
-fn scale4<V: Lanes>(a: Q4<V>, s: V) -> Q4<V> {
+fn scale4<V: Fused>(a: Q4<V>, s: V) -> Q4<V> {
     [a[0] * s, a[1] * s, a[2] * s, a[3] * s]
 }
 
-/// e* v e for e = (c, s n): v cos 2θ − sin 2θ (n × v) + (1 − cos 2θ)(n·v) n, given
-/// s2 = sin 2θ, c2 = cos 2θ, omc = 1 − cos 2θ. (Written as functions, not closures: a closure
-/// would not inherit the caller's `target_feature`, and its vector operations would be calls.)
+/// v cos 2θ − sin 2θ (n × v) + (1 − cos 2θ)(n·v) n given s2 = sin 2θ, c2 = cos 2θ,
+/// omc = 1 − cos 2θ: e* v e for e = (cos θ, sin θ n), and e v e* with s2 = −sin 2θ.
+/// (Written as functions, not closures: a closure would not inherit the caller's
+/// `target_feature`, and its vector operations would be calls.)
 #[inline(always)]
-fn rot_axis<V: Lanes>(n: V3<V>, s2: V, c2: V, omc: V, v: V3<V>) -> V3<V> {
+fn rot_axis<V: Fused>(n: V3<V>, s2: V, c2: V, omc: V, v: V3<V>) -> V3<V> {
     let cr = cross(n, v);
     let k = omc * n[2].fma(v[2], n[1].fma(v[1], n[0] * v[0]));
     [
@@ -275,7 +351,7 @@ fn rot_axis<V: Lanes>(n: V3<V>, s2: V, c2: V, omc: V, v: V3<V>) -> V3<V> {
 
 /// The vector rotated by the unit quaternion q: x + 2w (v × x) + 2 v × (v × x).
 #[inline(always)]
-pub(super) fn rotate<V: Lanes>(q: Q4<V>, x: V3<V>) -> V3<V> {
+pub(super) fn rotate<V: Fused>(q: Q4<V>, x: V3<V>) -> V3<V> {
     let v = [q[1], q[2], q[3]];
     let c1 = cross(v, x);
     let c1 = add3(c1, c1);
@@ -296,25 +372,36 @@ pub(super) const fn width(k: usize, out: u8) -> usize {
     }
 }
 
-/// One vector of samples: the rows (up to 16 components) for lane times `tv`.
+/// ω_j = 2θ' n, ω_j' = 2θ'' n, ω_j'' = 2θ''' n of one factor (θ^(m) = m! p_m dvar^m), the
+/// orders K needs.
 #[inline(always)]
-unsafe fn block<V: Lanes, S: Src<V>, const K: usize, const OUT: u8>(
+fn factor_rates<A: Trig, const K: usize>(n: V3<A>, p: [A; 3], dvar: A) -> (V3<A>, V3<A>, V3<A>) {
+    let zero = [A::splat(0.0); 3];
+    let om = scale3(n, A::splat(2.0) * p[0] * dvar);
+    let omd = if K >= 2 { scale3(n, A::splat(4.0) * p[1] * dvar * dvar) } else { zero };
+    let omdd = if K >= 3 { scale3(n, A::splat(12.0) * p[2] * dvar * dvar * dvar) } else { zero };
+    (om, omd, omdd)
+}
+
+/// One block of samples (a vector, or two in lockstep): the rows (up to 16 components) for
+/// lane times `tv`. The angles of every factor first, then their sin/cos, then the products
+/// and rate recursions: the serial chains see independent work to overlap.
+#[inline(always)]
+unsafe fn block<A: Trig, S: Src<A>, const K: usize, const OUT: u8>(
     nj: usize,
     nd: usize,
     src: &S,
-    tv: V,
-) -> [V; 16] {
-    let zero = V::splat(0.0);
+    tv: A,
+) -> [A; 16] {
+    let zero = A::splat(0.0);
     let (tref, dvar) = (src.get(0), src.get(1));
     let x = (tv - tref) * dvar;
-    let mut q: Q4<V> = [src.get(2), src.get(3), src.get(4), src.get(5)];
-    let (mut w, mut a, mut jk) = ([zero; 3], [zero; 3], [zero; 3]);
-    let (two, four, twelve) = (V::splat(2.0), V::splat(4.0), V::splat(12.0));
+    // P, P', P''/2, P'''/6 at x by Horner, per factor
+    let mut th = [zero; MAX_FACTORS];
+    let mut dp = [[zero; 3]; MAX_FACTORS];
     for j in 0..nj {
-        let off = 6 + j * (nd + 4);
-        let n: V3<V> = [src.get(off), src.get(off + 1), src.get(off + 2)];
-        // P, P', P''/2, P'''/6 at x by Horner
-        let mut p0: V = src.get(off + 3 + nd);
+        let off = 6 + j * (nd + 4) + 3;
+        let mut p0: A = src.get(off + nd);
         let (mut p1, mut p2, mut p3) = (zero, zero, zero);
         for m in (0..nd).rev() {
             if K >= 3 {
@@ -326,18 +413,71 @@ unsafe fn block<V: Lanes, S: Src<V>, const K: usize, const OUT: u8>(
             if K >= 1 {
                 p1 = p1.fma(x, p0);
             }
-            p0 = p0.fma(x, src.get(off + 3 + m));
+            p0 = p0.fma(x, src.get(off + m));
         }
-        let (s, c) = p0.sin_cos();
-        q = qmul(q, [c, s * n[0], s * n[1], s * n[2]]);
+        th[j] = p0;
+        dp[j] = [p1, p2, p3];
+    }
+    let mut sc = [(zero, zero); MAX_FACTORS];
+    for j in 0..nj {
+        sc[j] = th[j].sin_cos();
+    }
+    let (one, two) = (A::splat(1.0), A::splat(2.0));
+    let mut o = [zero; 16];
+    if OUT == WORLD {
+        // The world frame without q: with the world axes m_j = q_s n_j q_s* and
+        // E_j = exp(θ_j m_j) = q_s e_j q_s*, q = E_1 ⋯ E_J q_s, so
+        // ω_w = ω_1 + E_1 (ω_2 + E_2 (…) E_2*) E_1* (ω_j = 2θ_j' m_j): the body recursion
+        // mirrored, from the last factor to the first, with d/dt E x E* = E x' E* + ω_j × E x E*.
+        let mo = (6 + nj * (nd + 4)).next_multiple_of(4);
+        let (mut w, mut a, mut jk) = ([zero; 3], [zero; 3], [zero; 3]);
+        for jj in 0..nj {
+            let j = nj - 1 - jj;
+            let n: V3<A> = [src.get(mo + 3 * j), src.get(mo + 3 * j + 1), src.get(mo + 3 * j + 2)];
+            let (om, omd, omdd) = factor_rates::<A, K>(n, dp[j], dvar);
+            if jj == 0 {
+                (w, a, jk) = (om, omd, omdd);
+                continue;
+            }
+            let (s, c) = sc[j];
+            // E x E*: rotation by +2θ about m
+            let s2 = A::splat(-2.0) * s * c;
+            let omc = two * s * s;
+            let c2 = one - omc;
+            let y = rot_axis(n, s2, c2, omc, w);
+            if K >= 2 {
+                let z = rot_axis(n, s2, c2, omc, a);
+                let oy = cross(om, y);
+                if K >= 3 {
+                    let v = rot_axis(n, s2, c2, omc, jk);
+                    let oz = cross(om, z);
+                    jk = add3(add3(add3(v, add3(oz, oz)), cross(omd, y)), add3(cross(om, oy), omdd));
+                }
+                a = add3(add3(z, oy), omd);
+            }
+            w = add3(y, om);
+        }
+        let r = match K {
+            1 => w,
+            2 => a,
+            _ => jk,
+        };
+        o[..3].copy_from_slice(&r);
+        return o;
+    }
+    let mut q: Q4<A> = [src.get(2), src.get(3), src.get(4), src.get(5)];
+    let (mut w, mut a, mut jk) = ([zero; 3], [zero; 3], [zero; 3]);
+    for j in 0..nj {
+        let off = 6 + j * (nd + 4);
+        let n: V3<A> = [src.get(off), src.get(off + 1), src.get(off + 2)];
+        let (s, c) = sc[j];
+        if OUT == EVAL {
+            q = qmul(q, [c, s * n[0], s * n[1], s * n[2]]);
+        }
         if K == 0 {
             continue;
         }
-        // ω_j = 2 θ' n, ω_j' = 2 θ'' n, ω_j'' = 2 θ''' n (θ^(m) = m! p_m dvar^m)
-        let d1 = two * p1 * dvar;
-        let om = scale3(n, d1);
-        let omd = if K >= 2 { scale3(n, four * p2 * dvar * dvar) } else { [zero; 3] };
-        let omdd = if K >= 3 { scale3(n, twelve * p3 * dvar * dvar * dvar) } else { [zero; 3] };
+        let (om, omd, omdd) = factor_rates::<A, K>(n, dp[j], dvar);
         if j == 0 {
             (w, a, jk) = (om, omd, omdd);
             continue;
@@ -345,7 +485,7 @@ unsafe fn block<V: Lanes, S: Src<V>, const K: usize, const OUT: u8>(
         // R_j(x) = e* x e: rotation by −2θ about n
         let s2 = two * s * c;
         let omc = two * s * s;
-        let c2 = V::splat(1.0) - omc;
+        let c2 = one - omc;
         let y = rot_axis(n, s2, c2, omc, w);
         if K >= 2 {
             let z = rot_axis(n, s2, c2, omc, a);
@@ -359,53 +499,41 @@ unsafe fn block<V: Lanes, S: Src<V>, const K: usize, const OUT: u8>(
         }
         w = add3(y, om);
     }
-    let mut o = [zero; 16];
-    match OUT {
-        EVAL => {
-            o[..4].copy_from_slice(&q);
-            if K >= 1 {
-                let half = V::splat(0.5);
-                let q1 = scale4(qmul_pure(q, w), half);
-                o[4..8].copy_from_slice(&q1);
-                if K >= 2 {
-                    let qa = qmul_pure(q, a);
-                    let q1w = qmul_pure(q1, w);
-                    let q2: Q4<V> = scale4(add4(q1w, qa), half);
-                    o[8..12].copy_from_slice(&q2);
-                    if K >= 3 {
-                        let q2w = qmul_pure(q2, w);
-                        let q1a = qmul_pure(q1, a);
-                        let qj = qmul_pure(q, jk);
-                        let q3: Q4<V> = scale4(add4(add4(q2w, add4(q1a, q1a)), qj), half);
-                        o[12..16].copy_from_slice(&q3);
-                    }
-                }
+    if OUT == BODY {
+        let r = match K {
+            1 => w,
+            2 => a,
+            _ => jk,
+        };
+        o[..3].copy_from_slice(&r);
+        return o;
+    }
+    o[..4].copy_from_slice(&q);
+    if K >= 1 {
+        let half = A::splat(0.5);
+        let q1 = scale4(qmul_pure(q, w), half);
+        o[4..8].copy_from_slice(&q1);
+        if K >= 2 {
+            let qa = qmul_pure(q, a);
+            let q1w = qmul_pure(q1, w);
+            let q2: Q4<A> = scale4(add4(q1w, qa), half);
+            o[8..12].copy_from_slice(&q2);
+            if K >= 3 {
+                let q2w = qmul_pure(q2, w);
+                let q1a = qmul_pure(q1, a);
+                let qj = qmul_pure(q, jk);
+                let q3: Q4<A> = scale4(add4(add4(q2w, add4(q1a, q1a)), qj), half);
+                o[12..16].copy_from_slice(&q3);
             }
-        }
-        BODY => {
-            let r = match K {
-                1 => w,
-                2 => a,
-                _ => jk,
-            };
-            o[..3].copy_from_slice(&r);
-        }
-        _ => {
-            let r = match K {
-                1 => rotate(q, w),
-                2 => rotate(q, a),
-                // q j q* + (q ω q*) × (q α q*) = q (j + ω × α) q*: one rotation
-                _ => rotate(q, add3(jk, cross(w, a))),
-            };
-            o[..3].copy_from_slice(&r);
         }
     }
     o
 }
 
-/// Every sample of the run: records by lane, broadcast when the lanes share one.
+/// Every sample of the run, two vectors at a time (their chains overlap): the record
+/// broadcast when all lanes share one segment and half, transposed per lane otherwise.
 #[inline(always)]
-unsafe fn run<V: Lanes, const K: usize, const OUT: u8>(
+unsafe fn run<V: LanesExt, const K: usize, const OUT: u8>(
     tab: &CumulativeTable,
     nj: usize,
     nd: usize,
@@ -416,57 +544,78 @@ unsafe fn run<V: Lanes, const K: usize, const OUT: u8>(
     let w = width(K, OUT);
     let n = t.len();
     let base = tab.data.as_ptr();
-    let mut local = [V::splat(0.0); MAX_STRIDE];
+    let stride = tab.stride;
+    // the world-frame axes follow the fields the other kernels read
+    let len = if OUT == WORLD { stride } else { tab.vlen };
+    let zero = <V as Lanes>::splat(0.0);
+    let (mut la, mut lb) = ([zero; MAX_STRIDE], [zero; MAX_STRIDE]);
+    let step = 2 * V::N;
+    let tp = t.as_ptr();
+    let sp = seg.as_ptr();
+    let op = out.as_mut_ptr();
     let mut i = 0;
     while i < n {
-        let m = (n - i).min(V::N);
-        // a full vector loads its times directly (4 scalar stores then a vector load would
-        // miss store forwarding); the tail repeats its last sample
-        let tv = if m == V::N {
-            V::load(t.as_ptr().add(i))
+        let m = (n - i).min(step);
+        let full = m == step;
+        // a full block loads its times directly (scalar stores then a vector load would miss
+        // store forwarding); a tail repeats its last sample
+        let lane = |l: usize| i + l.min(m - 1);
+        let (ta, tb) = if full {
+            (V::load(tp.add(i)), V::load(tp.add(i + V::N)))
         } else {
-            let mut tl = [0.0; 4];
-            for (l, x) in tl.iter_mut().enumerate().take(V::N) {
-                *x = t[i + l.min(m - 1)];
+            let mut tl = [0.0; 8];
+            for (l, x) in tl.iter_mut().enumerate().take(step) {
+                *x = *tp.add(lane(l));
             }
-            V::load(tl.as_ptr())
+            (V::load(tl.as_ptr()), V::load(tl.as_ptr().add(V::N)))
         };
-        // the common case first: every lane in the first lane's segment and half (no gather
-        // of the midpoints)
-        let s0 = seg[i] as usize;
-        let mid0 = tab.mid[s0];
-        let h0 = t[i] > mid0;
-        let uniform = (1..V::N).all(|l| {
-            let k = i + l.min(m - 1);
-            seg[k] as usize == s0 && (t[k] > mid0) == h0
-        });
-        let o = if uniform {
-            block::<V, _, K, OUT>(nj, nd, &Bcast(base.add((2 * s0 + h0 as usize) * tab.stride)), tv)
+        // the common case first: every lane in the first lane's segment and half
+        let s0 = *sp.add(i);
+        let mid0 = *tab.mid.get_unchecked(s0 as usize);
+        let h0 = *tp.add(i) > mid0;
+        let mut odd = 0u32;
+        if full {
+            for l in 1..step {
+                odd |= (*sp.add(i + l) ^ s0) | ((*tp.add(i + l) > mid0) != h0) as u32;
+            }
         } else {
-            let mut rec = [0usize; 4];
-            for (l, r) in rec.iter_mut().enumerate().take(V::N) {
-                let k = i + l.min(m - 1);
-                let s = seg[k] as usize;
-                *r = 2 * s + (t[k] > tab.mid[s]) as usize;
+            for l in 1..m {
+                odd |= (*sp.add(i + l) ^ s0) | ((*tp.add(i + l) > mid0) != h0) as u32;
             }
-            let idx = [rec[0] * tab.stride, rec[1] * tab.stride, rec[2] * tab.stride, rec[3] * tab.stride];
-            V::transpose_records(base, &idx, tab.stride, local.as_mut_ptr());
-            block::<V, _, K, OUT>(nj, nd, &Local(&local[..tab.stride]), tv)
+        }
+        let tv = P2(ta, tb);
+        let o = if odd == 0 {
+            let rec = base.add((2 * s0 as usize + h0 as usize) * stride);
+            block::<P2<V>, _, K, OUT>(nj, nd, &Bcast(rec), tv)
+        } else {
+            let mut idx = [[0usize; 4]; 2];
+            for l in 0..step {
+                let k = lane(l);
+                let s = *sp.add(k) as usize;
+                idx[l / V::N][l % V::N] =
+                    (2 * s + (*tp.add(k) > *tab.mid.get_unchecked(s)) as usize) * stride;
+            }
+            V::transpose_records(base, &idx[0], len, la.as_mut_ptr());
+            V::transpose_records(base, &idx[1], len, lb.as_mut_ptr());
+            block::<P2<V>, _, K, OUT>(nj, nd, &Local2(&la[..len], &lb[..len]), tv)
         };
-        let rows = &mut out[i * w..(i + m) * w];
-        if m == V::N && OUT == EVAL {
+        let rows = op.add(i * w);
+        if full && OUT == EVAL {
             for b in 0..=K {
-                V::store_rows4(
-                    [o[4 * b], o[4 * b + 1], o[4 * b + 2], o[4 * b + 3]],
-                    rows.as_mut_ptr().add(4 * b),
-                    w,
-                );
+                let c = 4 * b;
+                V::store_rows4([o[c].0, o[c + 1].0, o[c + 2].0, o[c + 3].0], rows.add(c), w);
+                V::store_rows4([o[c].1, o[c + 1].1, o[c + 2].1, o[c + 3].1], rows.add(V::N * w + c), w);
             }
+        } else if full && OUT != EVAL && (i + m) * w < n * w {
+            // rows of 3 written as rows of 4 in order, each spilling one number into the
+            // next row (rewritten right after); not for the last block
+            V::store_rows4([o[0].0, o[1].0, o[2].0, zero], rows, 3);
+            V::store_rows4([o[0].1, o[1].1, o[2].1, zero], rows.add(3 * V::N), 3);
         } else {
             for (c, v) in o.iter().take(w).enumerate() {
-                let a = v.to_array();
+                let (a, b) = (v.0.to_array(), v.1.to_array());
                 for l in 0..m {
-                    rows[l * w + c] = a[l];
+                    *rows.add(l * w + c) = if l < V::N { a[l] } else { b[l - V::N] };
                 }
             }
         }
@@ -476,7 +625,7 @@ unsafe fn run<V: Lanes, const K: usize, const OUT: u8>(
 
 /// `run` with the table's shape folded into constants for the common shapes.
 #[inline(always)]
-unsafe fn shaped<V: Lanes, const K: usize, const OUT: u8>(
+unsafe fn shaped<V: LanesExt, const K: usize, const OUT: u8>(
     tab: &CumulativeTable,
     seg: &[u32],
     t: &[f64],
@@ -510,7 +659,11 @@ fn dispatch<const K: usize, const OUT: u8>(
     out: &mut [f64],
 ) {
     assert!(seg.len() == t.len() && out.len() == t.len() * width(K, OUT), "cumulative kernel: bad lengths");
-    assert!(seg.iter().all(|&s| (s as usize) < tab.mid.len()), "cumulative kernel: segment out of range");
+    let nseg = tab.mid.len() as u32;
+    assert!(
+        seg.iter().fold(0, |m, &s| m.max(s)) < nseg || seg.is_empty(),
+        "cumulative kernel: segment out of range"
+    );
     #[cfg(target_arch = "x86_64")]
     if isa == Isa::Avx2 && super::avx2_available() {
         // SAFETY: AVX2 and FMA detected; lengths and segment indices checked above.
