@@ -55,8 +55,21 @@ fn chunks(
                 if !loc.fits(cur, x) {
                     cur = if cur < last && loc.fits(cur + 1, x) { cur + 1 } else { loc.locate(x) };
                 }
-                seg[j] = cur as u32;
+                // the run of samples in the domain and in segment `cur` (the `fits` rule; NaN
+                // fails every comparison; x ≤ hi ⇔ x < next_up(hi)): two comparisons a
+                // sample, then one fill
+                let (ge, lt) = loc.bounds(cur);
+                let (ge, lt) = (ge.max(lo), lt.min(hi.next_up()));
+                let start = j;
                 j += 1;
+                while j < tc.len() {
+                    let x = tc[j];
+                    if !(x >= ge && x < lt) {
+                        break;
+                    }
+                    j += 1;
+                }
+                seg[start..j].fill(cur as u32);
             }
             let o = &mut oc[i * width..j * width];
             if !kern(&seg[i..j], &tc[i..j], o) {
