@@ -470,7 +470,7 @@ fn factor_rates<A: Trig, const K: usize>(n: V3<A>, p: [A; 3], dvar: A) -> (V3<A>
 /// lane times `tv`. The angles of every factor first, then their sin/cos, then the products
 /// and rate recursions: the serial chains see independent work to overlap.
 #[inline(always)]
-unsafe fn block<A: Trig, S: Src<A>, const K: usize, const OUT: u8>(
+unsafe fn block<A: Trig, S: Src<A>, const K: usize, const OUT: u8, const JM: usize>(
     nj: usize,
     nd: usize,
     src: &S,
@@ -480,8 +480,8 @@ unsafe fn block<A: Trig, S: Src<A>, const K: usize, const OUT: u8>(
     let (tref, dvar) = (src.get(0), src.get(1));
     let x = (tv - tref) * dvar;
     // P, P', P''/2, P'''/6 at x by Horner, per factor
-    let mut th = [zero; MAX_FACTORS];
-    let mut dp = [[zero; 3]; MAX_FACTORS];
+    let mut th = [zero; JM];
+    let mut dp = [[zero; 3]; JM];
     for j in 0..nj {
         let off = 6 + j * (nd + 4) + 3;
         let mut p0: A = src.get(off + nd);
@@ -501,7 +501,7 @@ unsafe fn block<A: Trig, S: Src<A>, const K: usize, const OUT: u8>(
         th[j] = p0;
         dp[j] = [p1, p2, p3];
     }
-    let mut sc = [(zero, zero); MAX_FACTORS];
+    let mut sc = [(zero, zero); JM];
     let mut zmax = zero;
     for j in 0..nj {
         let (s, c, z) = th[j].half_angle_sin_cos();
@@ -695,7 +695,7 @@ impl<V: LanesExt> Src<V> for Local1<'_, V> {
 /// Every sample of the run, a group of lanes at a time: the record broadcast when all lanes
 /// share one segment and half, transposed per lane otherwise.
 #[inline(always)]
-unsafe fn run<V: LanesExt, G: Group<V>, const K: usize, const OUT: u8>(
+unsafe fn run<V: LanesExt, G: Group<V>, const K: usize, const OUT: u8, const JM: usize>(
     tab: &CumulativeTable,
     nj: usize,
     nd: usize,
@@ -744,7 +744,7 @@ unsafe fn run<V: LanesExt, G: Group<V>, const K: usize, const OUT: u8>(
         }
         let o = if odd == 0 {
             let rec = base.add((2 * s0 as usize + h0 as usize) * stride);
-            block::<G, _, K, OUT>(nj, nd, &Bcast(rec), tv)
+            block::<G, _, K, OUT, JM>(nj, nd, &Bcast(rec), tv)
         } else {
             let mut idx = [[0usize; 4]; 2];
             for l in 0..step {
@@ -759,7 +759,7 @@ unsafe fn run<V: LanesExt, G: Group<V>, const K: usize, const OUT: u8>(
                 V::transpose_records(base, &idx[1], len, pb);
             }
             let (fa, fb) = (std::slice::from_raw_parts(pa, len), std::slice::from_raw_parts(pb, len));
-            block::<G, _, K, OUT>(nj, nd, &G::local(fa, fb), tv)
+            block::<G, _, K, OUT, JM>(nj, nd, &G::local(fa, fb), tv)
         };
         let rows = op.add(i * w);
         if full && OUT == EVAL {
@@ -808,11 +808,12 @@ unsafe fn shaped_in<V: LanesExt, G: Group<V>, const K: usize, const OUT: u8>(
     out: &mut [f64],
 ) {
     match (tab.nj, tab.nd) {
-        (1, 1) => run::<V, G, K, OUT>(tab, 1, 1, seg, t, out),
-        (3, 3) => run::<V, G, K, OUT>(tab, 3, 3, seg, t, out),
-        (3, 7) => run::<V, G, K, OUT>(tab, 3, 7, seg, t, out),
-        (7, 7) => run::<V, G, K, OUT>(tab, 7, 7, seg, t, out),
-        (nj, nd) => run::<V, G, K, OUT>(tab, nj, nd, seg, t, out),
+        // (the per-factor arrays sized to the shape: no memset of unused ones per block)
+        (1, 1) => run::<V, G, K, OUT, 1>(tab, 1, 1, seg, t, out),
+        (3, 3) => run::<V, G, K, OUT, 3>(tab, 3, 3, seg, t, out),
+        (3, 7) => run::<V, G, K, OUT, 3>(tab, 3, 7, seg, t, out),
+        (7, 7) => run::<V, G, K, OUT, 7>(tab, 7, 7, seg, t, out),
+        (nj, nd) => run::<V, G, K, OUT, MAX_FACTORS>(tab, nj, nd, seg, t, out),
     }
 }
 
