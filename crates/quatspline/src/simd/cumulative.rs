@@ -622,8 +622,8 @@ unsafe fn block<A: Trig, S: Src<A>, const K: usize, const OUT: u8, const JM: usi
     o
 }
 
-/// The samples a kernel body takes at once: one vector of lanes, or two in lockstep ([`P2`],
-/// whose chains overlap).
+/// The samples a kernel body takes at once: two vectors of lanes in lockstep ([`P2`], whose
+/// dependency chains overlap).
 trait Group<V: LanesExt>: Trig {
     /// Samples per group.
     const LANES: usize;
@@ -635,27 +635,6 @@ trait Group<V: LanesExt>: Trig {
     fn lanes(self) -> [f64; 8];
     /// The vectors of transposed records `a` (lanes 0…N−1) and `b` (N…2N−1) as a source.
     fn local<'a>(a: &'a [V], b: &'a [V]) -> impl Src<Self> + 'a;
-}
-
-impl<V: LanesExt> Group<V> for V {
-    const LANES: usize = V::N;
-    #[inline(always)]
-    unsafe fn load(p: *const f64) -> Self {
-        V::load(p)
-    }
-    #[inline(always)]
-    unsafe fn store_rows4(v: [Self; 4], out: *mut f64, stride: usize) {
-        V::store_rows4(v, out, stride)
-    }
-    #[inline(always)]
-    fn lanes(self) -> [f64; 8] {
-        let a = self.to_array();
-        [a[0], a[1], a[2], a[3], 0.0, 0.0, 0.0, 0.0]
-    }
-    #[inline(always)]
-    fn local<'a>(a: &'a [V], _: &'a [V]) -> impl Src<Self> + 'a {
-        Local1(a)
-    }
 }
 
 impl<V: LanesExt> Group<V> for P2<V> {
@@ -680,15 +659,6 @@ impl<V: LanesExt> Group<V> for P2<V> {
     #[inline(always)]
     fn local<'a>(a: &'a [V], b: &'a [V]) -> impl Src<Self> + 'a {
         Local2(a, b)
-    }
-}
-
-/// Records of one vector's lanes transposed into vectors.
-struct Local1<'a, V>(&'a [V]);
-impl<V: LanesExt> Src<V> for Local1<'_, V> {
-    #[inline(always)]
-    unsafe fn get(&self, off: usize) -> V {
-        *self.0.get_unchecked(off)
     }
 }
 
@@ -783,9 +753,8 @@ unsafe fn run<V: LanesExt, G: Group<V>, const K: usize, const OUT: u8, const JM:
     }
 }
 
-/// `run` with the table's shape folded into constants for the common shapes; values on two
-/// vectors in lockstep, rates on one (measured: the rate recursions lose to register
-/// pressure in lockstep).
+/// `run` on two vectors in lockstep (measured in the release build: faster than one vector
+/// for values and rates alike).
 #[inline(always)]
 unsafe fn shaped<V: LanesExt, const K: usize, const OUT: u8>(
     tab: &CumulativeTable,
@@ -793,13 +762,10 @@ unsafe fn shaped<V: LanesExt, const K: usize, const OUT: u8>(
     t: &[f64],
     out: &mut [f64],
 ) {
-    if OUT == EVAL {
-        shaped_in::<V, P2<V>, K, OUT>(tab, seg, t, out)
-    } else {
-        shaped_in::<V, V, K, OUT>(tab, seg, t, out)
-    }
+    shaped_in::<V, P2<V>, K, OUT>(tab, seg, t, out)
 }
 
+/// `run` with the table's shape folded into constants for the common shapes.
 #[inline(always)]
 unsafe fn shaped_in<V: LanesExt, G: Group<V>, const K: usize, const OUT: u8>(
     tab: &CumulativeTable,
