@@ -62,6 +62,15 @@ fn chunks(
                 let (ge, lt) = (ge.max(lo), lt.min(hi.next_up()));
                 let start = j;
                 j += 1;
+                // four at a time while all four fit (one branch), then one at a time
+                while j + 4 <= tc.len() {
+                    let x = &tc[j..j + 4];
+                    let fit = |v: f64| (v >= ge) & (v < lt);
+                    if !(fit(x[0]) & fit(x[1]) & fit(x[2]) & fit(x[3])) {
+                        break;
+                    }
+                    j += 4;
+                }
                 while j < tc.len() {
                     let x = tc[j];
                     if !(x >= ge && x < lt) {
