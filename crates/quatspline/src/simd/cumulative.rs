@@ -709,8 +709,15 @@ unsafe fn run<V: LanesExt, G: Group<V>, const K: usize, const OUT: u8, const JM:
         let mid0 = *tab.mid.get_unchecked(s0 as usize);
         let h0 = *tp.add(i) > mid0;
         let mut odd = 0u32;
-        for l in 1..m {
-            odd |= (*sp.add(i + l) ^ s0) | ((*tp.add(i + l) > mid0) != h0) as u32;
+        if full {
+            // a fixed trip count: compiled to a few vector compares
+            for l in 1..G::LANES {
+                odd |= (*sp.add(i + l) ^ s0) | ((*tp.add(i + l) > mid0) != h0) as u32;
+            }
+        } else {
+            for l in 1..m {
+                odd |= (*sp.add(i + l) ^ s0) | ((*tp.add(i + l) > mid0) != h0) as u32;
+            }
         }
         let o = if odd == 0 {
             let rec = base.add((2 * s0 as usize + h0 as usize) * stride);
