@@ -6,7 +6,7 @@
 //!
 //! Cases: bspl / bspw / bspb (cubic B-spline value, ω world, ω body), c3 / c3w / c3b (C³
 //! knot spline). `QS_CHUNK=c` evaluates c samples at a time into one small buffer (no
-//! memory traffic for the output).
+//! memory traffic for the output); `QS_UNSORTED=1` shuffles the times.
 use quatspline::spline::*;
 use quatspline::Quat;
 
@@ -47,8 +47,20 @@ fn main() {
         q.push(q[k - 1] * Quat::new(c, s * ax[0] / m, s * ax[1] / m, s * ax[2] / m));
     }
     let m: usize = std::env::args().nth(3).and_then(|s| s.parse().ok()).unwrap_or(1_000_000);
-    let t: Vec<f64> = (0..m).map(|i| i as f64 * 999.0 / (m - 1) as f64).collect();
-    let tb: Vec<f64> = (0..m).map(|i| i as f64 * 997.0 / (m - 1) as f64).collect();
+    let mut t: Vec<f64> = (0..m).map(|i| i as f64 * 999.0 / (m - 1) as f64).collect();
+    let mut tb: Vec<f64> = (0..m).map(|i| i as f64 * 997.0 / (m - 1) as f64).collect();
+    if std::env::var("QS_UNSORTED").is_ok_and(|v| v == "1") {
+        // a fixed pseudo-random permutation (xorshift Fisher–Yates)
+        let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+        for i in (1..m).rev() {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let j = (x % (i as u64 + 1)) as usize;
+            t.swap(i, j);
+            tb.swap(i, j);
+        }
+    }
     let b = CumulativeBSpline::new(&q, 1.0, 0.0, 4, true).unwrap();
     let c3 = C3Spline::new(&q, None, &[0.3125], &[0.0], C3Variant::Knot, true).unwrap();
     let mut out = vec![0.0; 4 * m];
