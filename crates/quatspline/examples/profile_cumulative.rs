@@ -4,8 +4,8 @@
 //!
 //!   cargo run --release -p quatspline --example profile_cumulative -- [case|all] [reps] [samples]
 //!
-//! Cases: bspl / bspw / bspb (cubic B-spline value, ω world, ω body), c3 / c3w / c3b (C³
-//! knot spline). `QS_CHUNK=c` evaluates c samples at a time into one small buffer (no
+//! Cases: bspl / bspw / bspb / bspa / bspj (cubic B-spline value, ω world, ω body, α world,
+//! jerk world), c3 / c3w / c3b / c3a / c3j (the same for the C³ knot spline). `QS_CHUNK=c` evaluates c samples at a time into one small buffer (no
 //! memory traffic for the output); `QS_UNSORTED=1` shuffles the times.
 use quatspline::spline::*;
 use quatspline::Quat;
@@ -64,13 +64,18 @@ fn main() {
     let b = CumulativeBSpline::new(&q, 1.0, 0.0, 4, true).unwrap();
     let c3 = C3Spline::new(&q, None, &[0.3125], &[0.0], C3Variant::Knot, true).unwrap();
     let mut out = vec![0.0; 4 * m];
-    let cases: Vec<(&str, &dyn Spline, &[f64], i32)> = vec![
+    // kind: 0 value, 1 ω body, 2 ω world, 3 α world, 4 jerk world
+    let cases: Vec<(&str, &dyn Spline, &[f64], usize)> = vec![
         ("bspl", &b, &tb, 0),
-        ("bspw", &b, &tb, -2),
-        ("bspb", &b, &tb, -1),
+        ("bspw", &b, &tb, 2),
+        ("bspb", &b, &tb, 1),
+        ("bspa", &b, &tb, 3),
+        ("bspj", &b, &tb, 4),
         ("c3", &c3, &t, 0),
-        ("c3w", &c3, &t, -2),
-        ("c3b", &c3, &t, -1),
+        ("c3w", &c3, &t, 2),
+        ("c3b", &c3, &t, 1),
+        ("c3a", &c3, &t, 3),
+        ("c3j", &c3, &t, 4),
     ];
     for (name, s, tt, kind) in cases {
         if which != "all" && which != name {
@@ -86,10 +91,10 @@ fn main() {
                 let n = tc.len();
                 match kind {
                     0 => evaluate_into(s, tc, 0, 0, Extrapolate::Raise, &mut out[..4 * n]).unwrap(),
-                    -1 => {
+                    1 => {
                         angular_into(s, tc, 0, 1, Frame::Body, Extrapolate::Raise, &mut out[..3 * n]).unwrap()
                     }
-                    _ => angular_into(s, tc, 0, 1, Frame::World, Extrapolate::Raise, &mut out[..3 * n])
+                    k => angular_into(s, tc, 0, k - 1, Frame::World, Extrapolate::Raise, &mut out[..3 * n])
                         .unwrap(),
                 }
             }
