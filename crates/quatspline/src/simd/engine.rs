@@ -36,6 +36,8 @@ fn chunks(
     let last = s.segments() - 1;
     let mut seg = [0u32; CHUNK];
     let mut cur = 0usize;
+    // x ≤ hi ⇔ x < next_up(hi)
+    let hi_up = hi.next_up();
     for (c, (tc, oc)) in t.chunks(CHUNK).zip(out.chunks_mut(CHUNK * width)).enumerate() {
         let first_c = first + c * CHUNK;
         // runs of in-domain samples go to the kernel; each other sample (outside the domain or
@@ -57,6 +59,32 @@ fn chunks(
                 }
                 seg[j] = cur as u32;
                 j += 1;
+                // the run of samples in the domain and in segment `cur` (the `fits` rule; NaN
+                // fails every comparison): two comparisons a sample, then one fill; unsorted
+                // times stop at the first test
+                let (ge, lt) = loc.bounds(cur);
+                let (ge, lt) = (ge.max(lo), lt.min(hi_up));
+                if j == tc.len() || !(tc[j] >= ge && tc[j] < lt) {
+                    continue;
+                }
+                let start = j;
+                // four at a time while all four fit (one branch), then one at a time
+                while j + 4 <= tc.len() {
+                    let x = &tc[j..j + 4];
+                    let fit = |v: f64| (v >= ge) & (v < lt);
+                    if !(fit(x[0]) & fit(x[1]) & fit(x[2]) & fit(x[3])) {
+                        break;
+                    }
+                    j += 4;
+                }
+                while j < tc.len() {
+                    let x = tc[j];
+                    if !(x >= ge && x < lt) {
+                        break;
+                    }
+                    j += 1;
+                }
+                seg[start..j].fill(cur as u32);
             }
             let o = &mut oc[i * width..j * width];
             if !kern(&seg[i..j], &tc[i..j], o) {

@@ -204,6 +204,14 @@ impl Locator {
         k
     }
 
+    /// (a, b) with `fits(k, t)` ⇔ a ≤ t < b for every t (−∞ and +∞ at the ends).
+    #[inline(always)]
+    pub fn bounds(&self, k: usize) -> (f64, f64) {
+        let j = &self.joints;
+        let last = j.len() - 2;
+        (if k == 0 { f64::NEG_INFINITY } else { j[k] }, if k == last { f64::INFINITY } else { j[k + 1] })
+    }
+
     /// Whether t lies in segment k by the `locate` rule.
     #[inline(always)]
     pub fn fits(&self, k: usize, t: f64) -> bool {
@@ -237,6 +245,12 @@ mod tests {
         probes.extend([-1.0, joints[0] - 1e-300, joints[last + 1] + 1.0]);
         for t in probes {
             assert_eq!(loc.locate(t), reference(t), "t = {t}");
+            // the engine's run test: fits(k, t) ⇔ a ≤ t < b
+            for k in [0, 1, reference(t).saturating_sub(1), reference(t), (reference(t) + 1).min(last), last]
+            {
+                let (a, b) = loc.bounds(k);
+                assert_eq!(loc.fits(k, t), a <= t && t < b, "k = {k}, t = {t}");
+            }
         }
     }
 
