@@ -82,3 +82,28 @@ def test_a_writer_refuses_whatever_its_reader_would_reject(traj, fmt):
             _same(traj, back)
         else:
             assert len(back) == len(traj)
+
+
+def test_times_near_the_float_limit_are_compared_without_overflow(tmp_path):
+    # hypothesis found it: the checks subtracted times, and 1e300 − (−1.8e308) overflowed
+    q = np.array([[1.0, 0.0, 0.0, 0.0]] * 2)
+    for fmt, ext in FORMATS.items():
+        path = tmp_path / f"down{ext}"
+        traj = qio.Trajectory(np.array([1e300, -1.7976931348623157e308]), q, np.zeros((2, 3)))
+        try:
+            qio.write(path, traj, format=fmt)
+        except ValueError as e:
+            assert "decreasing time" in str(e) and str(path) in str(e), (fmt, str(e))
+        else:
+            raise AssertionError(f"{fmt}: decreasing times written")
+        assert not path.exists()
+    # increasing but spanning more than the largest float: BVH's frame time is not finite
+    path = tmp_path / "wide.bvh"
+    wide = qio.Trajectory(np.array([-1.7e308, 1.7e308]), q)
+    try:
+        qio.write(path, wide, format="bvh")
+    except ValueError as e:
+        assert "uniformly spaced" in str(e) and str(path) in str(e)
+    else:
+        raise AssertionError("bvh: a non-finite frame time written")
+    assert not path.exists()

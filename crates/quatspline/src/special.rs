@@ -118,6 +118,11 @@ const C4: f64 = -2.755_731_435_139_066_330_35e-7;
 const C5: f64 = 2.087_572_321_298_174_827_90e-9;
 const C6: f64 = -1.135_964_755_778_819_482_65e-11;
 
+/// __kernel_sin's S1…S6 and __kernel_cos's C1…C6 (for the vector kernels).
+pub(crate) const SIN_KERNEL: [f64; 6] = [S1, S2, S3, S4, S5, S6];
+/// See [`SIN_KERNEL`].
+pub(crate) const COS_KERNEL: [f64; 6] = [C1, C2, C3, C4, C5, C6];
+
 #[inline(always)]
 fn kernel_sin(x: f64) -> f64 {
     let z = x * x;

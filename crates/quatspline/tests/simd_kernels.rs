@@ -101,6 +101,15 @@ fn splines() -> Vec<(&'static str, Box<dyn Spline>)> {
             Hermite::new(&q, Some(&t), &rates, Some(&accels), Frame::World, KeyEnds::Open, true).unwrap(),
         ),
     ));
+    // steps near π with keys' signs flipped and kept (canonicalize = false): logs with
+    // half-angles past π/2, so factor angles past ±π/2 (the kernels' general sin/cos lanes)
+    let mut qw = walk(30, 7, 3.0);
+    for (i, q) in qw.iter_mut().enumerate() {
+        if i % 3 == 1 {
+            *q = -*q;
+        }
+    }
+    v.push(("bspline wide angles", Box::new(CumulativeBSpline::new(&qw, 0.7, -1.0, 4, false).unwrap())));
     for k in [2, 3, 4, 5, 6, 9, 12] {
         v.push(("bspline", Box::new(CumulativeBSpline::new(&q, 0.7, -1.0, k, true).unwrap())));
     }

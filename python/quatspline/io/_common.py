@@ -283,10 +283,11 @@ def check_for_writing(
             f"{path}: refusing to write a quaternion of (nearly) zero norm "
             f"{float(norm[k]):.3g} < {MIN_QUAT_NORM:g} at row {k} (the reader rejects it)"
         )
-    dt = np.diff(traj.times)
-    if np.any(dt <= 0):
-        k = int(np.argmax(dt <= 0)) + 1
-        what = "duplicate" if dt[k - 1] == 0 else "decreasing"
+    t = np.asarray(traj.times, dtype=float)
+    bad = t[1:] <= t[:-1]  # compared, not subtracted: no overflow for times near ±1.8e308
+    if np.any(bad):
+        k = int(np.argmax(bad)) + 1
+        what = "duplicate" if t[k] == t[k - 1] else "decreasing"
         raise ValueError(
             f"{path}: refusing to write {what} time {float(traj.times[k])!r} at row {k} "
             "(the reader needs strictly increasing times)"

@@ -224,8 +224,11 @@ def write(path, traj: Trajectory, joint: str = "Root") -> None:
         )
     if name in ("{", "}") or not name.isprintable():
         raise ValueError(f"{path}: joint name {name!r} cannot be written to BVH")
-    dt = np.diff(traj.times)
-    if len(traj) < 2 or np.any(np.abs(dt - dt[0]) > 1e-9 * max(1.0, abs(dt[0]))):
+    with np.errstate(over="ignore", invalid="ignore"):  # spans beyond 1.8e308 are refused
+        dt = np.diff(traj.times)
+        uneven = len(traj) < 2 or not np.all(np.isfinite(dt))
+        uneven = uneven or bool(np.any(np.abs(dt - dt[0]) > 1e-9 * max(1.0, abs(dt[0]))))
+    if uneven:
         raise ValueError(f"{path}: BVH needs uniformly spaced times (resample first)")
     angles = as_euler(traj.quats, "ZXY", degrees=True)
     pos = traj.positions

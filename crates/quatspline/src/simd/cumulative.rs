@@ -21,11 +21,13 @@
 //! one rotation by q (jerk_w = q j q* + ω_w × α_w); q' = ½ q ω, q'' = ½ (q' ω + q α),
 //! q''' = ½ (q'' ω + 2 q' α + q j) give the quaternion derivatives.
 
-use super::lanes::Lanes;
+use super::lanes::{Lanes, LanesExt};
+use super::slerp::P2;
 use super::{BatchKernel, Isa, Locator};
 use crate::jet::Axis;
 use crate::quat::Quat;
 use crate::spline::Frame;
+use std::ops::{Add, Mul, Neg, Sub};
 
 /// The most factors / the highest degree a table supports (B-spline order 12, Bézier of 12
 /// points); beyond, the spline has no batch kernel and the engine uses the jets.
@@ -55,6 +57,9 @@ pub struct CumulativeTable {
     nj: usize,
     nd: usize,
     stride: usize,
+    /// The prefix of a record the value and body-frame kernels read (a multiple of 4): the
+    /// world-frame axes come after it.
+    vlen: usize,
     data: Vec<f64>,
     mid: Vec<f64>,
     locator: Locator,
@@ -129,8 +134,9 @@ impl CumulativeTable {
         if nj == 0 || nj > MAX_FACTORS || nd > MAX_DEGREE {
             return None;
         }
-        // a multiple of 4, so that records can be read 4 doubles at a time
-        let stride = (6 + nj * (nd + 4)).next_multiple_of(4);
+        // multiples of 4, so that records can be read 4 doubles at a time
+        let vlen = (6 + nj * (nd + 4)).next_multiple_of(4);
+        let stride = (vlen + 3 * nj).next_multiple_of(4);
         let mut data = vec![0.0; 2 * nseg * stride];
         let mut mid = Vec::with_capacity(nseg);
         for (s, f) in forms.iter().enumerate() {
@@ -162,11 +168,14 @@ impl CumulativeTable {
                     for (m, v) in p.iter().enumerate() {
                         r[off + 3 + m] = v * ax.a;
                     }
+                    // the axis in the world frame, q_s n q_s* (the world-frame rate recursion)
+                    let mw = f.base.rotate(ax.n);
+                    r[vlen + 3 * j..vlen + 3 * j + 3].copy_from_slice(&mw);
                 }
                 // factors beyond this segment's count stay zero: exp(0) = 1, exact
             }
         }
-        Some(CumulativeTable { nj, nd, stride, data, mid, locator: Locator::new(joints) })
+        Some(CumulativeTable { nj, nd, stride, vlen, data, mid, locator: Locator::new(joints) })
     }
 
     /// (factors, degree).
@@ -177,39 +186,188 @@ impl CumulativeTable {
 
 // ------------------------------------------------------------------------------- kernel
 
-/// Where a vector's per-segment fields come from: one record for all lanes (broadcast) or
-/// one per lane (gather).
-trait Src<V: Lanes> {
-    /// Field `off` of the lanes' records.
-    unsafe fn get(&self, off: usize) -> V;
+/// What the quaternion and vector helpers need: `+ − × neg` and fused multiply-adds, on a
+/// vector of lanes ([`Lanes`]) or two of them in lockstep ([`P2`]).
+pub(super) trait Fused:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Neg<Output = Self>
+{
+    /// `self · b + c`.
+    fn fma(self, b: Self, c: Self) -> Self;
+    /// `c − self · b`.
+    fn fnma(self, b: Self, c: Self) -> Self;
 }
 
-struct Bcast(*const f64);
-impl<V: Lanes> Src<V> for Bcast {
+/// [`Fused`] plus constants and the factors' sin/cos: what a kernel body uses.
+pub(super) trait Trig: Fused {
+    /// Every lane `x`.
+    fn splat(x: f64) -> Self;
+    /// (sin θ, cos θ, (θ/2)²) by [`half_angle_sin_cos`], within its bound where
+    /// (θ/2)² ≤ [`HALF_ANGLE_Z`].
+    fn half_angle_sin_cos(self) -> (Self, Self, Self);
+    /// `sc` with the lanes whose (θ/2)² exceeds [`HALF_ANGLE_Z`] replaced by the general
+    /// vector sin/cos of θ.
+    fn wide_sin_cos(self, sc: (Self, Self)) -> (Self, Self);
+    /// The lane-wise larger of `self` and `b` (`self` where either is NaN).
+    fn max(self, b: Self) -> Self;
+    /// Whether any lane is above `b`.
+    fn any_above(self, b: f64) -> bool;
+}
+
+/// (π/4)², the largest (θ/2)² [`half_angle_sin_cos`] takes (a hair above it is as accurate).
+const HALF_ANGLE_Z: f64 = 0.616_850_275_068_084_9;
+
+#[inline(always)]
+fn k<V: Lanes>(c: f64) -> V {
+    V::splat(c)
+}
+
+/// (sin θ, cos θ, (θ/2)²), cheaper than the general vector sin/cos where |θ| ≤ π/2 (every
+/// angle of the B-spline and Beta weights, which lie in [0, 1], times a log's half-angle
+/// ≤ π/2): fdlibm's kernels at h = θ/2 (|h| ≤ π/4: no reduction, no quadrant), then
+/// sin θ = 2 sin h cos h and cos θ = 1 − 2 sin² h (one rounding), within a few ulp or
+/// 2⁻⁵² absolutely (where cos θ is small). The caller replaces lanes beyond (θ/2)² ≤ [`HALF_ANGLE_Z`] lane by lane
+/// (so each lane's result depends on its angle alone); NaN stays NaN.
+#[inline(always)]
+fn half_angle_sin_cos<V: Lanes>(x: V) -> (V, V, V) {
+    use crate::special::{COS_KERNEL as C, SIN_KERNEL as S};
+    let (one, half) = (k::<V>(1.0), k::<V>(0.5));
+    let h = x * half;
+    let z = h * h;
+    let mut ps = z.fma(k(S[5]), k(S[4]));
+    ps = z.fma(ps, k(S[3]));
+    ps = z.fma(ps, k(S[2]));
+    ps = z.fma(ps, k(S[1]));
+    ps = z.fma(ps, k(S[0]));
+    let sn = (h * z).fma(ps, h);
+    let mut pc = z.fma(k(C[5]), k(C[4]));
+    pc = z.fma(pc, k(C[3]));
+    pc = z.fma(pc, k(C[2]));
+    pc = z.fma(pc, k(C[1]));
+    pc = z.fma(pc, k(C[0]));
+    let hz = half * z;
+    let w = one - hz;
+    let cs = w + (z * z).fma(pc, (one - w) - hz);
+    let s2 = sn + sn;
+    (s2 * cs, s2.fnma(sn, one), z)
+}
+
+/// See [`Trig::wide_sin_cos`].
+#[inline(always)]
+fn wide_sin_cos<V: Lanes>(x: V, (s, c): (V, V)) -> (V, V) {
+    let h = x * k::<V>(0.5);
+    let z = h * h;
+    let (gs, gc) = Lanes::sin_cos(x);
+    let lim = k::<V>(HALF_ANGLE_Z);
+    (lim.lt_select(z, gs, s), lim.lt_select(z, gc, c))
+}
+
+impl<V: Lanes> Fused for V {
     #[inline(always)]
-    unsafe fn get(&self, off: usize) -> V {
-        V::splat(*self.0.add(off))
+    fn fma(self, b: Self, c: Self) -> Self {
+        Lanes::fma(self, b, c)
+    }
+    #[inline(always)]
+    fn fnma(self, b: Self, c: Self) -> Self {
+        Lanes::fnma(self, b, c)
     }
 }
 
-/// Records of the lanes transposed into vectors (4×4 transposes of plain loads: cheaper than
-/// one AVX2 gather per field).
-struct Local<'a, V>(&'a [V]);
-impl<V: Lanes> Src<V> for Local<'_, V> {
+impl<V: LanesExt> Trig for V {
     #[inline(always)]
-    unsafe fn get(&self, off: usize) -> V {
-        *self.0.get_unchecked(off)
+    fn splat(x: f64) -> Self {
+        <V as Lanes>::splat(x)
+    }
+    #[inline(always)]
+    fn half_angle_sin_cos(self) -> (Self, Self, Self) {
+        half_angle_sin_cos(self)
+    }
+    #[inline(always)]
+    fn wide_sin_cos(self, sc: (Self, Self)) -> (Self, Self) {
+        wide_sin_cos(self, sc)
+    }
+    #[inline(always)]
+    fn max(self, b: Self) -> Self {
+        self.lt_select(b, b, self)
+    }
+    #[inline(always)]
+    fn any_above(self, b: f64) -> bool {
+        <V as Lanes>::splat(b).any_lt(self)
+    }
+}
+
+impl<V: LanesExt> Fused for P2<V> {
+    #[inline(always)]
+    fn fma(self, b: Self, c: Self) -> Self {
+        P2(Lanes::fma(self.0, b.0, c.0), Lanes::fma(self.1, b.1, c.1))
+    }
+    #[inline(always)]
+    fn fnma(self, b: Self, c: Self) -> Self {
+        P2(Lanes::fnma(self.0, b.0, c.0), Lanes::fnma(self.1, b.1, c.1))
+    }
+}
+
+impl<V: LanesExt> Trig for P2<V> {
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        let v = <V as Lanes>::splat(x);
+        P2(v, v)
+    }
+    #[inline(always)]
+    fn half_angle_sin_cos(self) -> (Self, Self, Self) {
+        let ((s0, c0, z0), (s1, c1, z1)) = (half_angle_sin_cos(self.0), half_angle_sin_cos(self.1));
+        (P2(s0, s1), P2(c0, c1), P2(z0, z1))
+    }
+    #[inline(always)]
+    fn wide_sin_cos(self, sc: (Self, Self)) -> (Self, Self) {
+        let (s0, c0) = wide_sin_cos(self.0, (sc.0 .0, sc.1 .0));
+        let (s1, c1) = wide_sin_cos(self.1, (sc.0 .1, sc.1 .1));
+        (P2(s0, s1), P2(c0, c1))
+    }
+    #[inline(always)]
+    fn max(self, b: Self) -> Self {
+        P2(self.0.lt_select(b.0, b.0, self.0), self.1.lt_select(b.1, b.1, self.1))
+    }
+    #[inline(always)]
+    fn any_above(self, b: f64) -> bool {
+        let v = <V as Lanes>::splat(b);
+        v.any_lt(self.0) | v.any_lt(self.1)
+    }
+}
+
+/// Where the per-segment fields of a block's lanes come from: one record for all of them
+/// (broadcast) or one per lane (transposed).
+trait Src<A> {
+    /// Field `off` of the lanes' records.
+    unsafe fn get(&self, off: usize) -> A;
+}
+
+struct Bcast(*const f64);
+impl<A: Trig> Src<A> for Bcast {
+    #[inline(always)]
+    unsafe fn get(&self, off: usize) -> A {
+        A::splat(*self.0.add(off))
+    }
+}
+
+/// Records of the two vectors' lanes transposed into vectors (4×4 transposes of plain
+/// loads: cheaper than one AVX2 gather per field).
+struct Local2<'a, V>(&'a [V], &'a [V]);
+impl<V: LanesExt> Src<P2<V>> for Local2<'_, V> {
+    #[inline(always)]
+    unsafe fn get(&self, off: usize) -> P2<V> {
+        P2(*self.0.get_unchecked(off), *self.1.get_unchecked(off))
     }
 }
 
 /// The largest record (MAX_FACTORS, MAX_DEGREE), rounded up to a multiple of 4.
-const MAX_STRIDE: usize = (6 + MAX_FACTORS * (MAX_DEGREE + 4)).next_multiple_of(4);
+const MAX_STRIDE: usize =
+    ((6 + MAX_FACTORS * (MAX_DEGREE + 4)).next_multiple_of(4) + 3 * MAX_FACTORS).next_multiple_of(4);
 
 type V3<V> = [V; 3];
 type Q4<V> = [V; 4];
 
 #[inline(always)]
-pub(super) fn qmul<V: Lanes>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
+pub(super) fn qmul<V: Fused>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
     [
         a[3].fnma(b[3], a[2].fnma(b[2], a[1].fnma(b[1], a[0] * b[0]))),
         a[3].fnma(b[2], a[2].fma(b[3], a[1].fma(b[0], a[0] * b[1]))),
@@ -220,7 +378,7 @@ pub(super) fn qmul<V: Lanes>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
 
 /// q ⊗ (0, v).
 #[inline(always)]
-fn qmul_pure<V: Lanes>(a: Q4<V>, v: V3<V>) -> Q4<V> {
+fn qmul_pure<V: Fused>(a: Q4<V>, v: V3<V>) -> Q4<V> {
     [
         a[3].fnma(v[2], a[2].fnma(v[1], -(a[1] * v[0]))),
         a[3].fnma(v[1], a[2].fma(v[2], a[0] * v[0])),
@@ -230,40 +388,41 @@ fn qmul_pure<V: Lanes>(a: Q4<V>, v: V3<V>) -> Q4<V> {
 }
 
 #[inline(always)]
-pub(super) fn cross<V: Lanes>(a: V3<V>, b: V3<V>) -> V3<V> {
+pub(super) fn cross<V: Fused>(a: V3<V>, b: V3<V>) -> V3<V> {
     [a[2].fnma(b[1], a[1] * b[2]), a[0].fnma(b[2], a[2] * b[0]), a[1].fnma(b[0], a[0] * b[1])]
 }
 
 #[inline(always)]
-fn add3<V: Lanes>(a: V3<V>, b: V3<V>) -> V3<V> {
+fn add3<V: Fused>(a: V3<V>, b: V3<V>) -> V3<V> {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
 }
 
 #[inline(always)]
-fn sub3<V: Lanes>(a: V3<V>, b: V3<V>) -> V3<V> {
+fn sub3<V: Fused>(a: V3<V>, b: V3<V>) -> V3<V> {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
 #[inline(always)]
-fn scale3<V: Lanes>(a: V3<V>, s: V) -> V3<V> {
+fn scale3<V: Fused>(a: V3<V>, s: V) -> V3<V> {
     [a[0] * s, a[1] * s, a[2] * s]
 }
 
 #[inline(always)]
-fn add4<V: Lanes>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
+fn add4<V: Fused>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3]]
 }
 
 #[inline(always)]
-fn scale4<V: Lanes>(a: Q4<V>, s: V) -> Q4<V> {
+fn scale4<V: Fused>(a: Q4<V>, s: V) -> Q4<V> {
     [a[0] * s, a[1] * s, a[2] * s, a[3] * s]
 }
 
-/// e* v e for e = (c, s n): v cos 2θ − sin 2θ (n × v) + (1 − cos 2θ)(n·v) n, given
-/// s2 = sin 2θ, c2 = cos 2θ, omc = 1 − cos 2θ. (Written as functions, not closures: a closure
-/// would not inherit the caller's `target_feature`, and its vector operations would be calls.)
+/// v cos 2θ − sin 2θ (n × v) + (1 − cos 2θ)(n·v) n given s2 = sin 2θ, c2 = cos 2θ,
+/// omc = 1 − cos 2θ: e* v e for e = (cos θ, sin θ n), and e v e* with s2 = −sin 2θ.
+/// (Written as functions, not closures: a closure would not inherit the caller's
+/// `target_feature`, and its vector operations would be calls.)
 #[inline(always)]
-fn rot_axis<V: Lanes>(n: V3<V>, s2: V, c2: V, omc: V, v: V3<V>) -> V3<V> {
+fn rot_axis<V: Fused>(n: V3<V>, s2: V, c2: V, omc: V, v: V3<V>) -> V3<V> {
     let cr = cross(n, v);
     let k = omc * n[2].fma(v[2], n[1].fma(v[1], n[0] * v[0]));
     [
@@ -275,7 +434,7 @@ fn rot_axis<V: Lanes>(n: V3<V>, s2: V, c2: V, omc: V, v: V3<V>) -> V3<V> {
 
 /// The vector rotated by the unit quaternion q: x + 2w (v × x) + 2 v × (v × x).
 #[inline(always)]
-pub(super) fn rotate<V: Lanes>(q: Q4<V>, x: V3<V>) -> V3<V> {
+pub(super) fn rotate<V: Fused>(q: Q4<V>, x: V3<V>) -> V3<V> {
     let v = [q[1], q[2], q[3]];
     let c1 = cross(v, x);
     let c1 = add3(c1, c1);
@@ -296,25 +455,36 @@ pub(super) const fn width(k: usize, out: u8) -> usize {
     }
 }
 
-/// One vector of samples: the rows (up to 16 components) for lane times `tv`.
+/// ω_j = 2θ' n, ω_j' = 2θ'' n, ω_j'' = 2θ''' n of one factor (θ^(m) = m! p_m dvar^m), the
+/// orders K needs.
 #[inline(always)]
-unsafe fn block<V: Lanes, S: Src<V>, const K: usize, const OUT: u8>(
+fn factor_rates<A: Trig, const K: usize>(n: V3<A>, p: [A; 3], dvar: A) -> (V3<A>, V3<A>, V3<A>) {
+    let zero = [A::splat(0.0); 3];
+    let om = scale3(n, A::splat(2.0) * p[0] * dvar);
+    let omd = if K >= 2 { scale3(n, A::splat(4.0) * p[1] * dvar * dvar) } else { zero };
+    let omdd = if K >= 3 { scale3(n, A::splat(12.0) * p[2] * dvar * dvar * dvar) } else { zero };
+    (om, omd, omdd)
+}
+
+/// One block of samples (a vector, or two in lockstep): the rows (up to 16 components) for
+/// lane times `tv`. The angles of every factor first, then their sin/cos, then the products
+/// and rate recursions: the serial chains see independent work to overlap.
+#[inline(always)]
+unsafe fn block<A: Trig, S: Src<A>, const K: usize, const OUT: u8, const JM: usize>(
     nj: usize,
     nd: usize,
     src: &S,
-    tv: V,
-) -> [V; 16] {
-    let zero = V::splat(0.0);
+    tv: A,
+) -> [A; 16] {
+    let zero = A::splat(0.0);
     let (tref, dvar) = (src.get(0), src.get(1));
     let x = (tv - tref) * dvar;
-    let mut q: Q4<V> = [src.get(2), src.get(3), src.get(4), src.get(5)];
-    let (mut w, mut a, mut jk) = ([zero; 3], [zero; 3], [zero; 3]);
-    let (two, four, twelve) = (V::splat(2.0), V::splat(4.0), V::splat(12.0));
+    // P, P', P''/2, P'''/6 at x by Horner, per factor
+    let mut th = [zero; JM];
+    let mut dp = [[zero; 3]; JM];
     for j in 0..nj {
-        let off = 6 + j * (nd + 4);
-        let n: V3<V> = [src.get(off), src.get(off + 1), src.get(off + 2)];
-        // P, P', P''/2, P'''/6 at x by Horner
-        let mut p0: V = src.get(off + 3 + nd);
+        let off = 6 + j * (nd + 4) + 3;
+        let mut p0: A = src.get(off + nd);
         let (mut p1, mut p2, mut p3) = (zero, zero, zero);
         for m in (0..nd).rev() {
             if K >= 3 {
@@ -326,18 +496,80 @@ unsafe fn block<V: Lanes, S: Src<V>, const K: usize, const OUT: u8>(
             if K >= 1 {
                 p1 = p1.fma(x, p0);
             }
-            p0 = p0.fma(x, src.get(off + 3 + m));
+            p0 = p0.fma(x, src.get(off + m));
         }
-        let (s, c) = p0.sin_cos();
-        q = qmul(q, [c, s * n[0], s * n[1], s * n[2]]);
+        th[j] = p0;
+        dp[j] = [p1, p2, p3];
+    }
+    let mut sc = [(zero, zero); JM];
+    let mut zmax = zero;
+    for j in 0..nj {
+        let (s, c, z) = th[j].half_angle_sin_cos();
+        sc[j] = (s, c);
+        zmax = zmax.max(z);
+    }
+    if zmax.any_above(HALF_ANGLE_Z) {
+        // rare: some lane beyond ±π/2 (or not finite)
+        for j in 0..nj {
+            sc[j] = th[j].wide_sin_cos(sc[j]);
+        }
+    }
+    let (one, two) = (A::splat(1.0), A::splat(2.0));
+    let mut o = [zero; 16];
+    if OUT == WORLD {
+        // The world frame without q: with the world axes m_j = q_s n_j q_s* and
+        // E_j = exp(θ_j m_j) = q_s e_j q_s*, q = E_1 ⋯ E_J q_s, so
+        // ω_w = ω_1 + E_1 (ω_2 + E_2 (…) E_2*) E_1* (ω_j = 2θ_j' m_j): the body recursion
+        // mirrored, from the last factor to the first, with d/dt E x E* = E x' E* + ω_j × E x E*.
+        let mo = (6 + nj * (nd + 4)).next_multiple_of(4);
+        let (mut w, mut a, mut jk) = ([zero; 3], [zero; 3], [zero; 3]);
+        for jj in 0..nj {
+            let j = nj - 1 - jj;
+            let n: V3<A> = [src.get(mo + 3 * j), src.get(mo + 3 * j + 1), src.get(mo + 3 * j + 2)];
+            let (om, omd, omdd) = factor_rates::<A, K>(n, dp[j], dvar);
+            if jj == 0 {
+                (w, a, jk) = (om, omd, omdd);
+                continue;
+            }
+            let (s, c) = sc[j];
+            // E x E*: rotation by +2θ about m
+            let s2 = A::splat(-2.0) * s * c;
+            let omc = two * s * s;
+            let c2 = one - omc;
+            let y = rot_axis(n, s2, c2, omc, w);
+            if K >= 2 {
+                let z = rot_axis(n, s2, c2, omc, a);
+                let oy = cross(om, y);
+                if K >= 3 {
+                    let v = rot_axis(n, s2, c2, omc, jk);
+                    let oz = cross(om, z);
+                    jk = add3(add3(add3(v, add3(oz, oz)), cross(omd, y)), add3(cross(om, oy), omdd));
+                }
+                a = add3(add3(z, oy), omd);
+            }
+            w = add3(y, om);
+        }
+        let r = match K {
+            1 => w,
+            2 => a,
+            _ => jk,
+        };
+        o[..3].copy_from_slice(&r);
+        return o;
+    }
+    let mut q: Q4<A> = [src.get(2), src.get(3), src.get(4), src.get(5)];
+    let (mut w, mut a, mut jk) = ([zero; 3], [zero; 3], [zero; 3]);
+    for j in 0..nj {
+        let off = 6 + j * (nd + 4);
+        let n: V3<A> = [src.get(off), src.get(off + 1), src.get(off + 2)];
+        let (s, c) = sc[j];
+        if OUT == EVAL {
+            q = qmul(q, [c, s * n[0], s * n[1], s * n[2]]);
+        }
         if K == 0 {
             continue;
         }
-        // ω_j = 2 θ' n, ω_j' = 2 θ'' n, ω_j'' = 2 θ''' n (θ^(m) = m! p_m dvar^m)
-        let d1 = two * p1 * dvar;
-        let om = scale3(n, d1);
-        let omd = if K >= 2 { scale3(n, four * p2 * dvar * dvar) } else { [zero; 3] };
-        let omdd = if K >= 3 { scale3(n, twelve * p3 * dvar * dvar * dvar) } else { [zero; 3] };
+        let (om, omd, omdd) = factor_rates::<A, K>(n, dp[j], dvar);
         if j == 0 {
             (w, a, jk) = (om, omd, omdd);
             continue;
@@ -345,7 +577,7 @@ unsafe fn block<V: Lanes, S: Src<V>, const K: usize, const OUT: u8>(
         // R_j(x) = e* x e: rotation by −2θ about n
         let s2 = two * s * c;
         let omc = two * s * s;
-        let c2 = V::splat(1.0) - omc;
+        let c2 = one - omc;
         let y = rot_axis(n, s2, c2, omc, w);
         if K >= 2 {
             let z = rot_axis(n, s2, c2, omc, a);
@@ -359,53 +591,81 @@ unsafe fn block<V: Lanes, S: Src<V>, const K: usize, const OUT: u8>(
         }
         w = add3(y, om);
     }
-    let mut o = [zero; 16];
-    match OUT {
-        EVAL => {
-            o[..4].copy_from_slice(&q);
-            if K >= 1 {
-                let half = V::splat(0.5);
-                let q1 = scale4(qmul_pure(q, w), half);
-                o[4..8].copy_from_slice(&q1);
-                if K >= 2 {
-                    let qa = qmul_pure(q, a);
-                    let q1w = qmul_pure(q1, w);
-                    let q2: Q4<V> = scale4(add4(q1w, qa), half);
-                    o[8..12].copy_from_slice(&q2);
-                    if K >= 3 {
-                        let q2w = qmul_pure(q2, w);
-                        let q1a = qmul_pure(q1, a);
-                        let qj = qmul_pure(q, jk);
-                        let q3: Q4<V> = scale4(add4(add4(q2w, add4(q1a, q1a)), qj), half);
-                        o[12..16].copy_from_slice(&q3);
-                    }
-                }
+    if OUT == BODY {
+        let r = match K {
+            1 => w,
+            2 => a,
+            _ => jk,
+        };
+        o[..3].copy_from_slice(&r);
+        return o;
+    }
+    o[..4].copy_from_slice(&q);
+    if K >= 1 {
+        let half = A::splat(0.5);
+        let q1 = scale4(qmul_pure(q, w), half);
+        o[4..8].copy_from_slice(&q1);
+        if K >= 2 {
+            let qa = qmul_pure(q, a);
+            let q1w = qmul_pure(q1, w);
+            let q2: Q4<A> = scale4(add4(q1w, qa), half);
+            o[8..12].copy_from_slice(&q2);
+            if K >= 3 {
+                let q2w = qmul_pure(q2, w);
+                let q1a = qmul_pure(q1, a);
+                let qj = qmul_pure(q, jk);
+                let q3: Q4<A> = scale4(add4(add4(q2w, add4(q1a, q1a)), qj), half);
+                o[12..16].copy_from_slice(&q3);
             }
-        }
-        BODY => {
-            let r = match K {
-                1 => w,
-                2 => a,
-                _ => jk,
-            };
-            o[..3].copy_from_slice(&r);
-        }
-        _ => {
-            let r = match K {
-                1 => rotate(q, w),
-                2 => rotate(q, a),
-                // q j q* + (q ω q*) × (q α q*) = q (j + ω × α) q*: one rotation
-                _ => rotate(q, add3(jk, cross(w, a))),
-            };
-            o[..3].copy_from_slice(&r);
         }
     }
     o
 }
 
-/// Every sample of the run: records by lane, broadcast when the lanes share one.
+/// The samples a kernel body takes at once: two vectors of lanes in lockstep ([`P2`], whose
+/// dependency chains overlap).
+trait Group<V: LanesExt>: Trig {
+    /// Samples per group.
+    const LANES: usize;
+    /// Lane times from `p[0..LANES]`.
+    unsafe fn load(p: *const f64) -> Self;
+    /// Lane l of the 4 groups at `out + l·stride .. + 4`.
+    unsafe fn store_rows4(v: [Self; 4], out: *mut f64, stride: usize);
+    /// The lanes in order.
+    fn lanes(self) -> [f64; 8];
+    /// The vectors of transposed records `a` (lanes 0…N−1) and `b` (N…2N−1) as a source.
+    fn local<'a>(a: &'a [V], b: &'a [V]) -> impl Src<Self> + 'a;
+}
+
+impl<V: LanesExt> Group<V> for P2<V> {
+    const LANES: usize = 2 * V::N;
+    #[inline(always)]
+    unsafe fn load(p: *const f64) -> Self {
+        P2(V::load(p), V::load(p.add(V::N)))
+    }
+    #[inline(always)]
+    unsafe fn store_rows4(v: [Self; 4], out: *mut f64, stride: usize) {
+        V::store_rows4([v[0].0, v[1].0, v[2].0, v[3].0], out, stride);
+        V::store_rows4([v[0].1, v[1].1, v[2].1, v[3].1], out.add(V::N * stride), stride);
+    }
+    #[inline(always)]
+    fn lanes(self) -> [f64; 8] {
+        let (a, b) = (self.0.to_array(), self.1.to_array());
+        let mut o = [0.0; 8];
+        o[..V::N].copy_from_slice(&a[..V::N]);
+        o[V::N..2 * V::N].copy_from_slice(&b[..V::N]);
+        o
+    }
+    #[inline(always)]
+    fn local<'a>(a: &'a [V], b: &'a [V]) -> impl Src<Self> + 'a {
+        Local2(a, b)
+    }
+}
+
+/// Every sample of the run, a group of lanes at a time: the record broadcast when all lanes
+/// share one segment and half, transposed per lane otherwise.
 #[inline(always)]
-unsafe fn run<V: Lanes, const K: usize, const OUT: u8>(
+unsafe fn run<V: LanesExt, G: Group<V>, const K: usize, const OUT: u8, const JM: usize>(
     tab: &CumulativeTable,
     nj: usize,
     nd: usize,
@@ -416,57 +676,83 @@ unsafe fn run<V: Lanes, const K: usize, const OUT: u8>(
     let w = width(K, OUT);
     let n = t.len();
     let base = tab.data.as_ptr();
-    let mut local = [V::splat(0.0); MAX_STRIDE];
+    let stride = tab.stride;
+    // the world-frame axes follow the fields the other kernels read
+    let len = if OUT == WORLD { stride } else { tab.vlen };
+    let zero = <G as Trig>::splat(0.0);
+    // transposed records (written before they are read: no 13 KB memset per call)
+    let mut la = std::mem::MaybeUninit::<[V; MAX_STRIDE]>::uninit();
+    let mut lb = std::mem::MaybeUninit::<[V; MAX_STRIDE]>::uninit();
+    let (pa, pb) = (la.as_mut_ptr() as *mut V, lb.as_mut_ptr() as *mut V);
+    let step = G::LANES;
+    let tp = t.as_ptr();
+    let sp = seg.as_ptr();
+    let op = out.as_mut_ptr();
     let mut i = 0;
     while i < n {
-        let m = (n - i).min(V::N);
-        // a full vector loads its times directly (4 scalar stores then a vector load would
-        // miss store forwarding); the tail repeats its last sample
-        let tv = if m == V::N {
-            V::load(t.as_ptr().add(i))
+        let m = (n - i).min(step);
+        let full = m == step;
+        // a full group loads its times directly (scalar stores then a vector load would miss
+        // store forwarding); a tail repeats its last sample
+        let lane = |l: usize| i + l.min(m - 1);
+        let tv = if full {
+            G::load(tp.add(i))
         } else {
-            let mut tl = [0.0; 4];
-            for (l, x) in tl.iter_mut().enumerate().take(V::N) {
-                *x = t[i + l.min(m - 1)];
+            let mut tl = [0.0; 8];
+            for (l, x) in tl.iter_mut().enumerate().take(step) {
+                *x = *tp.add(lane(l));
             }
-            V::load(tl.as_ptr())
+            G::load(tl.as_ptr())
         };
-        // the common case first: every lane in the first lane's segment and half (no gather
-        // of the midpoints)
-        let s0 = seg[i] as usize;
-        let mid0 = tab.mid[s0];
-        let h0 = t[i] > mid0;
-        let uniform = (1..V::N).all(|l| {
-            let k = i + l.min(m - 1);
-            seg[k] as usize == s0 && (t[k] > mid0) == h0
-        });
-        let o = if uniform {
-            block::<V, _, K, OUT>(nj, nd, &Bcast(base.add((2 * s0 + h0 as usize) * tab.stride)), tv)
+        // the common case first: every lane in the first lane's segment and half
+        let s0 = *sp.add(i);
+        let mid0 = *tab.mid.get_unchecked(s0 as usize);
+        let h0 = *tp.add(i) > mid0;
+        let mut odd = 0u32;
+        if full {
+            // a fixed trip count: compiled to a few vector compares
+            for l in 1..G::LANES {
+                odd |= (*sp.add(i + l) ^ s0) | ((*tp.add(i + l) > mid0) != h0) as u32;
+            }
         } else {
-            let mut rec = [0usize; 4];
-            for (l, r) in rec.iter_mut().enumerate().take(V::N) {
-                let k = i + l.min(m - 1);
-                let s = seg[k] as usize;
-                *r = 2 * s + (t[k] > tab.mid[s]) as usize;
+            for l in 1..m {
+                odd |= (*sp.add(i + l) ^ s0) | ((*tp.add(i + l) > mid0) != h0) as u32;
             }
-            let idx = [rec[0] * tab.stride, rec[1] * tab.stride, rec[2] * tab.stride, rec[3] * tab.stride];
-            V::transpose_records(base, &idx, tab.stride, local.as_mut_ptr());
-            block::<V, _, K, OUT>(nj, nd, &Local(&local[..tab.stride]), tv)
+        }
+        let o = if odd == 0 {
+            let rec = base.add((2 * s0 as usize + h0 as usize) * stride);
+            block::<G, _, K, OUT, JM>(nj, nd, &Bcast(rec), tv)
+        } else {
+            let mut idx = [[0usize; 4]; 2];
+            for l in 0..step {
+                let k = lane(l);
+                let s = *sp.add(k) as usize;
+                idx[l / V::N][l % V::N] =
+                    (2 * s + (*tp.add(k) > *tab.mid.get_unchecked(s)) as usize) * stride;
+            }
+            // `len` is a multiple of 4: the transposes initialise exactly the slices read
+            V::transpose_records(base, &idx[0], len, pa);
+            if step > V::N {
+                V::transpose_records(base, &idx[1], len, pb);
+            }
+            let (fa, fb) = (std::slice::from_raw_parts(pa, len), std::slice::from_raw_parts(pb, len));
+            block::<G, _, K, OUT, JM>(nj, nd, &G::local(fa, fb), tv)
         };
-        let rows = &mut out[i * w..(i + m) * w];
-        if m == V::N && OUT == EVAL {
+        let rows = op.add(i * w);
+        if full && OUT == EVAL {
             for b in 0..=K {
-                V::store_rows4(
-                    [o[4 * b], o[4 * b + 1], o[4 * b + 2], o[4 * b + 3]],
-                    rows.as_mut_ptr().add(4 * b),
-                    w,
-                );
+                let c = 4 * b;
+                G::store_rows4([o[c], o[c + 1], o[c + 2], o[c + 3]], rows.add(c), w);
             }
+        } else if full && OUT != EVAL && i + m < n {
+            // rows of 3 written as rows of 4 in order, each spilling one number into the
+            // next row (rewritten right after); not for the last group
+            G::store_rows4([o[0], o[1], o[2], zero], rows, 3);
         } else {
             for (c, v) in o.iter().take(w).enumerate() {
-                let a = v.to_array();
-                for l in 0..m {
-                    rows[l * w + c] = a[l];
+                let a = v.lanes();
+                for (l, x) in a.iter().enumerate().take(m) {
+                    *rows.add(l * w + c) = *x;
                 }
             }
         }
@@ -474,20 +760,33 @@ unsafe fn run<V: Lanes, const K: usize, const OUT: u8>(
     }
 }
 
+/// `run` on two vectors in lockstep (measured in the release build: faster than one vector
+/// for values and rates alike).
+#[inline(always)]
+unsafe fn shaped<V: LanesExt, const K: usize, const OUT: u8>(
+    tab: &CumulativeTable,
+    seg: &[u32],
+    t: &[f64],
+    out: &mut [f64],
+) {
+    shaped_in::<V, P2<V>, K, OUT>(tab, seg, t, out)
+}
+
 /// `run` with the table's shape folded into constants for the common shapes.
 #[inline(always)]
-unsafe fn shaped<V: Lanes, const K: usize, const OUT: u8>(
+unsafe fn shaped_in<V: LanesExt, G: Group<V>, const K: usize, const OUT: u8>(
     tab: &CumulativeTable,
     seg: &[u32],
     t: &[f64],
     out: &mut [f64],
 ) {
     match (tab.nj, tab.nd) {
-        (1, 1) => run::<V, K, OUT>(tab, 1, 1, seg, t, out),
-        (3, 3) => run::<V, K, OUT>(tab, 3, 3, seg, t, out),
-        (3, 7) => run::<V, K, OUT>(tab, 3, 7, seg, t, out),
-        (7, 7) => run::<V, K, OUT>(tab, 7, 7, seg, t, out),
-        (nj, nd) => run::<V, K, OUT>(tab, nj, nd, seg, t, out),
+        // (the per-factor arrays sized to the shape: no memset of unused ones per block)
+        (1, 1) => run::<V, G, K, OUT, 1>(tab, 1, 1, seg, t, out),
+        (3, 3) => run::<V, G, K, OUT, 3>(tab, 3, 3, seg, t, out),
+        (3, 7) => run::<V, G, K, OUT, 3>(tab, 3, 7, seg, t, out),
+        (7, 7) => run::<V, G, K, OUT, 7>(tab, 7, 7, seg, t, out),
+        (nj, nd) => run::<V, G, K, OUT, MAX_FACTORS>(tab, nj, nd, seg, t, out),
     }
 }
 
@@ -510,7 +809,11 @@ fn dispatch<const K: usize, const OUT: u8>(
     out: &mut [f64],
 ) {
     assert!(seg.len() == t.len() && out.len() == t.len() * width(K, OUT), "cumulative kernel: bad lengths");
-    assert!(seg.iter().all(|&s| (s as usize) < tab.mid.len()), "cumulative kernel: segment out of range");
+    let nseg = tab.mid.len() as u32;
+    assert!(
+        seg.iter().fold(0, |m, &s| m.max(s)) < nseg || seg.is_empty(),
+        "cumulative kernel: segment out of range"
+    );
     #[cfg(target_arch = "x86_64")]
     if isa == Isa::Avx2 && super::avx2_available() {
         // SAFETY: AVX2 and FMA detected; lengths and segment indices checked above.
@@ -550,9 +853,83 @@ impl BatchKernel for CumulativeTable {
     }
 }
 
+/// The factors' (sin θ, cos θ) as the kernels compute them ([`Trig::half_angle_sin_cos`],
+/// then [`Trig::wide_sin_cos`] when a lane is beyond ±π/2), vectors of `x` in order (for the
+/// accuracy tests).
+#[cfg(test)]
+fn factor_sin_cos_slice(isa: Isa, x: &[f64], s: &mut [f64], c: &mut [f64]) {
+    #[inline(always)]
+    fn one<A: Trig>(x: A) -> (A, A) {
+        let (s, c, z) = x.half_angle_sin_cos();
+        if z.any_above(HALF_ANGLE_Z) {
+            x.wide_sin_cos((s, c))
+        } else {
+            (s, c)
+        }
+    }
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn avx2(x: &[f64], s: &mut [f64], c: &mut [f64]) {
+        use super::lanes::Avx2;
+        for ((xc, sc), cc) in x.chunks(4).zip(s.chunks_mut(4)).zip(c.chunks_mut(4)) {
+            let mut buf = [0.0; 4];
+            buf[..xc.len()].copy_from_slice(xc);
+            let (vs, vc) = one(<Avx2 as Lanes>::load(buf.as_ptr()));
+            sc.copy_from_slice(&vs.to_array()[..xc.len()]);
+            cc.copy_from_slice(&vc.to_array()[..xc.len()]);
+        }
+    }
+    #[cfg(target_arch = "x86_64")]
+    if isa == Isa::Avx2 && super::avx2_available() {
+        // SAFETY: AVX2 and FMA detected.
+        unsafe { avx2(x, s, c) };
+        return;
+    }
+    for i in 0..x.len() {
+        (s[i], c[i]) = one(x[i]);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The half-angle sin/cos against libm over the angles the factors meet (and beyond ±π/2,
+    /// where lanes take the general kernel), lane by lane: each lane's result is the same
+    /// whatever its neighbours are.
+    #[test]
+    fn factor_sin_cos_accurate_and_lane_independent() {
+        let mut x: Vec<f64> = (0..200_001).map(|i| -4.0 + 8.0 * i as f64 / 200_000.0).collect();
+        let h = std::f64::consts::FRAC_PI_2;
+        x.extend([h, -h, h.next_up(), (-h).next_down(), h.next_down(), 0.0, -0.0, 1e-300, 30.0, -1e6]);
+        for isa in [Isa::Scalar, Isa::Avx2] {
+            let (mut s, mut c) = (vec![0.0; x.len()], vec![0.0; x.len()]);
+            factor_sin_cos_slice(isa, &x, &mut s, &mut c);
+            for i in 0..x.len() {
+                let (rs, rc) = x[i].sin_cos();
+                // a few ulp, or 2⁻⁵² absolutely where cos θ = 1 − 2 sin² h cancels
+                for (a, b) in [(s[i], rs), (c[i], rc)] {
+                    let tol = 4.0 * f64::EPSILON * b.abs() + 2.0 * f64::EPSILON;
+                    assert!((a - b).abs() <= tol.max(f64::EPSILON), "{isa:?} {}: {a} vs {b}", x[i]);
+                }
+                // alone (all lanes equal) the same bits
+                let (mut s1, mut c1) = ([0.0; 4], [0.0; 4]);
+                factor_sin_cos_slice(isa, &[x[i]; 4], &mut s1, &mut c1);
+                assert!(
+                    s1[0].to_bits() == s[i].to_bits() && c1[0].to_bits() == c[i].to_bits(),
+                    "{isa:?} {}",
+                    x[i]
+                );
+            }
+            let (mut s, mut c) = ([0.0; 4], [0.0; 4]);
+            factor_sin_cos_slice(isa, &[f64::NAN, f64::INFINITY, 0.5, 3.0], &mut s, &mut c);
+            assert!(s[0].is_nan() && c[0].is_nan() && s[1].is_nan() && c[1].is_nan());
+            assert!(
+                (s[3] - 3f64.sin()).abs() <= 1e-16 && (c[2] - 0.5f64.cos()).abs() <= 2e-16,
+                "{s:?} {c:?}"
+            );
+        }
+    }
 
     #[test]
     fn bernstein_and_reflection_round_trip() {

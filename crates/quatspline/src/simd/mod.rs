@@ -221,6 +221,14 @@ impl Locator {
         k
     }
 
+    /// (a, b) with `fits(k, t)` ⇔ a ≤ t < b for every t (−∞ and +∞ at the ends).
+    #[inline(always)]
+    pub fn bounds(&self, k: usize) -> (f64, f64) {
+        let j = &self.joints;
+        let last = j.len() - 2;
+        (if k == 0 { f64::NEG_INFINITY } else { j[k] }, if k == last { f64::INFINITY } else { j[k + 1] })
+    }
+
     /// `seg[i]` ← the segment of `t[i]` for a chunk of finite times inside the domain, with
     /// `cur` the segment of the previous sample (updated).
     ///
@@ -240,14 +248,28 @@ impl Locator {
             return;
         }
         if sorted {
+            // per segment: locate its first sample, then the run of samples in it by two
+            // comparisons a sample (four per branch) and one fill
             let mut c = (*cur).min(last);
-            for (s, &x) in seg.iter_mut().zip(t) {
+            let mut i = 0;
+            while i < t.len() {
+                let x = t[i];
                 // short-circuit tests: predictable on sorted times
                 let fits = |k: usize| (j[k] <= x || k == 0) && (x < j[k + 1] || k == last);
                 if !fits(c) {
                     c = if c < last && fits(c + 1) { c + 1 } else { self.locate(x) };
                 }
-                *s = c as u32;
+                let (ge, lt) = self.bounds(c);
+                let fit = |v: f64| (v >= ge) & (v < lt);
+                let first = i;
+                i += 1;
+                while i + 4 <= t.len() && (fit(t[i]) & fit(t[i + 1]) & fit(t[i + 2]) & fit(t[i + 3])) {
+                    i += 4;
+                }
+                while i < t.len() && fit(t[i]) {
+                    i += 1;
+                }
+                seg[first..i].fill(c as u32);
             }
             *cur = c;
             return;
@@ -300,6 +322,12 @@ mod tests {
         probes.extend([-1.0, joints[0] - 1e-300, joints[last + 1] + 1.0]);
         for t in probes {
             assert_eq!(loc.locate(t), reference(t), "t = {t}");
+            // the engine's run test: fits(k, t) ⇔ a ≤ t < b
+            for k in [0, 1, reference(t).saturating_sub(1), reference(t), (reference(t) + 1).min(last), last]
+            {
+                let (a, b) = loc.bounds(k);
+                assert_eq!(loc.fits(k, t), a <= t && t < b, "k = {k}, t = {t}");
+            }
         }
     }
 

@@ -81,7 +81,7 @@ impl<V: LanesExt> Arith for V {
 /// long dependency chains of a slerp (square root, atan2's divisions, sin/cos, division)
 /// of one vector overlap those of the other. Each lane's result is the same as alone.
 #[derive(Clone, Copy)]
-pub(crate) struct P2<V>(V, V);
+pub(crate) struct P2<V>(pub(crate) V, pub(crate) V);
 
 macro_rules! p2_op {
     ($tr:ident, $f:ident) => {
