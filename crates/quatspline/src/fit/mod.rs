@@ -420,6 +420,13 @@ struct Lin {
 }
 
 impl Lin {
+    /// The (data, penalty) halves back.
+    fn into_halves(self) -> (Half, Half) {
+        (
+            Half { band: self.g, grad: self.gd, sum: self.rwr, count: self.nobs },
+            Half { band: self.p, grad: self.gp, sum: self.pcp, count: 0.0 },
+        )
+    }
     fn new(data: Half, pen: Half) -> Lin {
         Lin {
             g: data.band,
@@ -961,10 +968,17 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
     let mut data_cache: Option<Half> = None;
     let mut spare: Vec<Band> = Vec::new();
     let mut hbuf = Band::zeros(0, 0);
+    // The halves at the model before a final step below the tolerance (not relinearised).
+    let mut near_halves: Option<(Half, Half)> = None;
     loop {
         it += 1;
         if it > opts.max_iter {
             return Err(Error::NotConverged { what: "fit", iterations: opts.max_iter, step, tol: opts.tol });
+        }
+        if let Some((dh, ph)) = near_halves.take() {
+            // The loop went on after a step below the tolerance: linearise afresh.
+            spare.push(dh.band);
+            spare.push(ph.band);
         }
         if robust_on {
             let (_, ang) = residuals(&model, data, &offs);
@@ -1013,6 +1027,7 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
         let c0 = lin.rwr + lam * lin.pcp;
         // Gauss–Newton step; Levenberg–Marquardt damping when the cost does not decrease.
         let mut accepted = None;
+        let mut near = false;
         for _ in 0..30 {
             lin.g.axpy_into(lam, &lin.p, &mut hbuf);
             if mu > 0.0 {
@@ -1030,6 +1045,23 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
             let rhs: Vec<f64> = lin.gd.iter().zip(&lin.gp).map(|(a, b)| -(a + lam * b)).collect();
             let d = hbuf.solve(&rhs);
             let trial = model.retracted(&d);
+            let smax = (0..d.len() / 3)
+                .map(|i| {
+                    (d[3 * i] * d[3 * i] + d[3 * i + 1] * d[3 * i + 1] + d[3 * i + 2] * d[3 * i + 2]).sqrt()
+                })
+                .fold(0.0, f64::max);
+            if smax < opts.tol {
+                // A step below the tolerance is accepted whatever its cost, so the trial is not
+                // linearised here: the halves at `model` (within `tol` of the trial) are kept
+                // for the final score and edf, and dropped if the loop goes on.
+                accepted = Some((trial, smax));
+                near = true;
+                mu = if mu > 0.0 { mu / 10.0 } else { 0.0 };
+                if mu < 1e-9 {
+                    mu = 0.0;
+                }
+                break;
+            }
             // The trial's cost from its linearisation (kept if the step is accepted), in the
             // storage of G and P (three bands at most are alive: H, and G and P or the trial's).
             let (gs, ps) = (
@@ -1039,12 +1071,7 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
             let tp = pen_half(&trial, pen, &nodes, ps);
             let td = data_half(&trial, data, &w, &offs, gs);
             let c1 = td.sum + lam * tp.sum;
-            let smax = (0..d.len() / 3)
-                .map(|i| {
-                    (d[3 * i] * d[3 * i] + d[3 * i + 1] * d[3 * i + 1] + d[3 * i + 2] * d[3 * i + 2]).sqrt()
-                })
-                .fold(0.0, f64::max);
-            if c1 <= c0 * (1.0 + 1e-12) + 1e-300 || smax < opts.tol {
+            if c1 <= c0 * (1.0 + 1e-12) + 1e-300 {
                 accepted = Some((trial, smax));
                 pen_cache = Some(tp);
                 data_cache = Some(td);
@@ -1059,7 +1086,12 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
             lin = Lin::new(data_half(&model, data, &w, &offs, td.band), ph);
             mu = if mu == 0.0 { 1e-4 } else { mu * 10.0 };
         }
-        drop(lin);
+        if near {
+            // Keep the halves at the previous model (see above).
+            near_halves = Some(lin.into_halves());
+        } else {
+            drop(lin);
+        }
         let Some((trial, smax)) = accepted else {
             return Err(Error::NotConverged {
                 what: "fit (no descent step found)",
@@ -1130,7 +1162,13 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
     let (_, ang) = residuals(&model, data, &vec![[0.0; 3]; n]);
     // Score and edf at the solution (for fixed λ: the GCV of the fixed λ).
     let (score, edf) = if !interpolate {
-        // The halves kept from the last accepted step are at `model` with the final weights.
+        // The halves kept from the last accepted step are at `model` with the final weights,
+        // or, after a step below the tolerance, at the model one step (≤ tol) before; the
+        // score's linearised RSS includes that step.
+        if let Some((dh, ph)) = near_halves.take() {
+            pen_cache = Some(ph);
+            data_cache = Some(dh);
+        }
         let ph = match pen_cache.take() {
             Some(h) => h,
             None => pen_half(&model, pen, &nodes, spare.pop().unwrap_or(Band::zeros(0, 0))),
