@@ -52,7 +52,7 @@ use crate::jet::Jet;
 use crate::quat::Quat;
 use crate::vec3::{self, Vec3};
 use banded::Band;
-use model::{Cols, Model, MAXK};
+use model::{Cols, Factors, Model, MAXK};
 use rayon::prelude::*;
 
 /// What the roughness penalty integrates.
@@ -450,23 +450,51 @@ fn ordered_sum(n: usize, f: impl Fn(usize) -> f64 + Sync) -> f64 {
     parts.iter().sum()
 }
 
+/// The rows of one chunk of a band under assembly (lower band storage, `w` entries a row):
+/// its own rows, inside the band, then the rows its last segments reach beyond (`spill`).
+struct ChunkBand<'a> {
+    own: &'a mut [f64],
+    spill: &'a mut [f64],
+    w: usize,
+}
+
+impl ChunkBand<'_> {
+    /// As [`Band::add_block`], rows counted from the chunk's first row.
+    #[inline]
+    fn add_block(&mut self, off: usize, m: usize, blk: &[f64], scale: f64) {
+        let w = self.w;
+        let own_rows = self.own.len() / w;
+        for r in 0..m {
+            let row = off + r;
+            let dst = if row < own_rows {
+                &mut self.own[row * w..row * w + w]
+            } else {
+                &mut self.spill[(row - own_rows) * w..(row - own_rows) * w + w]
+            };
+            for (c, x) in blk[r * m..r * m + r + 1].iter().enumerate() {
+                dst[r - c] += scale * x;
+            }
+        }
+    }
+}
+
 /// Assembles a block-banded Gauss–Newton matrix (symmetric 3k × 3k blocks at rows 3i for
 /// segment i, half-bandwidth 3k − 1) and its gradient directly into band storage, in parallel
-/// over fixed chunks of [`CHUNK`] segments. `f(s0, s1, band, grad)` fills a chunk-local band
-/// and gradient whose row 0 is global row 3·s0 and returns partial (sum, count). Chunk c owns
-/// the rows of control points [c·CHUNK, (c+1)·CHUNK) and writes them directly; the rows its
-/// last segments reach beyond (k − 1 control points) are added afterwards in chunk order.
-/// `band`'s storage is reused (no allocation when it is large enough).
+/// over fixed chunks of [`CHUNK`] segments. `f(s0, s1, band, grad)` fills a chunk's band rows
+/// and a chunk-local gradient whose row 0 is global row 3·s0 and returns partial (sum, count).
+/// Chunk c owns the rows of control points [c·CHUNK, (c+1)·CHUNK) and accumulates into them
+/// in place; the rows its last segments reach beyond (k − 1 control points) are added
+/// afterwards in chunk order. `band`'s storage is reused (no allocation when it is large
+/// enough; each chunk zeroes its own rows).
 fn assemble<F>(nctrl: usize, segs: usize, k: usize, mut band: Band, f: F) -> Half
 where
-    F: Fn(usize, usize, &mut Band, &mut [f64]) -> (f64, f64) + Sync,
+    F: Fn(usize, usize, &mut ChunkBand<'_>, &mut [f64]) -> (f64, f64) + Sync,
 {
     let nb = 3 * k;
     let w = nb;
     let n = 3 * nctrl;
     band.n = n;
     band.p = nb - 1;
-    band.a.clear();
     band.a.resize(n * w, 0.0);
     let mut grad = vec![0.0; n];
     let rows = 3 * CHUNK;
@@ -477,19 +505,20 @@ where
         .zip(grad.par_chunks_mut(rows))
         .enumerate()
         .map(|(c, (bpiece, gpiece))| {
+            bpiece.fill(0.0);
             let s0 = c * CHUNK;
             let s1 = ((c + 1) * CHUNK).min(segs);
             if s0 >= s1 {
                 return (0, vec![], vec![], 0.0, 0.0);
             }
             let lrows = 3 * (s1 - s0 + k - 1);
-            let mut local = Band::zeros(lrows, nb - 1);
-            let mut lg = vec![0.0; lrows];
-            let (sum, count) = f(s0, s1, &mut local, &mut lg);
             let own = gpiece.len().min(lrows);
-            bpiece[..own * w].copy_from_slice(&local.a[..own * w]);
+            let mut spill = vec![0.0; (lrows - own) * w];
+            let mut lg = vec![0.0; lrows];
+            let mut view = ChunkBand { own: &mut bpiece[..own * w], spill: &mut spill, w };
+            let (sum, count) = f(s0, s1, &mut view, &mut lg);
             gpiece[..own].copy_from_slice(&lg[..own]);
-            (3 * s0 + own, local.a[own * w..].to_vec(), lg[own..].to_vec(), sum, count)
+            (3 * s0 + own, spill, lg[own..].to_vec(), sum, count)
         })
         .collect();
     let (mut sum, mut count) = (0.0, 0.0);
@@ -554,26 +583,50 @@ fn delta_omega_deriv<const N: usize>(om: &model::V<N>, xi: &model::V<N>, m: usiz
 }
 
 /// The penalty half: P = Σ Jₚᵀ C Jₚ, Jₚᵀ C p and pᵀ C p by Gauss quadrature per segment.
+/// δω^(m) is linear in ξ with constant coefficients in the Jacobian's right factors, so it is
+/// applied to the k jet factors of [`Model::value_and_factors`] (3k constant columns) and the
+/// factors' constant 3×3 right multipliers J_r⁻¹, J_l⁻¹ come after, on plain numbers.
 fn penalty_half<const N: usize>(model: &Model, m: usize, nodes: &[(f64, f64)], band: Band) -> Half {
     let k = model.order;
     let nb = 3 * k;
     assemble(model.ctrl.len(), model.segments(), k, band, |s0, s1, pb, gp| {
         let mut blk = vec![0.0; nb * nb];
         let mut jac = [[0.0f64; 3]; 3 * MAXK];
-        let mut cols: Cols<N> = [[[Jet::constant(0.0); 3]; 3]; MAXK];
+        let mut mats: Factors<N> = [[[Jet::constant(0.0); 3]; 3]; MAXK];
+        // e[j][c] = δω^(m) of column c of factor j.
+        let mut e = [[[0.0f64; 3]; 3]; MAXK];
         let mut pcp = 0.0;
         for i in s0..s1 {
             blk.iter_mut().for_each(|v| *v = 0.0);
             let off = 3 * (i - s0);
             for &(u, w) in nodes {
                 let c = w * model.dt;
-                let q = model.value_and_columns::<N>(i, Jet::variable(u, 1.0 / model.dt), &mut cols);
+                let q = model.value_and_factors::<N>(i, Jet::variable(u, 1.0 / model.dt), &mut mats);
                 let om = Model::omega(&q);
                 let p: Vec3 = std::array::from_fn(|r| om[r].derivative(m));
                 pcp += c * vec3::dot(p, p);
+                for j in 0..k {
+                    for cc in 0..3 {
+                        let col = [mats[j][0][cc], mats[j][1][cc], mats[j][2][cc]];
+                        e[j][cc] = delta_omega_deriv(&om, &col, m);
+                    }
+                }
                 for mm in 0..k {
                     for cc in 0..3 {
-                        jac[3 * mm + cc] = delta_omega_deriv(&om, &cols[mm][cc], m);
+                        let mut v = if mm == 0 { e[0][cc] } else { [0.0; 3] };
+                        if mm >= 1 {
+                            let jr = model.chain_jacobians(i + mm).0;
+                            for l in 0..3 {
+                                v = vec3::add(v, vec3::scale(e[mm][l], jr[l][cc]));
+                            }
+                        }
+                        if mm + 1 < k {
+                            let jl = model.chain_jacobians(i + mm + 1).1;
+                            for l in 0..3 {
+                                v = vec3::sub(v, vec3::scale(e[mm + 1][l], jl[l][cc]));
+                            }
+                        }
+                        jac[3 * mm + cc] = v;
                     }
                 }
                 for a in 0..nb {
@@ -970,6 +1023,8 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
     let mut hbuf = Band::zeros(0, 0);
     // The halves at the model before a final step below the tolerance (not relinearised).
     let mut near_halves: Option<(Half, Half)> = None;
+    // The storage of the last replaced or rejected model, for the next trial.
+    let mut spare_model: Option<Model> = None;
     loop {
         it += 1;
         if it > opts.max_iter {
@@ -1044,7 +1099,7 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
             }
             let rhs: Vec<f64> = lin.gd.iter().zip(&lin.gp).map(|(a, b)| -(a + lam * b)).collect();
             let d = hbuf.solve(&rhs);
-            let trial = model.retracted(&d);
+            let trial = model.retracted(&d, spare_model.take());
             let smax = (0..d.len() / 3)
                 .map(|i| {
                     (d[3 * i] * d[3 * i] + d[3 * i + 1] * d[3 * i + 1] + d[3 * i + 2] * d[3 * i + 2]).sqrt()
@@ -1082,6 +1137,7 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
                 break;
             }
             // Rejected (rare): linearise at `model` again for the damped retry.
+            spare_model = Some(trial);
             let ph = pen_half(&model, pen, &nodes, tp.band);
             lin = Lin::new(data_half(&model, data, &w, &offs, td.band), ph);
             mu = if mu == 0.0 { 1e-4 } else { mu * 10.0 };
@@ -1100,7 +1156,7 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
                 tol: opts.tol,
             });
         };
-        model = trial;
+        spare_model = Some(std::mem::replace(&mut model, trial));
         step = smax;
         if !progress("fit", it, step) {
             return Err(Error::invalid("progress", "fit cancelled by the progress callback"));
@@ -1159,6 +1215,7 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
         // IRLS (robust_on): converged when the weights no longer move the curve (step ≤ tol).
         break;
     }
+    drop(spare_model);
     let (_, ang) = residuals(&model, data, &vec![[0.0; 3]; n]);
     // Score and edf at the solution (for fixed λ: the GCV of the fixed λ).
     let (score, edf) = if !interpolate {
