@@ -746,11 +746,17 @@ fn cost(
 fn gcv_at(lin: &Lin, lam: f64, h: &mut Band) -> Result<(f64, f64)> {
     lin.g.axpy_into(lam, &lin.p, h);
     h.cholesky_in_place()?;
-    let rhs: Vec<f64> = lin.gd.iter().zip(&lin.gp).map(|(a, b)| -(a + lam * b)).collect();
-    let d = h.solve(&rhs);
-    let gdd = lin.g.matvec(&d);
-    let rss = (lin.rwr + 2.0 * dotv(&d, &lin.gd) + dotv(&d, &gdd)).max(0.0);
-    let tr = h.trace_inverse_product(&lin.g);
+    // The step's RSS and the trace are independent given the factor: one thread each.
+    let hf: &Band = h;
+    let (rss, tr) = rayon::join(
+        || {
+            let rhs: Vec<f64> = lin.gd.iter().zip(&lin.gp).map(|(a, b)| -(a + lam * b)).collect();
+            let d = hf.solve(&rhs);
+            let gdd = lin.g.matvec(&d);
+            (lin.rwr + 2.0 * dotv(&d, &lin.gd) + dotv(&d, &gdd)).max(0.0)
+        },
+        || hf.trace_inverse_product(&lin.g),
+    );
     let den = lin.nobs - tr;
     let score = if den > 1e-9 * lin.nobs { lin.nobs * rss / (den * den) } else { f64::INFINITY };
     Ok((score, tr))
@@ -851,8 +857,10 @@ fn select_lambda(lin: &Lin, lo: f64, hi: f64, grid: usize, prev: Option<f64>) ->
         let xs: Vec<f64> = (0..grid).map(|i| xlo + (xhi - xlo) * i as f64 / (grid - 1) as f64).collect();
         let vals: Vec<f64> = xs
             .par_iter()
-            .with_max_len(1)
-            .map(|&x| gcv_at(lin, x.exp(), &mut Band::zeros(0, 0)).map(|r| r.0).unwrap_or(f64::INFINITY))
+            .map_init(
+                || Band::zeros(0, 0),
+                |h, &x| gcv_at(lin, x.exp(), h).map(|r| r.0).unwrap_or(f64::INFINITY),
+            )
             .collect();
         let ib = (0..grid).min_by(|&i, &j| vals[i].total_cmp(&vals[j])).unwrap_or(0);
         return Ok((xs[ib].exp(), vals[ib]));
