@@ -29,9 +29,11 @@
 //! tr(H⁻¹G) from the band of H⁻¹ (selected inversion). Why GCV: it needs one factorisation per
 //! candidate λ and no refits (K-fold needs K fits per λ), the trace is exact and O(n), and it is
 //! the standard criterion of smoothing splines. λ is searched as λ = ρ h^{2m+2} over the
-//! equivalent kernel bandwidth h (ρ = samples per time unit, m = 1 or 2): a coarse log grid at
-//! the first linearisation, then at every later one Brent's method (golden section with
-//! parabolic steps) from a bracket around the previous λ, until λ moves less than 1 %.
+//! equivalent kernel bandwidth h (ρ = samples per time unit, m = 1 or 2): the first step (from
+//! the curve through the noisy samples, whose linearisation says little about λ) uses h = 10
+//! sample spacings; the second linearisation takes a coarse log grid and Brent's method (golden
+//! section with parabolic steps) between the best point's neighbours; every later one Brent's
+//! method from a bracket around the previous λ, until λ moves less than 1 %.
 //!
 //! λ = 0 (interpolation, also [`min_energy::min_energy_bspline`]): the limit λ → 0⁺, i.e. the minimum-penalty curve
 //! of the spline space through every sample, by Bregman iteration (iterated Tikhonov): fit with
@@ -744,6 +746,9 @@ fn cost(
 /// GCV of the linearised problem at λ: (score, tr A). `h` is workspace for H = G + λP and
 /// its factor (reused between calls).
 fn gcv_at(lin: &Lin, lam: f64, h: &mut Band) -> Result<(f64, f64)> {
+    if std::env::var_os("QS_T").is_some() {
+        eprintln!("      gcv ln λ {:.4}", lam.ln());
+    }
     lin.g.axpy_into(lam, &lin.p, h);
     h.cholesky_in_place()?;
     // The step's RSS and the trace are independent given the factor: one thread each.
@@ -846,12 +851,18 @@ const LN_LAMBDA_TOL: f64 = 2e-3;
 
 /// Minimises GCV over ln λ in [lo, hi]; returns (λ, GCV).
 ///
-/// Without a previous λ (the first linearisation, at the unsmoothed initial curve, whose GCV
-/// minimum is only a first guess): the best of a coarse grid of `grid` points, evaluated in
-/// parallel. With one: a bracket of ±0.1 in ln λ around it, widened by doubling towards lower
+/// Without a previous λ (the first search): the best of a coarse grid of `grid` points,
+/// evaluated in parallel, refined by Brent's method between its grid neighbours. With one: a bracket of ±0.1 in ln λ around it, widened by doubling towards lower
 /// values (down to 10⁻⁶ lo), then Brent's method to [`LN_LAMBDA_TOL`]. The caller re-selects at every
 /// linearisation until λ moves less than 1 %, so the final λ is always a Brent minimum.
-fn select_lambda(lin: &Lin, lo: f64, hi: f64, grid: usize, prev: Option<f64>) -> Result<(f64, f64)> {
+fn select_lambda(
+    lin: &Lin,
+    lo: f64,
+    hi: f64,
+    grid: usize,
+    prev: Option<f64>,
+    h: &mut Band,
+) -> Result<(f64, f64)> {
     let (xlo, xhi) = (lo.ln(), hi.ln());
     let Some(prev) = prev else {
         let xs: Vec<f64> = (0..grid).map(|i| xlo + (xhi - xlo) * i as f64 / (grid - 1) as f64).collect();
@@ -863,13 +874,16 @@ fn select_lambda(lin: &Lin, lo: f64, hi: f64, grid: usize, prev: Option<f64>) ->
             )
             .collect();
         let ib = (0..grid).min_by(|&i, &j| vals[i].total_cmp(&vals[j])).unwrap_or(0);
-        return Ok((xs[ib].exp(), vals[ib]));
+        // Brent between the grid neighbours of the best point.
+        let (a, b) = (xs[ib.saturating_sub(1)], xs[(ib + 1).min(grid - 1)]);
+        let mut f = |x: f64| gcv_at(lin, x.exp(), h).map(|r| r.0).unwrap_or(f64::INFINITY);
+        let (x, fx) = brent(&mut f, a, b, xs[ib], vals[ib], LN_LAMBDA_TOL, 40);
+        return Ok((x.exp(), fx));
     };
     // Later linearisations may go below the grid (noise-free data: GCV falls towards λ → 0
     // until tr A reaches the observations), by at most 10⁻⁶.
     let xlo = xlo - 6.0 * std::f64::consts::LN_10;
-    let mut h = Band::zeros(0, 0);
-    let mut f = |x: f64| gcv_at(lin, x.exp(), &mut h).map(|r| r.0).unwrap_or(f64::INFINITY);
+    let mut f = |x: f64| gcv_at(lin, x.exp(), h).map(|r| r.0).unwrap_or(f64::INFINITY);
     let xm = prev.ln().clamp(xlo, xhi);
     let mut step = 0.1;
     let (mut a, mut m, mut b) = ((xm - step).max(xlo), xm, (xm + step).min(xhi));
@@ -1014,6 +1028,8 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
     };
     let auto = opts.smoothing == Smoothing::Auto;
     let mut lam_frozen = !auto;
+    // Whether the grid search for λ has run (auto).
+    let mut searched = false;
     let mut offs = vec![[0.0; 3]; n];
     let mut w = data.w.clone();
     let mut robust_on = false;
@@ -1079,13 +1095,28 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
         if !lam_frozen {
             let hi = lam_of(span).min(lam_max);
             let lo = lam_of(0.3 * dts).min(hi / 1e6);
-            let prev = if lam.is_nan() { None } else { Some(lam) };
-            let (l_new, _) = select_lambda(&lin, lo, hi, 13, prev)?;
-            lam_changed = lam.is_nan() || (l_new / lam).ln().abs() > 0.01;
-            if !lam.is_nan() && !lam_changed {
-                lam_frozen = true;
+            if lam.is_nan() {
+                // The first linearisation is at the initial curve through the noisy samples,
+                // whose penalty matrix carries the noise's ω: its GCV minimum is no guide
+                // (measured: 6 units of ln λ below the final one). The first step smooths with
+                // the bandwidth of 10 sample spacings; the search starts at the next one.
+                lam = lam_of(10.0 * dts).clamp(lo, hi);
+                lam_changed = true;
+            } else {
+                let prev = if searched { Some(lam) } else { None };
+                if !searched {
+                    // The grid holds one H per thread: free what the search does not use.
+                    hbuf = Band::zeros(0, 0);
+                    spare_model = None;
+                }
+                let (l_new, _) = select_lambda(&lin, lo, hi, 13, prev, &mut hbuf)?;
+                lam_changed = !searched || (l_new / lam).ln().abs() > 0.01;
+                if searched && !lam_changed {
+                    lam_frozen = true;
+                }
+                searched = true;
+                lam = l_new;
             }
-            lam = l_new;
         }
         let c0 = lin.rwr + lam * lin.pcp;
         // Gauss–Newton step; Levenberg–Marquardt damping when the cost does not decrease.
