@@ -119,8 +119,30 @@ impl Band {
             a[j * w] = dg;
             let inv = 1.0 / dg;
             let hi = (j + p).min(n - 1);
-            for i in j + 1..=hi {
-                // L[i][j] = (H[i][j] − Σ_{k<j} L[i][k] L[j][k]) / L[j][j], k ≥ i − p.
+            // L[i][j] = (H[i][j] − Σ_{k<j} L[i][k] L[j][k]) / L[j][j], k ≥ i − p: independent
+            // for every i, so two rows at a time (two dependency chains; each sum in the same
+            // order as one at a time, so the factor is the same to the bit).
+            let mut i = j + 1;
+            while i < hi {
+                let e = i - j;
+                let m0 = dj.min(p - e);
+                let m1 = dj.min(p - e - 1);
+                let (head, tail) = a.split_at_mut(i * w);
+                let rj = &head[j * w..j * w + w];
+                let (ri, ri1) = tail[..2 * w].split_at_mut(w);
+                let (mut s0, mut s1) = (ri[e], ri1[e + 1]);
+                for d in 1..=m1 {
+                    s0 -= ri[e + d] * rj[d];
+                    s1 -= ri1[e + 1 + d] * rj[d];
+                }
+                for d in m1 + 1..=m0 {
+                    s0 -= ri[e + d] * rj[d];
+                }
+                ri[e] = s0 * inv;
+                ri1[e + 1] = s1 * inv;
+                i += 2;
+            }
+            if i == hi {
                 let e = i - j;
                 let m = dj.min(p - e);
                 let (head, tail) = a.split_at_mut(i * w);

@@ -29,9 +29,11 @@
 //! tr(H⁻¹G) from the band of H⁻¹ (selected inversion). Why GCV: it needs one factorisation per
 //! candidate λ and no refits (K-fold needs K fits per λ), the trace is exact and O(n), and it is
 //! the standard criterion of smoothing splines. λ is searched as λ = ρ h^{2m+2} over the
-//! equivalent kernel bandwidth h (ρ = samples per time unit, m = 1 or 2): a coarse log grid at
-//! the first linearisation, then at every later one Brent's method (golden section with
-//! parabolic steps) from a bracket around the previous λ, until λ moves less than 1 %.
+//! equivalent kernel bandwidth h (ρ = samples per time unit, m = 1 or 2): the first step (from
+//! the curve through the noisy samples, whose linearisation says little about λ) uses h = 10
+//! sample spacings; the second linearisation takes a coarse log grid and Brent's method (golden
+//! section with parabolic steps) between the best point's neighbours; every later one Brent's
+//! method from a bracket around the previous λ, until λ moves less than 1 %.
 //!
 //! λ = 0 (interpolation, also [`min_energy::min_energy_bspline`]): the limit λ → 0⁺, i.e. the minimum-penalty curve
 //! of the spline space through every sample, by Bregman iteration (iterated Tikhonov): fit with
@@ -52,7 +54,7 @@ use crate::jet::Jet;
 use crate::quat::Quat;
 use crate::vec3::{self, Vec3};
 use banded::Band;
-use model::{Cols, Model, MAXK};
+use model::{Cols, Factors, Model, MAXK};
 use rayon::prelude::*;
 
 /// What the roughness penalty integrates.
@@ -420,6 +422,13 @@ struct Lin {
 }
 
 impl Lin {
+    /// The (data, penalty) halves back.
+    fn into_halves(self) -> (Half, Half) {
+        (
+            Half { band: self.g, grad: self.gd, sum: self.rwr, count: self.nobs },
+            Half { band: self.p, grad: self.gp, sum: self.pcp, count: 0.0 },
+        )
+    }
     fn new(data: Half, pen: Half) -> Lin {
         Lin {
             g: data.band,
@@ -443,23 +452,51 @@ fn ordered_sum(n: usize, f: impl Fn(usize) -> f64 + Sync) -> f64 {
     parts.iter().sum()
 }
 
+/// The rows of one chunk of a band under assembly (lower band storage, `w` entries a row):
+/// its own rows, inside the band, then the rows its last segments reach beyond (`spill`).
+struct ChunkBand<'a> {
+    own: &'a mut [f64],
+    spill: &'a mut [f64],
+    w: usize,
+}
+
+impl ChunkBand<'_> {
+    /// As [`Band::add_block`], rows counted from the chunk's first row.
+    #[inline]
+    fn add_block(&mut self, off: usize, m: usize, blk: &[f64], scale: f64) {
+        let w = self.w;
+        let own_rows = self.own.len() / w;
+        for r in 0..m {
+            let row = off + r;
+            let dst = if row < own_rows {
+                &mut self.own[row * w..row * w + w]
+            } else {
+                &mut self.spill[(row - own_rows) * w..(row - own_rows) * w + w]
+            };
+            for (c, x) in blk[r * m..r * m + r + 1].iter().enumerate() {
+                dst[r - c] += scale * x;
+            }
+        }
+    }
+}
+
 /// Assembles a block-banded Gauss–Newton matrix (symmetric 3k × 3k blocks at rows 3i for
 /// segment i, half-bandwidth 3k − 1) and its gradient directly into band storage, in parallel
-/// over fixed chunks of [`CHUNK`] segments. `f(s0, s1, band, grad)` fills a chunk-local band
-/// and gradient whose row 0 is global row 3·s0 and returns partial (sum, count). Chunk c owns
-/// the rows of control points [c·CHUNK, (c+1)·CHUNK) and writes them directly; the rows its
-/// last segments reach beyond (k − 1 control points) are added afterwards in chunk order.
-/// `band`'s storage is reused (no allocation when it is large enough).
+/// over fixed chunks of [`CHUNK`] segments. `f(s0, s1, band, grad)` fills a chunk's band rows
+/// and a chunk-local gradient whose row 0 is global row 3·s0 and returns partial (sum, count).
+/// Chunk c owns the rows of control points [c·CHUNK, (c+1)·CHUNK) and accumulates into them
+/// in place; the rows its last segments reach beyond (k − 1 control points) are added
+/// afterwards in chunk order. `band`'s storage is reused (no allocation when it is large
+/// enough; each chunk zeroes its own rows).
 fn assemble<F>(nctrl: usize, segs: usize, k: usize, mut band: Band, f: F) -> Half
 where
-    F: Fn(usize, usize, &mut Band, &mut [f64]) -> (f64, f64) + Sync,
+    F: Fn(usize, usize, &mut ChunkBand<'_>, &mut [f64]) -> (f64, f64) + Sync,
 {
     let nb = 3 * k;
     let w = nb;
     let n = 3 * nctrl;
     band.n = n;
     band.p = nb - 1;
-    band.a.clear();
     band.a.resize(n * w, 0.0);
     let mut grad = vec![0.0; n];
     let rows = 3 * CHUNK;
@@ -470,19 +507,20 @@ where
         .zip(grad.par_chunks_mut(rows))
         .enumerate()
         .map(|(c, (bpiece, gpiece))| {
+            bpiece.fill(0.0);
             let s0 = c * CHUNK;
             let s1 = ((c + 1) * CHUNK).min(segs);
             if s0 >= s1 {
                 return (0, vec![], vec![], 0.0, 0.0);
             }
             let lrows = 3 * (s1 - s0 + k - 1);
-            let mut local = Band::zeros(lrows, nb - 1);
-            let mut lg = vec![0.0; lrows];
-            let (sum, count) = f(s0, s1, &mut local, &mut lg);
             let own = gpiece.len().min(lrows);
-            bpiece[..own * w].copy_from_slice(&local.a[..own * w]);
+            let mut spill = vec![0.0; (lrows - own) * w];
+            let mut lg = vec![0.0; lrows];
+            let mut view = ChunkBand { own: &mut bpiece[..own * w], spill: &mut spill, w };
+            let (sum, count) = f(s0, s1, &mut view, &mut lg);
             gpiece[..own].copy_from_slice(&lg[..own]);
-            (3 * s0 + own, local.a[own * w..].to_vec(), lg[own..].to_vec(), sum, count)
+            (3 * s0 + own, spill, lg[own..].to_vec(), sum, count)
         })
         .collect();
     let (mut sum, mut count) = (0.0, 0.0);
@@ -547,26 +585,50 @@ fn delta_omega_deriv<const N: usize>(om: &model::V<N>, xi: &model::V<N>, m: usiz
 }
 
 /// The penalty half: P = Σ Jₚᵀ C Jₚ, Jₚᵀ C p and pᵀ C p by Gauss quadrature per segment.
+/// δω^(m) is linear in ξ with constant coefficients in the Jacobian's right factors, so it is
+/// applied to the k jet factors of [`Model::value_and_factors`] (3k constant columns) and the
+/// factors' constant 3×3 right multipliers J_r⁻¹, J_l⁻¹ come after, on plain numbers.
 fn penalty_half<const N: usize>(model: &Model, m: usize, nodes: &[(f64, f64)], band: Band) -> Half {
     let k = model.order;
     let nb = 3 * k;
     assemble(model.ctrl.len(), model.segments(), k, band, |s0, s1, pb, gp| {
         let mut blk = vec![0.0; nb * nb];
         let mut jac = [[0.0f64; 3]; 3 * MAXK];
-        let mut cols: Cols<N> = [[[Jet::constant(0.0); 3]; 3]; MAXK];
+        let mut mats: Factors<N> = [[[Jet::constant(0.0); 3]; 3]; MAXK];
+        // e[j][c] = δω^(m) of column c of factor j.
+        let mut e = [[[0.0f64; 3]; 3]; MAXK];
         let mut pcp = 0.0;
         for i in s0..s1 {
             blk.iter_mut().for_each(|v| *v = 0.0);
             let off = 3 * (i - s0);
             for &(u, w) in nodes {
                 let c = w * model.dt;
-                let q = model.value_and_columns::<N>(i, Jet::variable(u, 1.0 / model.dt), &mut cols);
+                let q = model.value_and_factors::<N>(i, Jet::variable(u, 1.0 / model.dt), &mut mats);
                 let om = Model::omega(&q);
                 let p: Vec3 = std::array::from_fn(|r| om[r].derivative(m));
                 pcp += c * vec3::dot(p, p);
+                for j in 0..k {
+                    for cc in 0..3 {
+                        let col = [mats[j][0][cc], mats[j][1][cc], mats[j][2][cc]];
+                        e[j][cc] = delta_omega_deriv(&om, &col, m);
+                    }
+                }
                 for mm in 0..k {
                     for cc in 0..3 {
-                        jac[3 * mm + cc] = delta_omega_deriv(&om, &cols[mm][cc], m);
+                        let mut v = if mm == 0 { e[0][cc] } else { [0.0; 3] };
+                        if mm >= 1 {
+                            let jr = model.chain_jacobians(i + mm).0;
+                            for l in 0..3 {
+                                v = vec3::add(v, vec3::scale(e[mm][l], jr[l][cc]));
+                            }
+                        }
+                        if mm + 1 < k {
+                            let jl = model.chain_jacobians(i + mm + 1).1;
+                            for l in 0..3 {
+                                v = vec3::sub(v, vec3::scale(e[mm + 1][l], jl[l][cc]));
+                            }
+                        }
+                        jac[3 * mm + cc] = v;
                     }
                 }
                 for a in 0..nb {
@@ -684,13 +746,22 @@ fn cost(
 /// GCV of the linearised problem at λ: (score, tr A). `h` is workspace for H = G + λP and
 /// its factor (reused between calls).
 fn gcv_at(lin: &Lin, lam: f64, h: &mut Band) -> Result<(f64, f64)> {
+    if std::env::var_os("QS_T").is_some() {
+        eprintln!("      gcv ln λ {:.4}", lam.ln());
+    }
     lin.g.axpy_into(lam, &lin.p, h);
     h.cholesky_in_place()?;
-    let rhs: Vec<f64> = lin.gd.iter().zip(&lin.gp).map(|(a, b)| -(a + lam * b)).collect();
-    let d = h.solve(&rhs);
-    let gdd = lin.g.matvec(&d);
-    let rss = (lin.rwr + 2.0 * dotv(&d, &lin.gd) + dotv(&d, &gdd)).max(0.0);
-    let tr = h.trace_inverse_product(&lin.g);
+    // The step's RSS and the trace are independent given the factor: one thread each.
+    let hf: &Band = h;
+    let (rss, tr) = rayon::join(
+        || {
+            let rhs: Vec<f64> = lin.gd.iter().zip(&lin.gp).map(|(a, b)| -(a + lam * b)).collect();
+            let d = hf.solve(&rhs);
+            let gdd = lin.g.matvec(&d);
+            (lin.rwr + 2.0 * dotv(&d, &lin.gd) + dotv(&d, &gdd)).max(0.0)
+        },
+        || hf.trace_inverse_product(&lin.g),
+    );
     let den = lin.nobs - tr;
     let score = if den > 1e-9 * lin.nobs { lin.nobs * rss / (den * den) } else { f64::INFINITY };
     Ok((score, tr))
@@ -780,28 +851,39 @@ const LN_LAMBDA_TOL: f64 = 2e-3;
 
 /// Minimises GCV over ln λ in [lo, hi]; returns (λ, GCV).
 ///
-/// Without a previous λ (the first linearisation, at the unsmoothed initial curve, whose GCV
-/// minimum is only a first guess): the best of a coarse grid of `grid` points, evaluated in
-/// parallel. With one: a bracket of ±0.1 in ln λ around it, widened by doubling towards lower
+/// Without a previous λ (the first search): the best of a coarse grid of `grid` points,
+/// evaluated in parallel, refined by Brent's method between its grid neighbours. With one: a bracket of ±0.1 in ln λ around it, widened by doubling towards lower
 /// values (down to 10⁻⁶ lo), then Brent's method to [`LN_LAMBDA_TOL`]. The caller re-selects at every
 /// linearisation until λ moves less than 1 %, so the final λ is always a Brent minimum.
-fn select_lambda(lin: &Lin, lo: f64, hi: f64, grid: usize, prev: Option<f64>) -> Result<(f64, f64)> {
+fn select_lambda(
+    lin: &Lin,
+    lo: f64,
+    hi: f64,
+    grid: usize,
+    prev: Option<f64>,
+    h: &mut Band,
+) -> Result<(f64, f64)> {
     let (xlo, xhi) = (lo.ln(), hi.ln());
     let Some(prev) = prev else {
         let xs: Vec<f64> = (0..grid).map(|i| xlo + (xhi - xlo) * i as f64 / (grid - 1) as f64).collect();
         let vals: Vec<f64> = xs
             .par_iter()
-            .with_max_len(1)
-            .map(|&x| gcv_at(lin, x.exp(), &mut Band::zeros(0, 0)).map(|r| r.0).unwrap_or(f64::INFINITY))
+            .map_init(
+                || Band::zeros(0, 0),
+                |h, &x| gcv_at(lin, x.exp(), h).map(|r| r.0).unwrap_or(f64::INFINITY),
+            )
             .collect();
         let ib = (0..grid).min_by(|&i, &j| vals[i].total_cmp(&vals[j])).unwrap_or(0);
-        return Ok((xs[ib].exp(), vals[ib]));
+        // Brent between the grid neighbours of the best point.
+        let (a, b) = (xs[ib.saturating_sub(1)], xs[(ib + 1).min(grid - 1)]);
+        let mut f = |x: f64| gcv_at(lin, x.exp(), h).map(|r| r.0).unwrap_or(f64::INFINITY);
+        let (x, fx) = brent(&mut f, a, b, xs[ib], vals[ib], LN_LAMBDA_TOL, 40);
+        return Ok((x.exp(), fx));
     };
     // Later linearisations may go below the grid (noise-free data: GCV falls towards λ → 0
     // until tr A reaches the observations), by at most 10⁻⁶.
     let xlo = xlo - 6.0 * std::f64::consts::LN_10;
-    let mut h = Band::zeros(0, 0);
-    let mut f = |x: f64| gcv_at(lin, x.exp(), &mut h).map(|r| r.0).unwrap_or(f64::INFINITY);
+    let mut f = |x: f64| gcv_at(lin, x.exp(), h).map(|r| r.0).unwrap_or(f64::INFINITY);
     let xm = prev.ln().clamp(xlo, xhi);
     let mut step = 0.1;
     let (mut a, mut m, mut b) = ((xm - step).max(xlo), xm, (xm + step).min(xhi));
@@ -946,6 +1028,8 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
     };
     let auto = opts.smoothing == Smoothing::Auto;
     let mut lam_frozen = !auto;
+    // Whether the grid search for λ has run (auto).
+    let mut searched = false;
     let mut offs = vec![[0.0; 3]; n];
     let mut w = data.w.clone();
     let mut robust_on = false;
@@ -961,10 +1045,19 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
     let mut data_cache: Option<Half> = None;
     let mut spare: Vec<Band> = Vec::new();
     let mut hbuf = Band::zeros(0, 0);
+    // The halves at the model before a final step below the tolerance (not relinearised).
+    let mut near_halves: Option<(Half, Half)> = None;
+    // The storage of the last replaced or rejected model, for the next trial.
+    let mut spare_model: Option<Model> = None;
     loop {
         it += 1;
         if it > opts.max_iter {
             return Err(Error::NotConverged { what: "fit", iterations: opts.max_iter, step, tol: opts.tol });
+        }
+        if let Some((dh, ph)) = near_halves.take() {
+            // The loop went on after a step below the tolerance: linearise afresh.
+            spare.push(dh.band);
+            spare.push(ph.band);
         }
         if robust_on {
             let (_, ang) = residuals(&model, data, &offs);
@@ -1002,17 +1095,33 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
         if !lam_frozen {
             let hi = lam_of(span).min(lam_max);
             let lo = lam_of(0.3 * dts).min(hi / 1e6);
-            let prev = if lam.is_nan() { None } else { Some(lam) };
-            let (l_new, _) = select_lambda(&lin, lo, hi, 13, prev)?;
-            lam_changed = lam.is_nan() || (l_new / lam).ln().abs() > 0.01;
-            if !lam.is_nan() && !lam_changed {
-                lam_frozen = true;
+            if lam.is_nan() {
+                // The first linearisation is at the initial curve through the noisy samples,
+                // whose penalty matrix carries the noise's ω: its GCV minimum is no guide
+                // (measured: 6 units of ln λ below the final one). The first step smooths with
+                // the bandwidth of 10 sample spacings; the search starts at the next one.
+                lam = lam_of(10.0 * dts).clamp(lo, hi);
+                lam_changed = true;
+            } else {
+                let prev = if searched { Some(lam) } else { None };
+                if !searched {
+                    // The grid holds one H per thread: free what the search does not use.
+                    hbuf = Band::zeros(0, 0);
+                    spare_model = None;
+                }
+                let (l_new, _) = select_lambda(&lin, lo, hi, 13, prev, &mut hbuf)?;
+                lam_changed = !searched || (l_new / lam).ln().abs() > 0.01;
+                if searched && !lam_changed {
+                    lam_frozen = true;
+                }
+                searched = true;
+                lam = l_new;
             }
-            lam = l_new;
         }
         let c0 = lin.rwr + lam * lin.pcp;
         // Gauss–Newton step; Levenberg–Marquardt damping when the cost does not decrease.
         let mut accepted = None;
+        let mut near = false;
         for _ in 0..30 {
             lin.g.axpy_into(lam, &lin.p, &mut hbuf);
             if mu > 0.0 {
@@ -1029,7 +1138,24 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
             }
             let rhs: Vec<f64> = lin.gd.iter().zip(&lin.gp).map(|(a, b)| -(a + lam * b)).collect();
             let d = hbuf.solve(&rhs);
-            let trial = model.retracted(&d);
+            let trial = model.retracted(&d, spare_model.take());
+            let smax = (0..d.len() / 3)
+                .map(|i| {
+                    (d[3 * i] * d[3 * i] + d[3 * i + 1] * d[3 * i + 1] + d[3 * i + 2] * d[3 * i + 2]).sqrt()
+                })
+                .fold(0.0, f64::max);
+            if smax < opts.tol {
+                // A step below the tolerance is accepted whatever its cost, so the trial is not
+                // linearised here: the halves at `model` (within `tol` of the trial) are kept
+                // for the final score and edf, and dropped if the loop goes on.
+                accepted = Some((trial, smax));
+                near = true;
+                mu = if mu > 0.0 { mu / 10.0 } else { 0.0 };
+                if mu < 1e-9 {
+                    mu = 0.0;
+                }
+                break;
+            }
             // The trial's cost from its linearisation (kept if the step is accepted), in the
             // storage of G and P (three bands at most are alive: H, and G and P or the trial's).
             let (gs, ps) = (
@@ -1039,12 +1165,7 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
             let tp = pen_half(&trial, pen, &nodes, ps);
             let td = data_half(&trial, data, &w, &offs, gs);
             let c1 = td.sum + lam * tp.sum;
-            let smax = (0..d.len() / 3)
-                .map(|i| {
-                    (d[3 * i] * d[3 * i] + d[3 * i + 1] * d[3 * i + 1] + d[3 * i + 2] * d[3 * i + 2]).sqrt()
-                })
-                .fold(0.0, f64::max);
-            if c1 <= c0 * (1.0 + 1e-12) + 1e-300 || smax < opts.tol {
+            if c1 <= c0 * (1.0 + 1e-12) + 1e-300 {
                 accepted = Some((trial, smax));
                 pen_cache = Some(tp);
                 data_cache = Some(td);
@@ -1055,11 +1176,17 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
                 break;
             }
             // Rejected (rare): linearise at `model` again for the damped retry.
+            spare_model = Some(trial);
             let ph = pen_half(&model, pen, &nodes, tp.band);
             lin = Lin::new(data_half(&model, data, &w, &offs, td.band), ph);
             mu = if mu == 0.0 { 1e-4 } else { mu * 10.0 };
         }
-        drop(lin);
+        if near {
+            // Keep the halves at the previous model (see above).
+            near_halves = Some(lin.into_halves());
+        } else {
+            drop(lin);
+        }
         let Some((trial, smax)) = accepted else {
             return Err(Error::NotConverged {
                 what: "fit (no descent step found)",
@@ -1068,7 +1195,7 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
                 tol: opts.tol,
             });
         };
-        model = trial;
+        spare_model = Some(std::mem::replace(&mut model, trial));
         step = smax;
         if !progress("fit", it, step) {
             return Err(Error::invalid("progress", "fit cancelled by the progress callback"));
@@ -1127,10 +1254,17 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
         // IRLS (robust_on): converged when the weights no longer move the curve (step ≤ tol).
         break;
     }
+    drop(spare_model);
     let (_, ang) = residuals(&model, data, &vec![[0.0; 3]; n]);
     // Score and edf at the solution (for fixed λ: the GCV of the fixed λ).
     let (score, edf) = if !interpolate {
-        // The halves kept from the last accepted step are at `model` with the final weights.
+        // The halves kept from the last accepted step are at `model` with the final weights,
+        // or, after a step below the tolerance, at the model one step (≤ tol) before; the
+        // score's linearised RSS includes that step.
+        if let Some((dh, ph)) = near_halves.take() {
+            pen_cache = Some(ph);
+            data_cache = Some(dh);
+        }
         let ph = match pen_cache.take() {
             Some(h) => h,
             None => pen_half(&model, pen, &nodes, spare.pop().unwrap_or(Band::zeros(0, 0))),

@@ -57,6 +57,9 @@ fn cross_jc<const N: usize>(a: &V<N>, b: &V<N>) -> V<N> {
 /// A 3×3 matrix of jets (row-major).
 pub type JM3<const N: usize> = [[Jet<N>; 3]; 3];
 
+/// The Jacobian factors of one segment (see [`Model::value_and_factors`]).
+pub type Factors<const N: usize> = [JM3<N>; MAXK];
+
 /// R(S)ᵀ for a unit jet quaternion S: the matrix of v ↦ S* v S.
 #[inline(always)]
 fn rot_t<const N: usize>(q: &JQuat<N>) -> JM3<N> {
@@ -115,60 +118,64 @@ impl Model {
     }
 
     /// Recomputes the chain logarithms and their inverse Jacobians after the controls moved
-    /// (element-wise, in parallel; the result does not depend on the thread count).
+    /// (element-wise, in parallel, in the tables' existing storage; the result does not depend
+    /// on the thread count).
     pub fn refresh(&mut self) {
+        let n = self.ctrl.len();
+        self.d.resize(n, [0.0; 3]);
+        self.axes.resize(n, Axis::default());
+        self.jri.resize(n, [[0.0; 3]; 3]);
+        self.jli.resize(n, [[0.0; 3]; 3]);
         let ctrl = &self.ctrl;
-        self.d = (0..ctrl.len())
-            .into_par_iter()
-            .with_min_len(4096)
-            .map(|m| if m == 0 { [0.0; 3] } else { so3::log(ctrl[m - 1].conj() * ctrl[m]) })
-            .collect();
-        let d = &self.d;
-        let each = |m: usize| m > 0;
-        self.axes = (0..d.len())
-            .into_par_iter()
-            .with_min_len(4096)
-            .map(|m| if each(m) { Axis::from_log(vec3::scale(d[m], 0.5)) } else { Axis::default() })
-            .collect();
-        self.jri = d
-            .par_iter()
+        self.d
+            .par_iter_mut()
+            .zip(self.axes.par_iter_mut())
+            .zip(self.jri.par_iter_mut().zip(self.jli.par_iter_mut()))
             .with_min_len(4096)
             .enumerate()
-            .map(|(m, &v)| if each(m) { so3::jr_inv(v) } else { [[0.0; 3]; 3] })
-            .collect();
-        self.jli = d
-            .par_iter()
-            .with_min_len(4096)
-            .enumerate()
-            .map(|(m, &v)| if each(m) { so3::jl_inv(v) } else { [[0.0; 3]; 3] })
-            .collect();
+            .for_each(|(m, ((d, axis), (jri, jli)))| {
+                if m == 0 {
+                    *d = [0.0; 3];
+                    *axis = Axis::default();
+                    *jri = [[0.0; 3]; 3];
+                    *jli = [[0.0; 3]; 3];
+                } else {
+                    let v = so3::log(ctrl[m - 1].conj() * ctrl[m]);
+                    *d = v;
+                    *axis = Axis::from_log(vec3::scale(v, 0.5));
+                    *jri = so3::jr_inv(v);
+                    *jli = so3::jl_inv(v);
+                }
+            });
     }
 
     /// Applies R_m ← R_m Exp(δ_m) (δ has 3 entries per control point).
     pub fn retract(&mut self, delta: &[f64]) {
-        *self = self.retracted(delta);
+        *self = self.retracted(delta, None);
     }
 
-    /// A copy with R_m ← R_m Exp(δ_m), without copying the derived tables first.
-    pub fn retracted(&self, delta: &[f64]) -> Model {
-        let ctrl = self
-            .ctrl
-            .par_iter()
-            .with_min_len(4096)
-            .enumerate()
-            .map(|(m, q)| (*q * so3::exp([delta[3 * m], delta[3 * m + 1], delta[3 * m + 2]])).normalize())
-            .collect();
-        let mut out = Model {
+    /// A copy with R_m ← R_m Exp(δ_m), built in the storage of `reuse` (a model of the same
+    /// size, or None to allocate) without copying the derived tables first.
+    pub fn retracted(&self, delta: &[f64], reuse: Option<Model>) -> Model {
+        let mut out = reuse.unwrap_or_else(|| Model {
             order: self.order,
             dt: self.dt,
             t0: self.t0,
-            ctrl,
-            basis: self.basis.clone(),
+            ctrl: vec![],
+            basis: vec![],
             d: vec![],
             axes: vec![],
             jri: vec![],
             jli: vec![],
-        };
+        });
+        out.order = self.order;
+        out.dt = self.dt;
+        out.t0 = self.t0;
+        out.basis.clone_from(&self.basis);
+        out.ctrl.resize(self.ctrl.len(), Quat::IDENTITY);
+        out.ctrl.par_iter_mut().with_min_len(4096).enumerate().for_each(|(m, o)| {
+            *o = (self.ctrl[m] * so3::exp([delta[3 * m], delta[3 * m + 1], delta[3 * m + 2]])).normalize()
+        });
         out.refresh();
         out
     }
@@ -200,22 +207,54 @@ impl Model {
     /// The curve on segment i with the columns X_m(t) e_c, m = i … i+k−1, c = 0 … 2.
     #[inline]
     pub fn value_and_columns<const N: usize>(&self, i: usize, u: Jet<N>, cols: &mut Cols<N>) -> JQuat<N> {
+        let zero = Jet::<N>::constant(0.0);
+        let mut mats: Factors<N> = [[[zero; 3]; 3]; MAXK];
+        let q = self.value_and_factors::<N>(i, u, &mut mats);
+        let k = self.order;
+        for mm in 0..k {
+            let mut x: JM3<N> = if mm == 0 { mats[0] } else { [[zero; 3]; 3] };
+            if mm >= 1 {
+                jm_acc(&mut x, &mats[mm], &self.jri[i + mm], 1.0);
+            }
+            if mm + 1 < k {
+                jm_acc(&mut x, &mats[mm + 1], &self.jli[i + mm + 1], -1.0);
+            }
+            for c in 0..3 {
+                cols[mm][c] = [x[0][c], x[1][c], x[2][c]];
+            }
+        }
+        q
+    }
+
+    /// J_r⁻¹(d_m) and J_l⁻¹(d_m) of the chain logarithm d_m = Log(R_{m−1}⁻¹ R_m) (m ≥ 1).
+    #[inline(always)]
+    pub fn chain_jacobians(&self, m: usize) -> (&M3, &M3) {
+        (&self.jri[m], &self.jli[m])
+    }
+
+    /// The curve on segment i and the factors of its Jacobian as jets: `mats[0]` = Ad(S_0⁻¹)
+    /// and `mats[j]` = M_j (j = 1 … k − 1), from which the columns are
+    /// X_i = mats[0] − mats[1] J_l⁻¹(d_{i+1}) and X_{i+j} = mats[j] J_r⁻¹(d_{i+j}) −
+    /// mats[j+1] J_l⁻¹(d_{i+j+1}) (constant right factors: any linear map of the jets, such
+    /// as the penalty's δω^(m), can be applied to the factors first).
+    #[inline]
+    pub fn value_and_factors<const N: usize>(&self, i: usize, u: Jet<N>, mats: &mut Factors<N>) -> JQuat<N> {
         // Monomorphised per order (arrays of exactly k entries, loops unrolled).
         match self.order {
-            4 => self.columns_k::<N, 4>(i, u, cols),
-            5 => self.columns_k::<N, 5>(i, u, cols),
-            6 => self.columns_k::<N, 6>(i, u, cols),
-            7 => self.columns_k::<N, 7>(i, u, cols),
-            8 => self.columns_k::<N, 8>(i, u, cols),
-            _ => self.columns_k::<N, MAXK>(i, u, cols),
+            4 => self.factors_k::<N, 4>(i, u, mats),
+            5 => self.factors_k::<N, 5>(i, u, mats),
+            6 => self.factors_k::<N, 6>(i, u, mats),
+            7 => self.factors_k::<N, 7>(i, u, mats),
+            8 => self.factors_k::<N, 8>(i, u, mats),
+            _ => self.factors_k::<N, MAXK>(i, u, mats),
         }
     }
 
-    fn columns_k<const N: usize, const KK: usize>(
+    fn factors_k<const N: usize, const KK: usize>(
         &self,
         i: usize,
         u: Jet<N>,
-        cols: &mut Cols<N>,
+        mats: &mut Factors<N>,
     ) -> JQuat<N> {
         let k = self.order.min(KK);
         let one = JQuat::constant(Quat::IDENTITY);
@@ -227,12 +266,15 @@ impl Model {
             b[j] = Jet::poly(&self.basis[j], u);
             a[j] = JQuat::exp_axis(&self.axes[i + j], b[j]);
         }
-        for j in (1..k).rev() {
+        // S_{k−1} = 1, S_{k−2} = A_{k−1}, S_{j−1} = A_j S_j.
+        if k >= 2 {
+            s[k - 2] = a[k - 1];
+        }
+        for j in (1..k.saturating_sub(1)).rev() {
             s[j - 1] = a[j] * s[j];
         }
         let q = JQuat::constant(self.ctrl[i]) * s[0];
-        // M_j = R(S_j)ᵀ (b I − f1 K + f2 K²), K = [n]×, K² = n nᵀ − I.
-        let mut mats: [JM3<N>; KK] = [[[zero; 3]; 3]; KK];
+        // M_j = R(S_j)ᵀ (b I − f1 K + f2 K²), K = [n]×, K² = n nᵀ − I (R(S_{k−1}) = I).
         for j in 1..k {
             let dj = self.d[i + j];
             let aa = vec3::norm(dj);
@@ -258,22 +300,9 @@ impl Model {
                     diag - f1 * kx[r][c] + f2 * k2
                 })
             });
-            let rt = rot_t(&s[j]);
-            mats[j] = jm_mul(&rt, &bm);
+            mats[j] = if j + 1 == k { bm } else { jm_mul(&rot_t(&s[j]), &bm) };
         }
-        let r0 = rot_t(&s[0]);
-        for mm in 0..k {
-            let mut x: JM3<N> = if mm == 0 { r0 } else { [[zero; 3]; 3] };
-            if mm >= 1 {
-                jm_acc(&mut x, &mats[mm], &self.jri[i + mm], 1.0);
-            }
-            if mm + 1 < k {
-                jm_acc(&mut x, &mats[mm + 1], &self.jli[i + mm + 1], -1.0);
-            }
-            for c in 0..3 {
-                cols[mm][c] = [x[0][c], x[1][c], x[2][c]];
-            }
-        }
+        mats[0] = rot_t(&s[0]);
         q
     }
 
