@@ -165,6 +165,9 @@ pub struct Locator {
     t0: f64,
     inv_w: f64,
     start: Vec<u32>,
+    /// The right end of bucket b's first segment (+∞ for the last segment), so that the
+    /// first step of an unsorted search does not wait for `start[b]`.
+    split: Vec<f64>,
 }
 
 impl Locator {
@@ -184,7 +187,11 @@ impl Locator {
             }
             start.push(k as u32);
         }
-        Locator { joints: joints.to_vec(), t0, inv_w, start }
+        let split = start
+            .iter()
+            .map(|&k| if (k as usize) < nseg - 1 { joints[k as usize + 1] } else { f64::INFINITY })
+            .collect();
+        Locator { joints: joints.to_vec(), t0, inv_w, start, split }
     }
 
     /// The segment containing t (the right one at an interior joint, the last at the end).
@@ -275,14 +282,15 @@ impl Locator {
             return;
         }
         let (t0, inv_w, nb) = (self.t0, self.inv_w, start.len() - 1);
+        let split = &self.split[..nb + 1];
         for (s, &x) in seg.iter_mut().zip(t) {
             let y = (x - t0) * inv_w;
             debug_assert!((0.0..=(nb + 2) as f64).contains(&y), "locate_run: time outside the domain");
             // SAFETY: t0 ≤ x ≤ the last joint (the caller's domain check), so y is finite and
             // in [0, nb + 1]
             let b = (unsafe { y.to_int_unchecked::<i64>() } as usize).min(nb);
-            let k = start[b] as usize;
-            let k = k + ((j[k + 1] <= x) & (k < last)) as usize;
+            // start[b] and split[b] load side by side (no dependent load before the step)
+            let k = start[b] as usize + (split[b] <= x) as usize;
             *s = if self.fits(k, x) { k } else { self.walk(k, x) } as u32;
         }
         *cur = seg.last().map_or(*cur, |&k| k as usize);
