@@ -44,6 +44,21 @@ fn walk(n: usize, seed: u64, step: f64) -> Vec<Quat> {
     q
 }
 
+/// Keys whose neighbours are exactly `half` apart (the angle between the 4-vectors; rotation
+/// 2·half) about random axes.
+fn steps(n: usize, seed: u64, half: f64) -> Vec<Quat> {
+    let mut r = Rng(seed);
+    let mut q = vec![Quat::new(0.5, -0.5, 0.5, 0.5)];
+    for _ in 1..n {
+        let ax = [r.next() - 0.5, r.next() - 0.5, r.next() - 0.5];
+        let m = (ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]).sqrt();
+        let (s, c) = half.sin_cos();
+        let next = *q.last().unwrap() * Quat::new(c, s * ax[0] / m, s * ax[1] / m, s * ax[2] / m);
+        q.push(next);
+    }
+    q
+}
+
 fn times(n: usize, seed: u64) -> Vec<f64> {
     let mut r = Rng(seed);
     let mut t = vec![-3.0];
@@ -102,6 +117,29 @@ fn splines() -> Vec<(String, Box<dyn Spline>)> {
         let c = walk(n, 7 + n as u64, 1.5);
         v.push((format!("bezier {n}"), Box::new(SphericalBezier::new(&c, (-1.0, 2.5), true).unwrap())));
     }
+    // small angles between control points (≤ 0.24 rad halved): the series slerp of every
+    // level (`simd::slerp::SERIES_MAX_ANGLE`), as in the benchmark's curve
+    for n in [2, 3, 4, 8, 9, 16] {
+        let c = walk(n, 30 + n as u64, 0.4);
+        v.push((format!("bezier {n} small"), Box::new(SphericalBezier::new(&c, (-1.0, 2.5), true).unwrap())));
+    }
+    // every neighbour at a series tier's largest angle, and just beyond it
+    // (`simd::slerp::SERIES_MAX_ANGLE`: 0.3 and 0.5)
+    for (tag, half) in
+        [("at 1st", 0.2999), ("beyond 1st", 0.3001), ("at 2nd", 0.4999), ("beyond 2nd", 0.5001)]
+    {
+        let c = steps(8, 43, half);
+        v.push((
+            format!("bezier 8 {tag} switch"),
+            Box::new(SphericalBezier::new(&c, (0.0, 1.0), true).unwrap()),
+        ));
+    }
+    // Catmull–Rom on small steps: segments on both paths side by side
+    let qs = walk(40, 3, 0.5);
+    v.push((
+        "catmull_rom small".into(),
+        Box::new(CatmullRom::new(&qs, Some(&times(40, 5)), CatmullRomEnds::Reflect, true).unwrap()),
+    ));
     // far-apart control points (angles near π between neighbours, no canonicalisation)
     let mut r = Rng(77);
     let wild: Vec<Quat> = (0..6).map(|_| r.quat()).collect();

@@ -33,17 +33,30 @@ fn chunks(
     }
     let (lo, hi) = s.domain();
     let loc = k.locator();
-    let last = s.segments() - 1;
     let mut seg = [0u32; CHUNK];
     let mut cur = 0usize;
-    // x ≤ hi ⇔ x < next_up(hi)
-    let hi_up = hi.next_up();
     for (c, (tc, oc)) in t.chunks(CHUNK).zip(out.chunks_mut(CHUNK * width)).enumerate() {
         let first_c = first + c * CHUNK;
         // runs of in-domain samples go to the kernel; each other sample (outside the domain or
         // not finite: NaN fails both comparisons) to the reference path, alone, so that no
         // in-domain row depends on its neighbours
         let inside = |x: f64| x >= lo && x <= hi;
+        // one pass: every sample inside the domain? in increasing order?
+        let (mut all_in, mut sorted) = (true, true);
+        for (x, y) in tc.iter().zip(&tc[1..]) {
+            all_in &= (*x >= lo) & (*x <= hi);
+            sorted &= x <= y;
+        }
+        let x = tc[tc.len() - 1];
+        all_in &= (x >= lo) & (x <= hi);
+        if all_in {
+            // the common case: the whole chunk is one run
+            loc.locate_run(tc, &mut seg[..tc.len()], &mut cur, sorted);
+            if !kern(&seg[..tc.len()], tc, oc) {
+                reference(tc, first_c, oc)?;
+            }
+            continue;
+        }
         let mut i = 0;
         while i < tc.len() {
             if !inside(tc[i]) {
@@ -51,41 +64,12 @@ fn chunks(
                 i += 1;
                 continue;
             }
-            let mut j = i;
+            let mut j = i + 1;
             while j < tc.len() && inside(tc[j]) {
-                let x = tc[j];
-                if !loc.fits(cur, x) {
-                    cur = if cur < last && loc.fits(cur + 1, x) { cur + 1 } else { loc.locate(x) };
-                }
-                seg[j] = cur as u32;
                 j += 1;
-                // the run of samples in the domain and in segment `cur` (the `fits` rule; NaN
-                // fails every comparison): two comparisons a sample, then one fill; unsorted
-                // times stop at the first test
-                let (ge, lt) = loc.bounds(cur);
-                let (ge, lt) = (ge.max(lo), lt.min(hi_up));
-                if j == tc.len() || !(tc[j] >= ge && tc[j] < lt) {
-                    continue;
-                }
-                let start = j;
-                // four at a time while all four fit (one branch), then one at a time
-                while j + 4 <= tc.len() {
-                    let x = &tc[j..j + 4];
-                    let fit = |v: f64| (v >= ge) & (v < lt);
-                    if !(fit(x[0]) & fit(x[1]) & fit(x[2]) & fit(x[3])) {
-                        break;
-                    }
-                    j += 4;
-                }
-                while j < tc.len() {
-                    let x = tc[j];
-                    if !(x >= ge && x < lt) {
-                        break;
-                    }
-                    j += 1;
-                }
-                seg[start..j].fill(cur as u32);
             }
+            let run = &tc[i..j];
+            loc.locate_run(run, &mut seg[i..j], &mut cur, run.windows(2).all(|w| w[0] <= w[1]));
             let o = &mut oc[i * width..j * width];
             if !kern(&seg[i..j], &tc[i..j], o) {
                 reference(&tc[i..j], first_c + i, o)?;

@@ -165,6 +165,9 @@ pub struct Locator {
     t0: f64,
     inv_w: f64,
     start: Vec<u32>,
+    /// The right end of bucket b's first segment (+∞ for the last segment), so that the
+    /// first step of an unsorted search does not wait for `start[b]`.
+    split: Vec<f64>,
 }
 
 impl Locator {
@@ -184,17 +187,38 @@ impl Locator {
             }
             start.push(k as u32);
         }
-        Locator { joints: joints.to_vec(), t0, inv_w, start }
+        let split = start
+            .iter()
+            .map(|&k| if (k as usize) < nseg - 1 { joints[k as usize + 1] } else { f64::INFINITY })
+            .collect();
+        Locator { joints: joints.to_vec(), t0, inv_w, start, split }
     }
 
     /// The segment containing t (the right one at an interior joint, the last at the end).
+    ///
+    /// For times in any order: the bucket's segment, one step right without a branch (a
+    /// bucket is half a mean segment wide, so this settles nearly every time), then a check
+    /// that is almost always true (a predictable branch) before the rare longer walk.
     #[inline(always)]
     pub fn locate(&self, t: f64) -> usize {
         let j = &self.joints;
         let last = j.len() - 2;
-        let x = (t - self.t0) * self.inv_w;
-        let b = if x > 0.0 { (x as usize).min(self.start.len() - 1) } else { 0 };
-        let mut k = self.start[b] as usize;
+        // `as usize` saturates: negative and NaN give bucket 0
+        let b = (((t - self.t0) * self.inv_w) as usize).min(self.start.len() - 1);
+        let k = self.start[b] as usize;
+        // k ≤ last, so j[k + 1] exists
+        let k = k + ((j[k + 1] <= t) & (k < last)) as usize;
+        if self.fits(k, t) {
+            return k;
+        }
+        self.walk(k, t)
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn walk(&self, mut k: usize, t: f64) -> usize {
+        let j = &self.joints;
+        let last = j.len() - 2;
         while k < last && j[k + 1] <= t {
             k += 1;
         }
@@ -212,12 +236,73 @@ impl Locator {
         (if k == 0 { f64::NEG_INFINITY } else { j[k] }, if k == last { f64::INFINITY } else { j[k + 1] })
     }
 
-    /// Whether t lies in segment k by the `locate` rule.
+    /// `seg[i]` ← the segment of `t[i]` for a chunk of finite times inside the domain, with
+    /// `cur` the segment of the previous sample (updated).
+    ///
+    /// A chunk in increasing order (`sorted`, which only picks the path: the result is the
+    /// same either way) keeps the cursor (its test is predictable there). Any other
+    /// chunk takes the bucket search for every sample, whose only data-dependent branch (the
+    /// rare long walk) is predictable: a cursor test on times in random order would be a coin
+    /// toss per sample (a mispredicted branch costs more than the whole search).
+    #[inline(always)]
+    pub fn locate_run(&self, t: &[f64], seg: &mut [u32], cur: &mut usize, sorted: bool) {
+        let j = &self.joints[..];
+        let start = &self.start[..];
+        let last = j.len() - 2;
+        if last == 0 {
+            // one segment (a Bézier curve): nothing to search
+            seg.fill(0);
+            return;
+        }
+        if sorted {
+            // per segment: locate its first sample, then the run of samples in it by two
+            // comparisons a sample (four per branch) and one fill
+            let mut c = (*cur).min(last);
+            let mut i = 0;
+            while i < t.len() {
+                let x = t[i];
+                // short-circuit tests: predictable on sorted times
+                let fits = |k: usize| (j[k] <= x || k == 0) && (x < j[k + 1] || k == last);
+                if !fits(c) {
+                    c = if c < last && fits(c + 1) { c + 1 } else { self.locate(x) };
+                }
+                let (ge, lt) = self.bounds(c);
+                let fit = |v: f64| (v >= ge) & (v < lt);
+                let first = i;
+                i += 1;
+                while i + 4 <= t.len() && (fit(t[i]) & fit(t[i + 1]) & fit(t[i + 2]) & fit(t[i + 3])) {
+                    i += 4;
+                }
+                while i < t.len() && fit(t[i]) {
+                    i += 1;
+                }
+                seg[first..i].fill(c as u32);
+            }
+            *cur = c;
+            return;
+        }
+        let (t0, inv_w, nb) = (self.t0, self.inv_w, start.len() - 1);
+        let split = &self.split[..nb + 1];
+        for (s, &x) in seg.iter_mut().zip(t) {
+            let y = (x - t0) * inv_w;
+            debug_assert!((0.0..=(nb + 2) as f64).contains(&y), "locate_run: time outside the domain");
+            // SAFETY: t0 ≤ x ≤ the last joint (the caller's domain check), so y is finite and
+            // in [0, nb + 1]
+            let b = (unsafe { y.to_int_unchecked::<i64>() } as usize).min(nb);
+            // start[b] and split[b] load side by side (no dependent load before the step)
+            let k = start[b] as usize + (split[b] <= x) as usize;
+            *s = if self.fits(k, x) { k } else { self.walk(k, x) } as u32;
+        }
+        *cur = seg.last().map_or(*cur, |&k| k as usize);
+    }
+
+    /// Whether t lies in segment k by the `locate` rule (no branch: the comparisons are
+    /// combined as booleans, so a caller's test on the result is the only branch).
     #[inline(always)]
     pub fn fits(&self, k: usize, t: f64) -> bool {
         let j = &self.joints;
         let last = j.len() - 2;
-        (j[k] <= t || k == 0) && (t < j[k + 1] || k == last)
+        ((j[k] <= t) | (k == 0)) & ((t < j[k + 1]) | (k == last))
     }
 }
 
@@ -251,6 +336,70 @@ mod tests {
                 let (a, b) = loc.bounds(k);
                 assert_eq!(loc.fits(k, t), a <= t && t < b, "k = {k}, t = {t}");
             }
+        }
+    }
+
+    /// `locate_run` on both of its paths (the cursor for sorted chunks, the bucket search for
+    /// others) equals `partition_point`, for chunks of every length 0–9 and a long one,
+    /// sorted and shuffled, with joints, just-below-joint times and both domain ends.
+    #[test]
+    fn locate_run_equals_partition_point_on_both_paths() {
+        let mut joints = vec![-2.0];
+        let mut x: u64 = 11;
+        let mut next = || {
+            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..120 {
+            let h = if next() < 0.15 { 1e-7 } else { 0.01 + 3.0 * next() };
+            joints.push(joints.last().unwrap() + h);
+        }
+        let loc = Locator::new(&joints);
+        let last = joints.len() - 2;
+        let reference = |t: f64| joints.partition_point(|&v| v <= t).saturating_sub(1).min(last);
+        let (a, b) = (joints[0], joints[last + 1]);
+        let mut t: Vec<f64> = joints.clone();
+        for w in joints.windows(2) {
+            t.push(f64::from_bits(w[1].to_bits() - 1));
+            t.push(w[0] + 0.37 * (w[1] - w[0]));
+        }
+        t.extend((0..500).map(|_| a + (b - a) * next()));
+        t.sort_by(f64::total_cmp);
+        let mut u = t.clone();
+        for i in (1..u.len()).rev() {
+            u.swap(i, (next() * (i + 1) as f64) as usize);
+        }
+        for times in [&t, &u] {
+            let mut cases: Vec<&[f64]> = (0..=9).map(|n| &times[40..40 + n]).collect();
+            cases.push(&times[..]);
+            for c in cases {
+                for sorted in [true, false] {
+                    if sorted && !c.windows(2).all(|w| w[0] <= w[1]) {
+                        continue;
+                    }
+                    for start_cur in [0, last / 2, last] {
+                        let mut seg = vec![u32::MAX; c.len()];
+                        let mut cur = start_cur;
+                        loc.locate_run(c, &mut seg, &mut cur, sorted);
+                        for (k, &x) in c.iter().enumerate() {
+                            assert_eq!(seg[k] as usize, reference(x), "t = {x}, sorted path {sorted}");
+                        }
+                        if let Some(&x) = c.last() {
+                            assert_eq!(cur, reference(x));
+                        }
+                    }
+                }
+            }
+        }
+        // one segment (Bézier curves): every time on segment 0, ends included
+        let one = Locator::new(&[-2.0, 5.0]);
+        let c = [5.0, -2.0, 0.3, 4.999, -1.0];
+        for sorted in [false, true] {
+            let t = if sorted { &c[2..4] } else { &c[..] };
+            let mut seg = vec![7u32; t.len()];
+            let mut cur = 0;
+            one.locate_run(t, &mut seg, &mut cur, sorted);
+            assert!(seg.iter().all(|&k| k == 0) && cur == 0, "{seg:?}");
         }
     }
 

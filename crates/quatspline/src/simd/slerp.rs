@@ -3,16 +3,22 @@
 //!
 //! **Data.** One flat record per segment (a multiple of 4 doubles, so that records can be
 //! transposed 4 at a time): the segment's start time t₀ and length h, then
-//! - de Casteljau of n points: per control point j < n−1 the point cⱼ and the log of
-//!   cⱼ* cⱼ₊₁ as unit axis and angle (8 doubles);
+//! - de Casteljau of n points: a series flag (field 2, see below), then per control point
+//!   j < n−1 the point cⱼ, the log of cⱼ* cⱼ₊₁ as unit axis nⱼ and angle aⱼ, the end of the
+//!   first-level slerp eⱼ = cⱼ exp(aⱼ nⱼ) and xⱼ = cos aⱼ − 1 (16 doubles);
 //! - Squad: qᵢ, log(qᵢ* qᵢ₊₁) (axis, angle), sᵢ⁺, log(sᵢ⁺* sᵢ₊₁⁻) (axis, angle).
 //!
 //! **Value** (the formulas of `spline/squad.rs`, `kochanek_bartels.rs`, `spherical_bezier.rs`,
 //! evaluated as the jet path does): u = (t − t₀)/h; the first level cⱼ exp(u aⱼ nⱼ) by the
 //! vector sin/cos; each slerp(a, b; w) = a exp(w log(a* b)) by [`slerp`] (no quaternion
 //! product: c = a·b, r = b − c a, θ = atan2(|r|, c) with the vector atan2 of `lanes.rs`).
-//! Derivatives and rates keep the exact jets (the kernels decline and the engine falls back
-//! per run).
+//! Where every angle between consecutive control points is at most one of
+//! [`SERIES_MAX_ANGLE`] (the record's flag names the tier), de Casteljau instead takes
+//! [`slerp_series`] for every slerp, the first level included: a sin((1 − w)θ)/sin θ +
+//! b sin(wθ)/sin θ with both ratios as [`SERIES_TERMS`]-term series in cos θ − 1 whose
+//! coefficients depend on w = u only, so they are computed once per sample for the whole
+//! pyramid: no square root, division or trigonometric function per slerp. Derivatives and
+//! rates keep the exact jets (the kernels decline and the engine falls back per run).
 
 use super::lanes::{Lanes, LanesExt};
 use super::{BatchKernel, Isa, Locator};
@@ -140,8 +146,20 @@ impl<V: Arith> Arith for P2<V> {
 /// The most control points a de Casteljau table takes (a cubic segment has 4; spherical
 /// Bézier curves beyond this keep the jets).
 pub const MAX_POINTS: usize = 16;
-const MAX_STRIDE: usize = 4 + 8 * (MAX_POINTS - 1);
+/// Fields per control point of a de Casteljau record: cⱼ, (nⱼ, aⱼ), eⱼ, (xⱼ, 0, 0, 0).
+const PER_POINT: usize = 16;
+const MAX_STRIDE: usize = 4 + PER_POINT * (MAX_POINTS - 1);
 const SQUAD_STRIDE: usize = 20;
+/// The series slerp below serves a de Casteljau segment when every angle between consecutive
+/// control points (half the rotation angle, rad) is at most `SERIES_MAX_ANGLE[i]` for a tier
+/// i, with `SERIES_TERMS[i]` terms: the truncation error is below 3e-18 (tier 0) and 1.4e-17
+/// (tier 1) for every weight in [0, 1] at those angles (mpmath, 40 digits), smaller below.
+pub const SERIES_MAX_ANGLE: [f64; 2] = [0.3, 0.5];
+/// See [`SERIES_MAX_ANGLE`].
+pub const SERIES_TERMS: [usize; 2] = [9, 12];
+const MAX_TERMS: usize = 12;
+/// Series coefficients βₖ, k = 0…K (entries beyond K unused).
+pub(crate) type Coef<V> = [V; MAX_TERMS + 1];
 
 type Q4<V> = [V; 4];
 
@@ -196,6 +214,58 @@ pub(crate) fn slerp<V: Arith>(a: Q4<V>, b: Q4<V>, w: V) -> Q4<V> {
     ]
 }
 
+/// The coefficients βₖ(w) of sin(wθ)/sin θ = Σₖ βₖ(w) xᵏ, x = cos θ − 1 (k = 0…K):
+/// β₀ = w, βₖ = βₖ₋₁ (w² − k²) / (k (2k + 1)) (the hypergeometric series of sin(wθ)/sin θ in
+/// cos θ − 1; Eberly, "A fast and accurate algorithm for computing SLERP", J. Graphics, GPU
+/// and Game Tools 15 (3), 2011, eq. 11, here to double precision). The terms shrink like
+/// sin²(θ/2)ᵏ.
+#[inline(always)]
+pub(crate) fn series_coefficients<V: Arith, const K: usize>(w: V) -> Coef<V> {
+    let w2 = w * w;
+    let mut b = [w; MAX_TERMS + 1];
+    for k in 1..=K {
+        let kk = (k * k) as f64;
+        let inv = 1.0 / (k * (2 * k + 1)) as f64;
+        // (w² − k²) / (k(2k + 1)) as w² · inv − k² · inv (both products of exact inputs)
+        b[k] = b[k - 1] * w2.fma(V::splat(inv), V::splat(-kk * inv));
+    }
+    b
+}
+
+/// Σₖ βₖ xᵏ by Horner.
+#[inline(always)]
+fn series<V: Arith, const K: usize>(b: &Coef<V>, x: V) -> V {
+    let mut acc = b[K];
+    for k in (0..K).rev() {
+        acc = acc.fma(x, b[k]);
+    }
+    acc
+}
+
+/// slerp(a, b; w) = a sin((1 − w)θ)/sin θ + b sin(wθ)/sin θ for unit a, b at an angle θ up to
+/// `SERIES_MAX_ANGLE[i]` and K = `SERIES_TERMS[i]`, with `bw` = βₖ(w) and `bv` = βₖ(1 − w)
+/// from [`series_coefficients`]:
+/// no square root, division or trigonometric function. x = a·b − 1 is summed from −1 on (its
+/// absolute error is a few ulp of 1, and ∂/∂x of either coefficient is below 0.2). Exact at
+/// the ends: βₖ(0) = 0 and βₖ(1) = (1, 0, 0, …), so w = 0 gives a and w = 1 gives b.
+#[inline(always)]
+pub(crate) fn slerp_series<V: Arith, const K: usize>(
+    a: Q4<V>,
+    b: Q4<V>,
+    bw: &Coef<V>,
+    bv: &Coef<V>,
+) -> Q4<V> {
+    let x = a[3].fma(b[3], a[2].fma(b[2], a[1].fma(b[1], a[0].fma(b[0], V::splat(-1.0)))));
+    lin_series::<V, K>(a, b, x, bw, bv)
+}
+
+/// a sin((1 − w)θ)/sin θ + b sin(wθ)/sin θ for a given x = cos θ − 1.
+#[inline(always)]
+fn lin_series<V: Arith, const K: usize>(a: Q4<V>, b: Q4<V>, x: V, bw: &Coef<V>, bv: &Coef<V>) -> Q4<V> {
+    let (fa, fb) = (series::<V, K>(bv, x), series::<V, K>(bw, x));
+    [b[0].fma(fb, a[0] * fa), b[1].fma(fb, a[1] * fa), b[2].fma(fb, a[2] * fa), b[3].fma(fb, a[3] * fa)]
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Kind {
     Casteljau,
@@ -226,15 +296,27 @@ impl SlerpTable {
         if !(2..=MAX_POINTS).contains(&n) || ctrl.iter().any(|c| c.len() != n) {
             return None;
         }
-        let stride = 4 + 8 * (n - 1);
+        let stride = 4 + PER_POINT * (n - 1);
         let mut data = vec![0.0; ctrl.len() * stride];
         for (i, (c, l)) in ctrl.iter().zip(logs).enumerate() {
             let r = &mut data[i * stride..(i + 1) * stride];
             r[0] = joints[i];
             r[1] = joints[i + 1] - joints[i];
+            // field 2: 1 + the series tier where one applies, else 0 (see `body`)
+            r[2] = match SERIES_MAX_ANGLE.iter().position(|&m| l[..n - 1].iter().all(|ax| ax.a <= m)) {
+                Some(tier) => (tier + 1) as f64,
+                None => 0.0,
+            };
             for j in 0..n - 1 {
-                r[4 + 8 * j..8 + 8 * j].copy_from_slice(&c[j].to_wxyz());
-                put_log(&mut r[8 + 8 * j..12 + 8 * j], &l[j]);
+                let o = 4 + PER_POINT * j;
+                r[o..o + 4].copy_from_slice(&c[j].to_wxyz());
+                put_log(&mut r[o + 4..o + 8], &l[j]);
+                // eⱼ = cⱼ exp(aⱼ nⱼ) (the end of the first-level slerp) and xⱼ = cos aⱼ − 1
+                let (sa, ca) = crate::special::sin_cos(l[j].a);
+                let e = c[j] * Quat::new(ca, sa * l[j].n[0], sa * l[j].n[1], sa * l[j].n[2]);
+                r[o + 8..o + 12].copy_from_slice(&e.to_wxyz());
+                let h = (0.5 * l[j].a).sin();
+                r[o + 12] = -2.0 * h * h;
             }
         }
         Some(SlerpTable { kind: Kind::Casteljau, points: n, stride, data, locator: Locator::new(joints) })
@@ -270,9 +352,27 @@ fn q4<V: Copy>(f: &[V], h: &[V], o: usize) -> Q4<P2<V>> {
 }
 
 /// Two vectors of samples on the lanes' records `f` (first vector) and `h` (second).
+///
+/// With `TIER` t > 0 (every lane's record is flagged t: all control-point angles at most
+/// `SERIES_MAX_ANGLE[t − 1]`, hence every angle of the pyramid too, since on the sphere
+/// d(slerp(P, Q; u), slerp(Q, R; u)) ≤ (1 − u) d(P, Q) + u d(Q, R)), every slerp of the
+/// pyramid, the first level included (from cⱼ to eⱼ), is [`slerp_series`] with the same
+/// coefficients βₖ(u), βₖ(1 − u) for all of them.
 #[inline(always)]
-fn body<V: LanesExt, const SQUAD: bool>(f: &[V], h: &[V], points: usize, tv: P2<V>) -> Q4<P2<V>> {
+fn body<V: LanesExt, const SQUAD: bool, const TIER: usize>(
+    f: &[V],
+    h: &[V],
+    points: usize,
+    tv: P2<V>,
+) -> Q4<P2<V>> {
     let u = (tv - g(f, h, 0)) / g(f, h, 1);
+    if !SQUAD {
+        match TIER {
+            1 => return series_pyramid::<V, { SERIES_TERMS[0] }>(f, h, points, u),
+            2 => return series_pyramid::<V, { SERIES_TERMS[1] }>(f, h, points, u),
+            _ => {}
+        }
+    }
     let axis = |o: usize| [g(f, h, o), g(f, h, o + 1), g(f, h, o + 2)];
     if SQUAD {
         let a = times_exp(q4(f, h, 4), axis(8), u * g(f, h, 11));
@@ -284,7 +384,7 @@ fn body<V: LanesExt, const SQUAD: bool>(f: &[V], h: &[V], points: usize, tv: P2<
     let mut b = [[zero; 4]; MAX_POINTS - 1];
     let m = points - 1;
     for (j, bj) in b.iter_mut().enumerate().take(m) {
-        let o = 4 + 8 * j;
+        let o = 4 + PER_POINT * j;
         *bj = times_exp(q4(f, h, o), axis(o + 4), u * g(f, h, o + 7));
     }
     for level in (1..m).rev() {
@@ -293,6 +393,33 @@ fn body<V: LanesExt, const SQUAD: bool>(f: &[V], h: &[V], points: usize, tv: P2<
         }
     }
     b[0]
+}
+
+/// The de Casteljau pyramid by [`slerp_series`] with K terms (see [`body`]).
+#[inline(always)]
+fn series_pyramid<V: LanesExt, const K: usize>(f: &[V], h: &[V], points: usize, u: P2<V>) -> Q4<P2<V>> {
+    let one = <P2<V> as Arith>::splat(1.0);
+    let (bw, bv) = (series_coefficients::<_, K>(u), series_coefficients::<_, K>(one - u));
+    let zero = <P2<V> as Arith>::splat(0.0);
+    let mut b = [[zero; 4]; MAX_POINTS - 1];
+    let m = points - 1;
+    for (j, bj) in b.iter_mut().enumerate().take(m) {
+        let o = 4 + PER_POINT * j;
+        *bj = lin_series::<_, K>(q4(f, h, o), q4(f, h, o + 8), g(f, h, o + 12), &bw, &bv);
+    }
+    for level in (1..m).rev() {
+        for j in 0..level {
+            b[j] = slerp_series::<_, K>(b[j], b[j + 1], &bw, &bv);
+        }
+    }
+    b[0]
+}
+
+/// 1 in the lanes whose flag is `k`, else 0.
+#[inline(always)]
+fn tier_indicator<V: Arith>(flag: V, k: f64) -> V {
+    let (zero, one) = (V::splat(0.0), V::splat(1.0));
+    V::splat(k - 0.5).lt_select(flag, flag.lt_select(V::splat(k + 0.5), one, zero), zero)
 }
 
 /// Loads the records of lanes `idx` into `local` (broadcast when they share one; `cached`
@@ -342,7 +469,40 @@ unsafe fn run<V: LanesExt, const SQUAD: bool>(
         fetch(tab, &idx[0], &mut la, &mut ca);
         fetch(tab, &idx[1], &mut lb, &mut cb);
         let tv = P2(V::load(tl.as_ptr()), V::load(tl.as_ptr().add(V::N)));
-        let o = body::<V, SQUAD>(&la[..stride], &lb[..stride], points, tv);
+        let o = if SQUAD {
+            body::<V, true, 0>(&la[..stride], &lb[..stride], points, tv)
+        } else {
+            // each lane's path is chosen by its own record's flag (field 2: 0 general, else
+            // 1 + series tier), so that no row depends on its neighbours: a vector mixing
+            // paths computes each and blends
+            // (no closures here: they would not inherit the caller's target features)
+            let flag = P2(la[2], lb[2]);
+            let half = <P2<V> as Arith>::splat(0.5);
+            let ind = [tier_indicator(flag, 0.0), tier_indicator(flag, 1.0), tier_indicator(flag, 2.0)];
+            let present = [half.any_lt(ind[0]), half.any_lt(ind[1]), half.any_lt(ind[2])];
+            let (f, h) = (&la[..stride], &lb[..stride]);
+            let mut o: Option<Q4<P2<V>>> = None;
+            for k in 0..3 {
+                if !present[k] {
+                    continue;
+                }
+                let r = match k {
+                    1 => body::<V, false, 1>(f, h, points, tv),
+                    2 => body::<V, false, 2>(f, h, points, tv),
+                    _ => body::<V, false, 0>(f, h, points, tv),
+                };
+                o = Some(match o {
+                    None => r,
+                    Some(p) => [
+                        ind[k].lt_select(half, p[0], r[0]),
+                        ind[k].lt_select(half, p[1], r[1]),
+                        ind[k].lt_select(half, p[2], r[2]),
+                        ind[k].lt_select(half, p[3], r[3]),
+                    ],
+                });
+            }
+            o.expect("every lane has a flag of 0, 1 or 2")
+        };
         let rows = &mut out[4 * i..4 * (i + m)];
         if m == w {
             V::store_rows4([o[0].0, o[1].0, o[2].0, o[3].0], rows.as_mut_ptr(), 4);
@@ -370,6 +530,15 @@ unsafe fn shaped<V: LanesExt>(tab: &SlerpTable, seg: &[u32], t: &[f64], out: &mu
     }
 }
 
+/// The same AVX2 kernel compiled where AVX-512 VL is present: the instructions are the same
+/// 256-bit operations (so the same bits), but the register allocator has 32 vector registers
+/// instead of 16, which the pyramid's working set needs (fewer spills).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+unsafe fn shaped_avx2_32regs(tab: &SlerpTable, seg: &[u32], t: &[f64], out: &mut [f64]) {
+    shaped::<super::lanes::Avx2>(tab, seg, t, out)
+}
+
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 unsafe fn shaped_avx2(tab: &SlerpTable, seg: &[u32], t: &[f64], out: &mut [f64]) {
@@ -391,7 +560,13 @@ impl BatchKernel for SlerpTable {
         #[cfg(target_arch = "x86_64")]
         if isa == Isa::Avx2 && super::avx2_available() {
             // SAFETY: AVX2 and FMA detected; lengths and segment indices checked above.
-            unsafe { shaped_avx2(self, seg, t, out) };
+            if std::arch::is_x86_feature_detected!("avx512f")
+                && std::arch::is_x86_feature_detected!("avx512vl")
+            {
+                unsafe { shaped_avx2_32regs(self, seg, t, out) };
+            } else {
+                unsafe { shaped_avx2(self, seg, t, out) };
+            }
             return true;
         }
         let _ = isa;
@@ -402,5 +577,145 @@ impl BatchKernel for SlerpTable {
 
     fn angular(&self, _: Isa, _: &[u32], _: &[f64], _: usize, _: Frame, _: &mut [f64]) -> bool {
         false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit(q: [f64; 4]) -> [f64; 4] {
+        let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+        q.map(|v| v / n)
+    }
+
+    /// The series slerp against the trigonometric one (f64 lanes) for angles from 0 to
+    /// [`SERIES_MAX_ANGLE`] (both tiers) and weights across [0, 1], ends exact.
+    #[test]
+    fn series_slerp_equals_the_trigonometric_slerp() {
+        let mut x: u64 = 5;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut worst: f64 = 0.0;
+        for i in 0..4000 {
+            let a = unit([next() - 0.5, next() - 0.5, next() - 0.5, next() - 0.5]);
+            // b at angle th from a: a cos th + p sin th, p ⟂ a unit
+            let r = [next() - 0.5, next() - 0.5, next() - 0.5, next() - 0.5];
+            let d: f64 = (0..4).map(|c| r[c] * a[c]).sum();
+            let p = unit([0, 1, 2, 3].map(|c| r[c] - d * a[c]));
+            let th = match i % 4 {
+                0 => SERIES_MAX_ANGLE[0],
+                1 => SERIES_MAX_ANGLE[0] * next(),
+                2 => 1e-9 * next(),
+                _ => 0.0,
+            };
+            let (s, c) = f64::sin_cos(th);
+            let b = [0, 1, 2, 3].map(|k| a[k] * c + p[k] * s);
+            // the same for tier 1 (angles up to 0.5)
+            let (s2, c2) = f64::sin_cos(th / SERIES_MAX_ANGLE[0] * SERIES_MAX_ANGLE[1]);
+            for w in [0.0, 1.0, next(), 0.5, 1e-3 * next(), 1.0 - 1e-3 * next()] {
+                let (bw, bv) = (
+                    series_coefficients::<_, { SERIES_TERMS[0] }>(w),
+                    series_coefficients::<_, { SERIES_TERMS[0] }>(1.0 - w),
+                );
+                let got = slerp_series::<_, { SERIES_TERMS[0] }>(a, b, &bw, &bv);
+                let (cw, cv) = (
+                    series_coefficients::<_, { SERIES_TERMS[1] }>(w),
+                    series_coefficients::<_, { SERIES_TERMS[1] }>(1.0 - w),
+                );
+                let (a2, b2) = (a, [0, 1, 2, 3].map(|k| a[k] * c2 + p[k] * s2));
+                let got2 = slerp_series::<_, { SERIES_TERMS[1] }>(a2, b2, &cw, &cv);
+                let want2 = slerp(a2, b2, w);
+                for k in 0..4 {
+                    worst = worst.max((got2[k] - want2[k]).abs());
+                }
+                let want = slerp(a, b, w);
+                for k in 0..4 {
+                    worst = worst.max((got[k] - want[k]).abs());
+                }
+                if w == 0.0 {
+                    assert_eq!(got, a);
+                }
+                if w == 1.0 {
+                    assert_eq!(got, b);
+                }
+            }
+        }
+        assert!(worst <= 1e-15, "worst {worst:e}");
+    }
+
+    /// The table flags a curve with the first series tier whose angle bounds every neighbour
+    /// angle, or 0 (the trigonometric path).
+    #[test]
+    fn series_flag_follows_the_largest_angle() {
+        for (half, want) in
+            [(0.1, 1.0), (0.2999, 1.0), (0.3001, 2.0), (0.4999, 2.0), (0.5001, 0.0), (3.0, 0.0)]
+        {
+            let (s, c) = f64::sin_cos(half);
+            let ctrl = [Quat::IDENTITY, Quat::new(c, s, 0.0, 0.0), Quat::new(c * c, s * c, s * c, s * s)];
+            let logs: Vec<Axis> =
+                ctrl.windows(2).map(|w| Axis::from_log((w[0].conj() * w[1]).log().vec())).collect();
+            let tab = SlerpTable::casteljau(&[0.0, 1.0], &[&ctrl[..]], &[&logs[..]]).unwrap();
+            assert_eq!(tab.data[2], want, "half-angle {half}");
+        }
+    }
+
+    /// The AVX2 kernel compiled with 32 vector registers (chosen where AVX-512 VL exists) and
+    /// the one with 16 give the same bits, on segments of both paths mixed within vectors.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn avx2_kernels_with_16_and_32_registers_agree_bitwise() {
+        if !(crate::simd::avx2_available()
+            && std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512vl"))
+        {
+            return;
+        }
+        let mut x: u64 = 9;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let nseg = 12;
+        let joints: Vec<f64> = (0..=nseg).map(|i| i as f64 * 0.7).collect();
+        let mut ctrl: Vec<Vec<Quat>> = Vec::new();
+        for i in 0..nseg {
+            // even segments within the series' angle, odd ones beyond it
+            let half = if i % 2 == 0 { 0.05 + 0.25 * next() } else { 0.35 + 2.0 * next() };
+            let mut c = vec![Quat::new(next() - 0.5, next() - 0.5, next() - 0.5, next() - 0.5).normalize()];
+            for _ in 0..3 {
+                let ax = [next() - 0.5, next() - 0.5, next() - 0.5];
+                let m = (ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]).sqrt();
+                let (s, co) = f64::sin_cos(half);
+                let q = *c.last().unwrap() * Quat::new(co, s * ax[0] / m, s * ax[1] / m, s * ax[2] / m);
+                c.push(q);
+            }
+            ctrl.push(c);
+        }
+        let logs: Vec<Vec<Axis>> = ctrl
+            .iter()
+            .map(|c| c.windows(2).map(|w| Axis::from_log((w[0].conj() * w[1]).log().vec())).collect())
+            .collect();
+        let cr: Vec<&[Quat]> = ctrl.iter().map(|c| &c[..]).collect();
+        let lr: Vec<&[Axis]> = logs.iter().map(|l| &l[..]).collect();
+        let tab = SlerpTable::casteljau(&joints, &cr, &lr).unwrap();
+        assert!((0..nseg).any(|i| tab.data[i * tab.stride + 2] == 1.0));
+        assert!((0..nseg).any(|i| tab.data[i * tab.stride + 2] == 0.0));
+        let t: Vec<f64> = (0..999).map(|_| joints[nseg] * next()).collect();
+        let seg: Vec<u32> = t.iter().map(|&v| tab.locator.locate(v) as u32).collect();
+        let (mut a, mut b) = (vec![0.0; 4 * t.len()], vec![0.0; 4 * t.len()]);
+        // SAFETY: features checked above; lengths and segments valid
+        unsafe {
+            shaped_avx2(&tab, &seg, &t, &mut a);
+            shaped_avx2_32regs(&tab, &seg, &t, &mut b);
+        }
+        assert!(a.iter().zip(&b).all(|(p, q)| p.to_bits() == q.to_bits()));
+        assert!(a.iter().all(|v| v.is_finite()));
     }
 }
