@@ -746,9 +746,6 @@ fn cost(
 /// GCV of the linearised problem at λ: (score, tr A). `h` is workspace for H = G + λP and
 /// its factor (reused between calls).
 fn gcv_at(lin: &Lin, lam: f64, h: &mut Band) -> Result<(f64, f64)> {
-    if std::env::var_os("QS_T").is_some() {
-        eprintln!("      gcv ln λ {:.4}", lam.ln());
-    }
     lin.g.axpy_into(lam, &lin.p, h);
     h.cholesky_in_place()?;
     // The step's RSS and the trace are independent given the factor: one thread each.
