@@ -394,6 +394,30 @@ def test_slerp_pairs_bad_input_errors_name_first(threads):
         qs.set_num_threads(0)
 
 
+@pytest.mark.parametrize("threads", [1, 2])
+def test_sclerp_pairs_bad_input_errors_name_first(threads):
+    # as for slerp: block-wise checks in the parallel tasks, the serial checks' first error
+    rng = np.random.default_rng(4)
+    n = 30_001
+    a = qs.dq_from_pose(qs.normalize(rng.normal(size=(n, 4))), rng.normal(size=(n, 3)))
+    b = qs.dq_from_pose(qs.normalize(rng.normal(size=(n, 4))), rng.normal(size=(n, 3)))
+    t = rng.uniform(0, 1, n)
+    a1, b1, t1 = a.copy(), b.copy(), t.copy()
+    a1[29_000, 6] = np.nan
+    b1[5, 1] = -np.inf
+    t1[20_000] = -1e13
+    qs.set_num_threads(threads)
+    try:
+        with pytest.raises(ValueError, match=r"^dq0: .*element 29000$"):
+            qs.sclerp(a1, b1, t1)
+        with pytest.raises(ValueError, match=r"^dq1: .*element 5$"):
+            qs.sclerp(a, b1, t1)
+        with pytest.raises(ValueError, match=r"^t: element 20000 is beyond"):
+            qs.sclerp(a, b, t1)
+    finally:
+        qs.set_num_threads(0)
+
+
 @pytest.mark.parametrize("mode", ["auto", "scalar"])
 def test_sclerp_pairs_equal_reference(mode):
     rng = np.random.default_rng(2)

@@ -319,12 +319,29 @@ fn dq_power<'py>(py: Python<'py>, dq: Arr<'py>, t: Arr<'py>, long_path: bool) ->
 #[pyfunction]
 fn sclerp<'py>(py: Python<'py>, dq0: Arr<'py>, dq1: Arr<'py>, t: Arr<'py>) -> Out<'py> {
     let (a, b, t) =
-        (Rows::new(&dq0, "dq0", 8)?, Rows::new(&dq1, "dq1", 8)?, Rows::new(&t, "t", 1)?.parameters()?);
-    let n = same_len(&[("dq0", a.len()), ("dq1", b.len()), ("t", t.len())])?;
-    // contiguous rows: the pairs kernel of the SIMD engine (AVX2 where the CPU has it)
+        (Rows::unchecked(&dq0, "dq0", 8)?, Rows::unchecked(&dq1, "dq1", 8)?, Rows::unchecked(&t, "t", 1)?);
+    // the element checks in the order (and with the messages) of `Rows::new`, `parameters`
+    let validate = || -> PyResult<()> {
+        a.check_finite()?;
+        b.check_finite()?;
+        t.check_finite()?;
+        t.check_parameters()
+    };
+    let n = match same_len(&[("dq0", a.len()), ("dq1", b.len()), ("t", t.len())]) {
+        Ok(n) => n,
+        Err(e) => return validate().and(Err(e)),
+    };
+    // contiguous rows: the pairs kernel of the SIMD engine (AVX2 where the CPU has it), the
+    // inputs checked block by block in the parallel tasks as in `slerp`
     if let (Some(a8), Some(b8), Some(tt), Some(isa)) = (a.flat, b.flat, t.flat, quatspline::simd::isa()) {
-        return fill_blocks(py, "sclerp", n, 8, |first, block| {
+        let out = fill_blocks(py, "sclerp", n, 8, |first, block| {
             let r = first..first + block.len() / 8;
+            if !(all_finite(&a8[8 * r.start..8 * r.end])
+                && all_finite(&b8[8 * r.start..8 * r.end])
+                && all_parameters(&tt[r.clone()]))
+            {
+                return Err(Error::invalid("dq0", "non-finite input (re-checked serially)"));
+            }
             quatspline::simd::pairs::sclerp_pairs(
                 isa,
                 &a8[8 * r.start..8 * r.end],
@@ -337,7 +354,9 @@ fn sclerp<'py>(py: Python<'py>, dq0: Arr<'py>, dq1: Arr<'py>, t: Arr<'py>) -> Ou
                 e => e,
             })
         });
+        return out.or_else(|e| validate().and(Err(e)));
     }
+    validate()?;
     fill(py, "sclerp", n, |i| Ok(interp::sclerp(unit_dq(&a, i)?, unit_dq(&b, i)?, t.scalar(i)).to_array()))
 }
 
