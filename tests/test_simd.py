@@ -370,6 +370,54 @@ def test_slerp_pairs_equal_reference(mode, long_path):
     np.testing.assert_allclose(broadcast, contiguous, rtol=0, atol=1e-14)
 
 
+@pytest.mark.parametrize("threads", [1, 2])
+def test_slerp_pairs_bad_input_errors_name_first(threads):
+    # the contiguous path checks the inputs block by block in parallel tasks; the error raised
+    # is still the serial checks' first one: q0 before q1 before t, then the range of t
+    a, b, t = _pairs(40_003, 1)
+    a1, b1, t1 = a.copy(), b.copy(), t.copy()
+    a1[39_000, 2] = np.nan
+    b1[3, 0] = np.inf
+    t1[20_000] = 1e13
+    qs.set_num_threads(threads)
+    try:
+        with pytest.raises(ValueError, match=r"^q0: .*element 39000$"):
+            qs.slerp(a1, b1, t1)
+        with pytest.raises(ValueError, match=r"^q1: .*element 3$"):
+            qs.slerp(a, b1, t1)
+        with pytest.raises(ValueError, match=r"^t: element 20000 is beyond"):
+            qs.slerp(a, b, t1)
+        t1[30_000] = np.nan
+        with pytest.raises(ValueError, match=r"^t: non-finite .*element 30000$"):
+            qs.slerp(a, b, t1)
+    finally:
+        qs.set_num_threads(0)
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_sclerp_pairs_bad_input_errors_name_first(threads):
+    # as for slerp: block-wise checks in the parallel tasks, the serial checks' first error
+    rng = np.random.default_rng(4)
+    n = 30_001
+    a = qs.dq_from_pose(qs.normalize(rng.normal(size=(n, 4))), rng.normal(size=(n, 3)))
+    b = qs.dq_from_pose(qs.normalize(rng.normal(size=(n, 4))), rng.normal(size=(n, 3)))
+    t = rng.uniform(0, 1, n)
+    a1, b1, t1 = a.copy(), b.copy(), t.copy()
+    a1[29_000, 6] = np.nan
+    b1[5, 1] = -np.inf
+    t1[20_000] = -1e13
+    qs.set_num_threads(threads)
+    try:
+        with pytest.raises(ValueError, match=r"^dq0: .*element 29000$"):
+            qs.sclerp(a1, b1, t1)
+        with pytest.raises(ValueError, match=r"^dq1: .*element 5$"):
+            qs.sclerp(a, b1, t1)
+        with pytest.raises(ValueError, match=r"^t: element 20000 is beyond"):
+            qs.sclerp(a, b, t1)
+    finally:
+        qs.set_num_threads(0)
+
+
 @pytest.mark.parametrize("mode", ["auto", "scalar"])
 def test_sclerp_pairs_equal_reference(mode):
     rng = np.random.default_rng(2)

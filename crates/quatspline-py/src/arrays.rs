@@ -156,6 +156,14 @@ pub struct Rows<'a> {
 impl<'a> Rows<'a> {
     /// Checks that `a` has shape (N, width) and that every element is finite.
     pub fn new(a: &'a PyReadonlyArray2<'_, f64>, name: &'static str, width: usize) -> PyResult<Self> {
+        let r = Self::unchecked(a, name, width)?;
+        r.check_finite()?;
+        Ok(r)
+    }
+
+    /// Checks only the shape (N, width); the caller checks the elements, with
+    /// [`Rows::check_finite`] or block by block (see [`all_finite`]) before reading them.
+    pub fn unchecked(a: &'a PyReadonlyArray2<'_, f64>, name: &'static str, width: usize) -> PyResult<Self> {
         let view = a.as_array();
         if view.ncols() != width {
             return Err(PyValueError::new_err(format!(
@@ -164,7 +172,13 @@ impl<'a> Rows<'a> {
             )));
         }
         let flat = view.to_slice();
-        let bad = match flat {
+        Ok(Rows { view, flat, name })
+    }
+
+    /// The error naming the first element that is not finite.
+    pub fn check_finite(&self) -> PyResult<()> {
+        let (view, width) = (&self.view, self.view.ncols());
+        let bad = match self.flat {
             Some(s) => s.iter().position(|v| !v.is_finite()),
             // A broadcast input (row stride 0) repeats its first row: check that row once, so
             // a huge broadcast is validated in O(width) and its output size is what bounds it.
@@ -173,10 +187,10 @@ impl<'a> Rows<'a> {
             }
             None => view.iter().position(|v| !v.is_finite()),
         };
-        if let Some(k) = bad {
-            return Err(to_py(Error::NonFinite { arg: name, index: k / width.max(1) }));
+        match bad {
+            Some(k) => Err(to_py(Error::NonFinite { arg: self.name, index: k / width.max(1) })),
+            None => Ok(()),
         }
-        Ok(Rows { view, flat, name })
     }
 
     pub fn len(&self) -> usize {
@@ -186,6 +200,12 @@ impl<'a> Rows<'a> {
     /// Interpolation parameters: |t| ≤ 1e12 (beyond, t·θ carries no bits of the angle and
     /// sin/cos of an overflowing product would be NaN).
     pub fn parameters(self) -> PyResult<Self> {
+        self.check_parameters()?;
+        Ok(self)
+    }
+
+    /// The check of [`Rows::parameters`] alone.
+    pub fn check_parameters(&self) -> PyResult<()> {
         let v = &self.view;
         let first = if v.nrows() > 0 && v.strides()[0] == 0 {
             v.slice(numpy::ndarray::s![0..1, ..])
@@ -198,7 +218,7 @@ impl<'a> Rows<'a> {
                 self.name
             )));
         }
-        Ok(self)
+        Ok(())
     }
 
     #[inline(always)]
@@ -243,6 +263,21 @@ pub fn same_len(parts: &[(&str, usize)]) -> PyResult<usize> {
         }
     }
     Ok(n)
+}
+
+/// Whether every element of `s` is finite: a branch-free scan per 256 elements (it
+/// vectorises), for block-wise checks of inputs that the kernel is about to read anyway (the
+/// block is then in cache; a serial check before the parallel blocks costs a pass over memory).
+#[inline]
+pub fn all_finite(s: &[f64]) -> bool {
+    s.chunks(256).all(|c| c.iter().fold(true, |ok, v| ok & v.is_finite()))
+}
+
+/// Whether every element of `s` is a valid interpolation parameter (finite, |t| ≤ 1e12; see
+/// [`Rows::parameters`]), as [`all_finite`] scans.
+#[inline]
+pub fn all_parameters(s: &[f64]) -> bool {
+    s.chunks(256).all(|c| c.iter().fold(true, |ok, v| ok & (v.abs() <= 1e12)))
 }
 
 /// Rows per parallel task; inputs smaller than two tasks run on the calling thread.

@@ -1,6 +1,7 @@
 //! Independent pairs through the batch machinery: `slerp` of rows q0\[i\], q1\[i\] at t\[i\],
-//! four pairs per AVX2 vector (rows transposed in, results transposed out), the same lanes,
-//! vector sin/cos and atan2 as the spline kernels.
+//! four pairs per AVX2 vector (rows transposed in, results transposed out), two vectors in
+//! lockstep (`P2`: the square root, atan2, sin/cos and division chains of one overlap the
+//! other's), the same lanes, vector sin/cos and atan2 as the spline kernels.
 //!
 //! Each row equals [`crate::interp::slerp`] of the normalised keys (within the kernels' 1e-14
 //! bound; exactly q0 at t = 0 and the shortest-path q1 at t = 1): θ = atan2(|r|, q0·q1) with
@@ -12,6 +13,7 @@
 //! any chunking.
 
 use super::lanes::{Lanes, LanesExt};
+use super::slerp::{Arith, P2};
 use super::Isa;
 use crate::error::{Error, Result};
 use crate::quat::Quat;
@@ -50,14 +52,14 @@ fn check(q0: &[f64], q1: &[f64], t: &[f64], out: &[f64]) {
 }
 
 #[inline(always)]
-fn dot<V: Lanes>(a: Q4<V>, b: Q4<V>) -> V {
+fn dot<V: Arith>(a: Q4<V>, b: Q4<V>) -> V {
     a[3].fma(b[3], a[2].fma(b[2], a[1].fma(b[1], a[0] * b[0])))
 }
 
 /// q·q summed as `Quat::norm_squared` does (no FMA), so that the unit test below keeps the
 /// same keys' bits as the scalar path.
 #[inline(always)]
-fn norm2_plain<V: Lanes>(q: Q4<V>) -> V {
+fn norm2_plain<V: Arith>(q: Q4<V>) -> V {
     q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]
 }
 
@@ -65,7 +67,7 @@ fn norm2_plain<V: Lanes>(q: Q4<V>) -> V {
 /// when |q·q − 1| ≤ 4ε, else (q/m)/|q/m| with m the largest |component| — the same
 /// operations, so the same bits.
 #[inline(always)]
-fn unit<V: LanesExt>(q: Q4<V>, n2: V) -> Q4<V> {
+fn unit<V: Arith>(q: Q4<V>, n2: V) -> Q4<V> {
     let one = V::splat(1.0);
     let dev = n2 - one;
     let tol = V::splat(4.0 * f64::EPSILON);
@@ -85,8 +87,39 @@ fn unit<V: LanesExt>(q: Q4<V>, n2: V) -> Q4<V> {
 
 /// Per lane `if a == b { x } else { y }` (no NaN here).
 #[inline(always)]
-fn eq_select<V: Lanes>(a: V, b: V, x: V, y: V) -> V {
+fn eq_select<V: Arith>(a: V, b: V, x: V, y: V) -> V {
     a.lt_select(b, y, b.lt_select(a, y, x))
+}
+
+/// The slerp rows of the lanes (keys as loaded): the results, q0·q1 of the normalised keys
+/// (before the hemisphere flip) and the keys' squared norms, for the caller's checks.
+#[inline(always)]
+fn slerp_lanes<V: Arith>(a: Q4<V>, b: Q4<V>, tv: V, long_path: bool) -> (Q4<V>, V, V, V) {
+    let zero = V::splat(0.0);
+    let one = V::splat(1.0);
+    let (na, nb) = (norm2_plain(a), norm2_plain(b));
+    let a = unit(a, na);
+    let mut b = unit(b, nb);
+    // q0·q1 as `Quat::dot` sums it: the hemisphere test sees the scalar path's sign
+    let mut d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
+    let d_in = d;
+    if !long_path {
+        let neg = d.lt_select(zero, -one, one);
+        b = [b[0] * neg, b[1] * neg, b[2] * neg, b[3] * neg];
+        d = d * neg;
+    }
+    let r: Q4<V> = [d.fnma(a[0], b[0]), d.fnma(a[1], b[1]), d.fnma(a[2], b[2]), d.fnma(a[3], b[3])];
+    let s = dot(r, r).sqrt();
+    let th = s.atan2(d);
+    let (st, ct) = (tv * th).sin_cos();
+    let w = zero.lt_select(s, st / s, tv);
+    let mut o: Q4<V> =
+        [r[0].fma(w, a[0] * ct), r[1].fma(w, a[1] * ct), r[2].fma(w, a[2] * ct), r[3].fma(w, a[3] * ct)];
+    for c in 0..4 {
+        // exact ends: q0 at t = 0, the (flipped) q1 at t = 1
+        o[c] = eq_select(tv, zero, a[c], eq_select(tv, one, b[c], o[c]));
+    }
+    (o, d_in, na, nb)
 }
 
 #[inline(always)]
@@ -98,18 +131,19 @@ unsafe fn run<V: LanesExt>(
     out: &mut [f64],
 ) -> Result<()> {
     let n = t.len();
-    let (lo, hi) = (V::splat(1e-290), V::splat(1e290));
-    let zero = V::splat(0.0);
-    let one = V::splat(1.0);
+    let w = 2 * V::N;
+    let (lo, hi) = (<V as Lanes>::splat(1e-290), <V as Lanes>::splat(1e290));
+    let zero = <V as Lanes>::splat(0.0);
     let mut i = 0;
     while i < n {
-        let m = (n - i).min(V::N);
-        // full vectors read the rows in place; a tail is padded with copies of its last row
-        let (mut pa, mut pb, mut pt) = ([0.0; 16], [0.0; 16], [0.0; 4]);
-        let (ap, bp, tp) = if m == V::N {
+        // two vectors in lockstep; full blocks read the rows in place, a tail is padded with
+        // copies of its last row
+        let m = (n - i).min(w);
+        let (mut pa, mut pb, mut pt) = ([0.0; 32], [0.0; 32], [0.0; 8]);
+        let (ap, bp, tp) = if m == w {
             (q0.as_ptr().add(4 * i), q1.as_ptr().add(4 * i), t.as_ptr().add(i))
         } else {
-            for l in 0..4 {
+            for l in 0..w {
                 let k = i + l.min(m - 1);
                 pa[4 * l..4 * l + 4].copy_from_slice(&q0[4 * k..4 * k + 4]);
                 pb[4 * l..4 * l + 4].copy_from_slice(&q1[4 * k..4 * k + 4]);
@@ -118,57 +152,46 @@ unsafe fn run<V: LanesExt>(
             (pa.as_ptr(), pb.as_ptr(), pt.as_ptr())
         };
         let idx = [0, 4, 8, 12];
-        let mut a = [zero; 4];
-        let mut b = [zero; 4];
-        V::transpose_records(ap, &idx, 4, a.as_mut_ptr());
-        V::transpose_records(bp, &idx, 4, b.as_mut_ptr());
-        let tv = V::load(tp);
-        let (na, nb) = (norm2_plain(a), norm2_plain(b));
-        let a = unit(a, na);
-        let mut b = unit(b, nb);
-        // q0·q1 as `Quat::dot` sums it: the hemisphere test sees the scalar path's sign
-        let mut d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
-        let d_in = d;
-        if !long_path {
-            let neg = d.lt_select(zero, -one, one);
-            b = [b[0] * neg, b[1] * neg, b[2] * neg, b[3] * neg];
-            d = d * neg;
+        let mut f = [[zero; 4]; 4];
+        for (h, fh) in f.iter_mut().enumerate() {
+            let src = if h < 2 { ap } else { bp };
+            V::transpose_records(src.add(4 * V::N * (h % 2)), &idx, 4, fh.as_mut_ptr());
         }
+        let p = |x: [V; 4], y: [V; 4]| [P2(x[0], y[0]), P2(x[1], y[1]), P2(x[2], y[2]), P2(x[3], y[3])];
+        let tv = P2(V::load(tp), V::load(tp.add(V::N)));
+        let (o, d_in, na, nb) = slerp_lanes(p(f[0], f[1]), p(f[2], f[3]), tv, long_path);
         let rows = &mut out[4 * i..4 * (i + m)];
-        let r: Q4<V> = [d.fnma(a[0], b[0]), d.fnma(a[1], b[1]), d.fnma(a[2], b[2]), d.fnma(a[3], b[3])];
-        let s = dot(r, r).sqrt();
-        let th = s.atan2(d);
-        let (st, ct) = (tv * th).sin_cos();
-        let w = zero.lt_select(s, st / s, tv);
-        let mut o: Q4<V> =
-            [r[0].fma(w, a[0] * ct), r[1].fma(w, a[1] * ct), r[2].fma(w, a[2] * ct), r[3].fma(w, a[3] * ct)];
-        for c in 0..4 {
-            // exact ends: q0 at t = 0, the (flipped) q1 at t = 1
-            o[c] = eq_select(tv, zero, a[c], eq_select(tv, one, b[c], o[c]));
-        }
-        if m == V::N {
-            V::store_rows4(o, rows.as_mut_ptr(), 4);
+        let halves = [[o[0].0, o[1].0, o[2].0, o[3].0], [o[0].1, o[1].1, o[2].1, o[3].1]];
+        if m == w {
+            V::store_rows4(halves[0], rows.as_mut_ptr(), 4);
+            V::store_rows4(halves[1], rows.as_mut_ptr().add(4 * V::N), 4);
         } else {
-            for (c, v) in o.iter().enumerate() {
-                let x = v.to_array();
-                for l in 0..m {
-                    rows[4 * l + c] = x[l];
+            for (h, half) in halves.iter().enumerate() {
+                for (c, v) in half.iter().enumerate() {
+                    let x = v.to_array();
+                    for l in 0..V::N.min(m.saturating_sub(h * V::N)) {
+                        rows[4 * (h * V::N + l) + c] = x[l];
+                    }
                 }
             }
         }
         // lanes the vector formula does not cover go through the scalar path, lane by lane
         // (so that no row depends on its neighbours)
-        let rare = na.any_lt(lo)
-            || hi.any_lt(na)
-            || nb.any_lt(lo)
-            || hi.any_lt(nb)
-            || (long_path && d_in.any_lt(zero));
-        if rare {
-            let (na, nb, dd) = (na.to_array(), nb.to_array(), d_in.to_array());
-            for l in 0..m {
+        for (h, (na, nb, d)) in [(na.0, nb.0, d_in.0), (na.1, nb.1, d_in.1)].into_iter().enumerate() {
+            let rare = <V as LanesExt>::any_lt(na, lo)
+                || <V as LanesExt>::any_lt(hi, na)
+                || <V as LanesExt>::any_lt(nb, lo)
+                || <V as LanesExt>::any_lt(hi, nb)
+                || (long_path && <V as LanesExt>::any_lt(d, zero));
+            if !rare {
+                continue;
+            }
+            let (na, nb, dd) = (na.to_array(), nb.to_array(), d.to_array());
+            for l in 0..V::N.min(m.saturating_sub(h * V::N)) {
                 let ok = |x: f64| (1e-290..=1e290).contains(&x);
                 if !ok(na[l]) || !ok(nb[l]) || (long_path && dd[l] < 0.0) {
-                    rows[4 * l..4 * l + 4].copy_from_slice(&scalar_row(q0, q1, t, i + l, long_path)?);
+                    let k = h * V::N + l;
+                    rows[4 * k..4 * k + 4].copy_from_slice(&scalar_row(q0, q1, t, i + k, long_path)?);
                 }
             }
         }
