@@ -419,12 +419,18 @@ fn scale4<V: Fused>(a: Q4<V>, s: V) -> Q4<V> {
 #[inline(always)]
 fn rot_axis<V: Fused>(n: V3<V>, s2: V, c2: V, omc: V, v: V3<V>) -> V3<V> {
     let cr = cross(n, v);
-    let k = omc * n[2].fma(v[2], n[1].fma(v[1], n[0] * v[0]));
+    let k = omc * dot3(n, v);
     [
         k.fma(n[0], s2.fnma(cr[0], c2 * v[0])),
         k.fma(n[1], s2.fnma(cr[1], c2 * v[1])),
         k.fma(n[2], s2.fnma(cr[2], c2 * v[2])),
     ]
+}
+
+/// n·v (the same expression in [`rot_axis`] and its callers, so that it is computed once).
+#[inline(always)]
+fn dot3<V: Fused>(n: V3<V>, v: V3<V>) -> V {
+    n[2].fma(v[2], n[1].fma(v[1], n[0] * v[0]))
 }
 
 /// The vector rotated by the unit quaternion q: x + 2w (v × x) + 2 v × (v × x).
@@ -462,10 +468,11 @@ fn factor_rates<A: Trig, const K: usize>(p: [A; 3], dvar: A) -> (A, A, A) {
 }
 
 /// One step of the rate recursion (module doc) with the factor's rates along its unit axis n,
-/// ω_j = a n, ω_j' = b n, ω_j'' = c n, and y = R_j(ω), z = R_j(α), v = R_j(j) already rotated;
+/// ω_j = a n, ω_j' = b n, ω_j'' = c n, d = n·ω = n·y (the rotation is about n; n·ω is already
+/// computed by [`rot_axis`]), and y = R_j(ω), z = R_j(α), v = R_j(j) already rotated;
 /// `sg` = −1 for the body frame, +1 for the world frame (the mirrored recursion):
 ///   ω ← y + a n,  α ← z + sg a (n × y) + b n,
-///   j ← v + 2 sg a (n × z) + sg b (n × y) + a² (n (n·y) − y) + c n
+///   j ← v + 2 sg a (n × z) + sg b (n × y) + a² (d n − y) + c n
 /// (ω_j × (ω_j × y) = a² n × (n × y) = a² (n (n·y) − y) for |n| = 1): two cross products
 /// with the axis instead of four with scaled axes.
 #[inline(always)]
@@ -474,6 +481,7 @@ fn rate_step<A: Trig, const K: usize>(
     n: V3<A>,
     (a, b, c): (A, A, A),
     sg: f64,
+    d: A,
     y: V3<A>,
     z: V3<A>,
     v: V3<A>,
@@ -493,7 +501,6 @@ fn rate_step<A: Trig, const K: usize>(
     let sa2 = sa + sa;
     let sb = A::splat(sg) * b;
     let aa = a * a;
-    let d = n[2].fma(y[2], n[1].fma(y[1], n[0] * y[0]));
     let g = aa.fma(d, c);
     let mut jk = [A::splat(0.0); 3];
     for i in 0..3 {
@@ -576,7 +583,7 @@ unsafe fn block<A: Trig, S: Src<A>, const K: usize, const OUT: u8, const JM: usi
             let y = rot_axis(n, s2, c2, omc, w);
             let z = if K >= 2 { rot_axis(n, s2, c2, omc, a) } else { a };
             let v = if K >= 3 { rot_axis(n, s2, c2, omc, jk) } else { jk };
-            (w, a, jk) = rate_step::<A, K>(n, rt, 1.0, y, z, v);
+            (w, a, jk) = rate_step::<A, K>(n, rt, 1.0, dot3(n, w), y, z, v);
         }
         let r = match K {
             1 => w,
@@ -610,7 +617,7 @@ unsafe fn block<A: Trig, S: Src<A>, const K: usize, const OUT: u8, const JM: usi
         let y = rot_axis(n, s2, c2, omc, w);
         let z = if K >= 2 { rot_axis(n, s2, c2, omc, a) } else { a };
         let v = if K >= 3 { rot_axis(n, s2, c2, omc, jk) } else { jk };
-        (w, a, jk) = rate_step::<A, K>(n, rt, -1.0, y, z, v);
+        (w, a, jk) = rate_step::<A, K>(n, rt, -1.0, dot3(n, w), y, z, v);
     }
     if OUT == BODY {
         let r = match K {
