@@ -398,11 +398,6 @@ fn add3<V: Fused>(a: V3<V>, b: V3<V>) -> V3<V> {
 }
 
 #[inline(always)]
-fn sub3<V: Fused>(a: V3<V>, b: V3<V>) -> V3<V> {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-#[inline(always)]
 fn scale3<V: Fused>(a: V3<V>, s: V) -> V3<V> {
     [a[0] * s, a[1] * s, a[2] * s]
 }
@@ -424,12 +419,18 @@ fn scale4<V: Fused>(a: Q4<V>, s: V) -> Q4<V> {
 #[inline(always)]
 fn rot_axis<V: Fused>(n: V3<V>, s2: V, c2: V, omc: V, v: V3<V>) -> V3<V> {
     let cr = cross(n, v);
-    let k = omc * n[2].fma(v[2], n[1].fma(v[1], n[0] * v[0]));
+    let k = omc * dot3(n, v);
     [
         k.fma(n[0], s2.fnma(cr[0], c2 * v[0])),
         k.fma(n[1], s2.fnma(cr[1], c2 * v[1])),
         k.fma(n[2], s2.fnma(cr[2], c2 * v[2])),
     ]
+}
+
+/// n·v (the same expression in [`rot_axis`] and its callers, so that it is computed once).
+#[inline(always)]
+fn dot3<V: Fused>(n: V3<V>, v: V3<V>) -> V {
+    n[2].fma(v[2], n[1].fma(v[1], n[0] * v[0]))
 }
 
 /// The vector rotated by the unit quaternion q: x + 2w (v × x) + 2 v × (v × x).
@@ -455,15 +456,57 @@ pub(super) const fn width(k: usize, out: u8) -> usize {
     }
 }
 
-/// ω_j = 2θ' n, ω_j' = 2θ'' n, ω_j'' = 2θ''' n of one factor (θ^(m) = m! p_m dvar^m), the
-/// orders K needs.
+/// The rate scalars of one factor, ω_j = a n, ω_j' = b n, ω_j'' = c n with a = 2θ', b = 2θ'',
+/// c = 2θ''' (θ^(m) = m! p_m dvar^m), the orders K needs (the others zero).
 #[inline(always)]
-fn factor_rates<A: Trig, const K: usize>(n: V3<A>, p: [A; 3], dvar: A) -> (V3<A>, V3<A>, V3<A>) {
-    let zero = [A::splat(0.0); 3];
-    let om = scale3(n, A::splat(2.0) * p[0] * dvar);
-    let omd = if K >= 2 { scale3(n, A::splat(4.0) * p[1] * dvar * dvar) } else { zero };
-    let omdd = if K >= 3 { scale3(n, A::splat(12.0) * p[2] * dvar * dvar * dvar) } else { zero };
-    (om, omd, omdd)
+fn factor_rates<A: Trig, const K: usize>(p: [A; 3], dvar: A) -> (A, A, A) {
+    let zero = A::splat(0.0);
+    let a = A::splat(2.0) * p[0] * dvar;
+    let b = if K >= 2 { A::splat(4.0) * p[1] * dvar * dvar } else { zero };
+    let c = if K >= 3 { A::splat(12.0) * p[2] * dvar * dvar * dvar } else { zero };
+    (a, b, c)
+}
+
+/// One step of the rate recursion (module doc) with the factor's rates along its unit axis n,
+/// ω_j = a n, ω_j' = b n, ω_j'' = c n, d = n·ω = n·y (the rotation is about n; n·ω is already
+/// computed by [`rot_axis`]), and y = R_j(ω), z = R_j(α), v = R_j(j) already rotated;
+/// `sg` = −1 for the body frame, +1 for the world frame (the mirrored recursion):
+///   ω ← y + a n,  α ← z + sg a (n × y) + b n,
+///   j ← v + 2 sg a (n × z) + sg b (n × y) + a² (d n − y) + c n
+/// (ω_j × (ω_j × y) = a² n × (n × y) = a² (n (n·y) − y) for |n| = 1): two cross products
+/// with the axis instead of four with scaled axes.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn rate_step<A: Trig, const K: usize>(
+    n: V3<A>,
+    (a, b, c): (A, A, A),
+    sg: f64,
+    d: A,
+    y: V3<A>,
+    z: V3<A>,
+    v: V3<A>,
+) -> (V3<A>, V3<A>, V3<A>) {
+    let w = [n[0].fma(a, y[0]), n[1].fma(a, y[1]), n[2].fma(a, y[2])];
+    if K < 2 {
+        return (w, z, v);
+    }
+    let u = cross(n, y);
+    let sa = A::splat(sg) * a;
+    let al =
+        [n[0].fma(b, sa.fma(u[0], z[0])), n[1].fma(b, sa.fma(u[1], z[1])), n[2].fma(b, sa.fma(u[2], z[2]))];
+    if K < 3 {
+        return (w, al, v);
+    }
+    let r = cross(n, z);
+    let sa2 = sa + sa;
+    let sb = A::splat(sg) * b;
+    let aa = a * a;
+    let g = aa.fma(d, c);
+    let mut jk = [A::splat(0.0); 3];
+    for i in 0..3 {
+        jk[i] = n[i].fma(g, aa.fnma(y[i], sb.fma(u[i], sa2.fma(r[i], v[i]))));
+    }
+    (w, al, jk)
 }
 
 /// One block of samples (a vector, or two in lockstep): the rows (up to 16 components) for
@@ -486,17 +529,18 @@ unsafe fn block<A: Trig, S: Src<A>, const K: usize, const OUT: u8, const JM: usi
         let off = 6 + j * (nd + 4) + 3;
         let mut p0: A = src.get(off + nd);
         let (mut p1, mut p2, mut p3) = (zero, zero, zero);
-        for m in (0..nd).rev() {
+        // P^(k) is zero before step k, where its first Horner step is a copy (no fma of zeros)
+        for i in 0..nd {
             if K >= 3 {
-                p3 = p3.fma(x, p2);
+                p3 = if i >= 3 { p3.fma(x, p2) } else { p2 };
             }
             if K >= 2 {
-                p2 = p2.fma(x, p1);
+                p2 = if i >= 2 { p2.fma(x, p1) } else { p1 };
             }
             if K >= 1 {
-                p1 = p1.fma(x, p0);
+                p1 = if i >= 1 { p1.fma(x, p0) } else { p0 };
             }
-            p0 = p0.fma(x, src.get(off + m));
+            p0 = p0.fma(x, src.get(off + nd - 1 - i));
         }
         th[j] = p0;
         dp[j] = [p1, p2, p3];
@@ -526,9 +570,9 @@ unsafe fn block<A: Trig, S: Src<A>, const K: usize, const OUT: u8, const JM: usi
         for jj in 0..nj {
             let j = nj - 1 - jj;
             let n: V3<A> = [src.get(mo + 3 * j), src.get(mo + 3 * j + 1), src.get(mo + 3 * j + 2)];
-            let (om, omd, omdd) = factor_rates::<A, K>(n, dp[j], dvar);
+            let rt = factor_rates::<A, K>(dp[j], dvar);
             if jj == 0 {
-                (w, a, jk) = (om, omd, omdd);
+                (w, a, jk) = (scale3(n, rt.0), scale3(n, rt.1), scale3(n, rt.2));
                 continue;
             }
             let (s, c) = sc[j];
@@ -537,17 +581,9 @@ unsafe fn block<A: Trig, S: Src<A>, const K: usize, const OUT: u8, const JM: usi
             let omc = two * s * s;
             let c2 = one - omc;
             let y = rot_axis(n, s2, c2, omc, w);
-            if K >= 2 {
-                let z = rot_axis(n, s2, c2, omc, a);
-                let oy = cross(om, y);
-                if K >= 3 {
-                    let v = rot_axis(n, s2, c2, omc, jk);
-                    let oz = cross(om, z);
-                    jk = add3(add3(add3(v, add3(oz, oz)), cross(omd, y)), add3(cross(om, oy), omdd));
-                }
-                a = add3(add3(z, oy), omd);
-            }
-            w = add3(y, om);
+            let z = if K >= 2 { rot_axis(n, s2, c2, omc, a) } else { a };
+            let v = if K >= 3 { rot_axis(n, s2, c2, omc, jk) } else { jk };
+            (w, a, jk) = rate_step::<A, K>(n, rt, 1.0, dot3(n, w), y, z, v);
         }
         let r = match K {
             1 => w,
@@ -569,9 +605,9 @@ unsafe fn block<A: Trig, S: Src<A>, const K: usize, const OUT: u8, const JM: usi
         if K == 0 {
             continue;
         }
-        let (om, omd, omdd) = factor_rates::<A, K>(n, dp[j], dvar);
+        let rt = factor_rates::<A, K>(dp[j], dvar);
         if j == 0 {
-            (w, a, jk) = (om, omd, omdd);
+            (w, a, jk) = (scale3(n, rt.0), scale3(n, rt.1), scale3(n, rt.2));
             continue;
         }
         // R_j(x) = e* x e: rotation by −2θ about n
@@ -579,17 +615,9 @@ unsafe fn block<A: Trig, S: Src<A>, const K: usize, const OUT: u8, const JM: usi
         let omc = two * s * s;
         let c2 = one - omc;
         let y = rot_axis(n, s2, c2, omc, w);
-        if K >= 2 {
-            let z = rot_axis(n, s2, c2, omc, a);
-            let oy = cross(om, y);
-            if K >= 3 {
-                let v = rot_axis(n, s2, c2, omc, jk);
-                let oz = cross(om, z);
-                jk = add3(sub3(sub3(v, add3(oz, oz)), cross(omd, y)), add3(cross(om, oy), omdd));
-            }
-            a = add3(sub3(z, oy), omd);
-        }
-        w = add3(y, om);
+        let z = if K >= 2 { rot_axis(n, s2, c2, omc, a) } else { a };
+        let v = if K >= 3 { rot_axis(n, s2, c2, omc, jk) } else { jk };
+        (w, a, jk) = rate_step::<A, K>(n, rt, -1.0, dot3(n, w), y, z, v);
     }
     if OUT == BODY {
         let r = match K {
