@@ -177,7 +177,10 @@ def test_holds_are_exactly_constant(name):
     for a, b, key in ((0.0, 1.0, q[0]), (2.0, 3.5, q[2])):
         x = np.linspace(a, b, 201)
         dev = same_rotation(s(x), np.broadcast_to(key, (201, 4))).max()
-        assert dev <= 2e-16, dev
+        # constant up to the rounding of the result's components (a few ulp of 1): the slerp
+        # kernels form a·f_a + b·f_b with f_a + f_b = 1 in exact arithmetic (Catmull–Rom's
+        # series slerp measured 3.3e-16, the jet path ≤ 2e-16)
+        assert dev <= 4 * np.finfo(float).eps, dev
         assert np.abs(s.angular_velocity(x)).max() <= 1e-14
     assert s.continuity == order  # the natural spline says it drops to C¹ at the hold ends
     cert = qs.continuity(s)
