@@ -117,17 +117,25 @@ fn splines() -> Vec<(String, Box<dyn Spline>)> {
         let c = walk(n, 7 + n as u64, 1.5);
         v.push((format!("bezier {n}"), Box::new(SphericalBezier::new(&c, (-1.0, 2.5), true).unwrap())));
     }
-    // small angles between control points (≤ 0.24 rad halved): the series slerp of every
-    // level (`simd::slerp::SERIES_MAX_ANGLE`), as in the benchmark's curve
+    // small angles between control points (≤ 0.24 rad halved: the second series tier, and
+    // ≤ 0.12: the first, as in the benchmark's curve): the series slerp of every level
+    // (`simd::slerp::SERIES_MAX_ANGLE`)
     for n in [2, 3, 4, 8, 9, 16] {
         let c = walk(n, 30 + n as u64, 0.4);
         v.push((format!("bezier {n} small"), Box::new(SphericalBezier::new(&c, (-1.0, 2.5), true).unwrap())));
+        let c = walk(n, 60 + n as u64, 0.2);
+        v.push((format!("bezier {n} tiny"), Box::new(SphericalBezier::new(&c, (-1.0, 2.5), true).unwrap())));
     }
     // every neighbour at a series tier's largest angle, and just beyond it
-    // (`simd::slerp::SERIES_MAX_ANGLE`: 0.3 and 0.5)
-    for (tag, half) in
-        [("at 1st", 0.2999), ("beyond 1st", 0.3001), ("at 2nd", 0.4999), ("beyond 2nd", 0.5001)]
-    {
+    // (`simd::slerp::SERIES_MAX_ANGLE`: 0.15, 0.3 and 0.5)
+    for (tag, half) in [
+        ("at 1st", 0.1499),
+        ("beyond 1st", 0.1501),
+        ("at 2nd", 0.2999),
+        ("beyond 2nd", 0.3001),
+        ("at 3rd", 0.4999),
+        ("beyond 3rd", 0.5001),
+    ] {
         let c = steps(8, 43, half);
         v.push((
             format!("bezier 8 {tag} switch"),
