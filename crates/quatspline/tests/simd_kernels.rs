@@ -110,6 +110,14 @@ fn splines() -> Vec<(&'static str, Box<dyn Spline>)> {
         }
     }
     v.push(("bspline wide angles", Box::new(CumulativeBSpline::new(&qw, 0.7, -1.0, 4, false).unwrap())));
+    v.push((
+        "c3 knot wide angles",
+        Box::new(C3Spline::new(&qw, Some(&t), &[0.4], &[0.1], C3Variant::Knot, false).unwrap()),
+    ));
+    v.push((
+        "c3 patent wide angles",
+        Box::new(C3Spline::new(&qw, Some(&t), &[0.3], &[-0.2], C3Variant::Patent, false).unwrap()),
+    ));
     for k in [2, 3, 4, 5, 6, 9, 12] {
         v.push(("bspline", Box::new(CumulativeBSpline::new(&q, 0.7, -1.0, k, true).unwrap())));
     }
@@ -170,6 +178,19 @@ fn max_rel(s: &dyn Spline, t: &[f64], a: &[f64], b: &[f64], width: usize, ang: u
 /// and ω; 5e-14 for k = 2 and 1e-13 for k = 3, where two roundings of the same formula
 /// (the AVX2 and scalar kernels) already differ by 2e-14 on the C³ spline's degree-7 weights.
 const TOL: [f64; 4] = [1e-14, 1e-14, 5e-14, 1e-13];
+
+/// The bound's multiple a spline is held to: 1, except the C³ spline on keys left
+/// uncanonicalised with steps past a half-turn (factor angles beyond π/2): there kernel and
+/// reference, two roundings of the same degree-7 formulas, differ by up to 3.2× the bound
+/// (ω of the knot variant, both ISAs; 0.44× for the cubic B-spline on the same keys), and the
+/// documented bound is 4×. Canonicalised keys (the default) stay within 1×.
+fn slack(name: &str) -> f64 {
+    if name.starts_with("c3") && name.contains("wide angles") {
+        4.0
+    } else {
+        1.0
+    }
+}
 
 fn isas() -> Vec<Isa> {
     let mut v = vec![Isa::Scalar];
@@ -236,13 +257,13 @@ fn every_kernel_equals_the_reference_sorted_and_unsorted() {
                         4 * (order + 1),
                         0,
                     );
-                    assert!(e <= 1.0, "{name} {isa:?} {kind} order {order}: {e:e}");
+                    assert!(e <= slack(name), "{name} {isa:?} {kind} order {order}: {e:e}");
                 }
                 for order in 1..=3 {
                     for frame in [Frame::Body, Frame::World] {
                         let k = kernel_angular(s, isa, t, order, frame);
                         let e = max_rel(s, t, &k, &reference_angular(s, t, order, frame), 3, order);
-                        assert!(e <= 1.0, "{name} {isa:?} {kind} angular {order} {frame:?}: {e:e}");
+                        assert!(e <= slack(name), "{name} {isa:?} {kind} angular {order} {frame:?}: {e:e}");
                     }
                 }
             }
@@ -272,7 +293,7 @@ fn short_runs_and_runs_crossing_segments_mid_vector() {
                             4 * (order + 1),
                             0,
                         );
-                        assert!(e <= 1.0, "{name} {isa:?} len {len} start {start} order {order}: {e:e}");
+                        assert!(e <= slack(name), "{name} {isa:?} len {len} start {start} order {order}: {e:e}");
                     }
                     let e = max_rel(
                         s,
@@ -282,7 +303,7 @@ fn short_runs_and_runs_crossing_segments_mid_vector() {
                         3,
                         1,
                     );
-                    assert!(e <= 1.0, "{name} {isa:?} len {len}: {e:e}");
+                    assert!(e <= slack(name), "{name} {isa:?} len {len}: {e:e}");
                 }
             }
         }
@@ -296,7 +317,7 @@ fn joints_and_ends_are_exact_to_the_reference_bound() {
         let t: Vec<f64> = s.joints().to_vec();
         for isa in isas() {
             let e = max_rel(s, &t, &kernel_eval(s, isa, &t, 3), &reference_eval(s, &t, 3), 16, 0);
-            assert!(e <= 1.0, "{name} {isa:?}: {e:e}");
+            assert!(e <= slack(name), "{name} {isa:?}: {e:e}");
         }
     }
 }
@@ -315,13 +336,13 @@ fn engine_equals_reference_including_clamp_and_errors() {
             let mut fast = vec![0.0; t.len() * 4 * (order + 1)];
             evaluate_into(s, &t, 0, order, Extrapolate::Raise, &mut fast).unwrap();
             let e = max_rel(s, &t, &fast, &reference_eval(s, &t, order), 4 * (order + 1), 0);
-            assert!(e <= 1.0, "{name} engine order {order}: {e:e}");
+            assert!(e <= slack(name), "{name} engine order {order}: {e:e}");
         }
         for frame in [Frame::Body, Frame::World] {
             let mut fast = vec![0.0; t.len() * 3];
             angular_into(s, &t, 0, 2, frame, Extrapolate::Raise, &mut fast).unwrap();
             let e = max_rel(s, &t, &fast, &reference_angular(s, &t, 2, frame), 3, 2);
-            assert!(e <= 1.0, "{name} engine α {frame:?}: {e:e}");
+            assert!(e <= slack(name), "{name} engine α {frame:?}: {e:e}");
         }
         // clamp: out-of-domain samples in the middle of a long input
         let mut tc = t.clone();
@@ -331,7 +352,7 @@ fn engine_equals_reference_including_clamp_and_errors() {
         let mut refr = vec![0.0; tc.len() * 8];
         evaluate_into(s, &tc, 0, 1, Extrapolate::Clamp, &mut fast).unwrap();
         evaluate_reference_into(s, &tc, 0, 1, Extrapolate::Clamp, &mut refr).unwrap();
-        assert!(max_rel(s, &tc, &fast, &refr, 8, 0) <= 1.0, "{name} clamp");
+        assert!(max_rel(s, &tc, &fast, &refr, 8, 0) <= slack(name), "{name} clamp");
         assert_eq!(&fast[600 * 8 + 4..600 * 8 + 8], &[0.0; 4]);
         // raise: the first offending index, offset by `first`
         tc[1500] = f64::NAN;
@@ -378,7 +399,8 @@ fn avx2_and_scalar_kernels_agree() {
                 4 * (order + 1),
                 0,
             );
-            assert!(e <= 1.0, "{name} order {order}: {e:e}");
+            assert!(e <= slack(name), "{name} order {order}: {e:e}");
         }
     }
 }
+
