@@ -293,7 +293,10 @@ fn short_runs_and_runs_crossing_segments_mid_vector() {
                             4 * (order + 1),
                             0,
                         );
-                        assert!(e <= slack(name), "{name} {isa:?} len {len} start {start} order {order}: {e:e}");
+                        assert!(
+                            e <= slack(name),
+                            "{name} {isa:?} len {len} start {start} order {order}: {e:e}"
+                        );
                     }
                     let e = max_rel(
                         s,
@@ -403,4 +406,3 @@ fn avx2_and_scalar_kernels_agree() {
         }
     }
 }
-

@@ -656,9 +656,16 @@ mod tests {
     /// angle, or 0 (the trigonometric path).
     #[test]
     fn series_flag_follows_the_largest_angle() {
-        for (half, want) in
-            [(0.1, 1.0), (0.1499, 1.0), (0.1501, 2.0), (0.2999, 2.0), (0.3001, 3.0), (0.4999, 3.0), (0.5001, 0.0), (3.0, 0.0)]
-        {
+        for (half, want) in [
+            (0.1, 1.0),
+            (0.1499, 1.0),
+            (0.1501, 2.0),
+            (0.2999, 2.0),
+            (0.3001, 3.0),
+            (0.4999, 3.0),
+            (0.5001, 0.0),
+            (3.0, 0.0),
+        ] {
             let (s, c) = f64::sin_cos(half);
             let ctrl = [Quat::IDENTITY, Quat::new(c, s, 0.0, 0.0), Quat::new(c * c, s * c, s * c, s * s)];
             let logs: Vec<Axis> =
