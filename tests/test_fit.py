@@ -89,6 +89,32 @@ def test_smoothing_zero_interpolates_every_sample():
     assert f.smoothing == 0.0
 
 
+def _short_grid():
+    """Uniform sample times from 0 and a knot spacing of 3 samples for which the last knot
+    t0 + s·(span/s) rounds below t[-1] in floating point (found by search, checked here)."""
+    rng = np.random.default_rng(1)
+    for _ in range(10_000):
+        n, d = int(rng.integers(20, 200)), rng.uniform(0.001, 0.05)
+        t = np.arange(n) * d
+        span, h = t[-1] - t[0], 3 * d
+        s = max(1, round(span / h))
+        if t[0] + s * (span / s) < t[-1]:
+            return t, h
+    raise AssertionError("no grid found")
+
+
+def test_fit_domain_covers_the_last_sample_whatever_the_rounding():
+    # the knots' last joint t0 + s·Δt rounded an ulp short of t[-1] on such grids, so the
+    # fitted spline could not be evaluated at its own last sample (all grids: the Rust test
+    # fit::tests::knot_layouts_cover_the_last_sample)
+    t, h = _short_grid()
+    q = smooth_motion(t)
+    f = qs.fit(t, q, knots=h, smoothing=1e-6)
+    assert f.domain[0] == t[0] and f.domain[1] >= t[-1]
+    assert np.all(angle(f(t), q) < 1e-2)
+    assert np.isfinite(f.angular_velocity(t[-1:])).all()
+
+
 def test_smoothing_zero_with_too_few_knots_is_a_clear_error():
     t = np.linspace(0.0, 4.0, 41)
     with pytest.raises(ValueError, match="interpolat"):

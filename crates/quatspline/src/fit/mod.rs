@@ -276,8 +276,26 @@ fn validate(times: &[f64], quats: &[Quat], weights: Option<&[f64]>, min: usize, 
     Ok(Data { t: times.to_vec(), y, w })
 }
 
-/// (t₀, Δt, segments) from the knot option.
+/// (t₀, Δt, segments) from the knot option, with t₀ + segments·Δt ≥ the last sample time in
+/// floating point (see [`cover`]).
 fn knot_layout(knots: &Knots, t: &[f64]) -> Result<(f64, f64, usize)> {
+    let b = t[t.len() - 1];
+    let (a, h, s) = knot_layout_raw(knots, t)?;
+    Ok((a, cover(a, h, s, b), s))
+}
+
+/// The smallest Δt ≥ h with a + s·Δt ≥ b as the spline computes its last joint: span/s
+/// can round so that a + s·(span/s) falls an ulp short of b, which would leave the last
+/// sample outside the fitted spline's domain. A few ulps at most.
+fn cover(a: f64, h: f64, s: usize, b: f64) -> f64 {
+    let mut h = h;
+    while a + s as f64 * h < b {
+        h = h.next_up();
+    }
+    h
+}
+
+fn knot_layout_raw(knots: &Knots, t: &[f64]) -> Result<(f64, f64, usize)> {
     let (a, b) = (t[0], t[t.len() - 1]);
     let span = b - a;
     let segs_for = |h: f64| -> Result<usize> {
@@ -1298,6 +1316,38 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every knot option covers the last sample time exactly as the spline computes its last
+    /// joint (t₀ + segments·Δt), on spans and spacings where span/segments rounds down.
+    #[test]
+    fn knot_layouts_cover_the_last_sample() {
+        let mut x: u64 = 17;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut short_before = 0;
+        for _ in 0..20_000 {
+            let a = (next() - 0.5) * 10f64.powi((next() * 8.0) as i32);
+            let n = 2 + (next() * 3000.0) as usize;
+            let dt = 10f64.powf(-3.0 * next());
+            let t: Vec<f64> = (0..n).map(|i| a + i as f64 * dt).collect();
+            let b = t[n - 1];
+            let span = b - a;
+            let spacing = span * (0.0005 + next()).min(1.0);
+            for knots in [Knots::Default, Knots::Spacing(spacing)] {
+                let (t0, h, segs) = knot_layout(&knots, &t).unwrap();
+                let (_, h_raw, _) = knot_layout_raw(&knots, &t).unwrap();
+                short_before += usize::from(t0 + segs as f64 * h_raw < b);
+                assert!(t0 + segs as f64 * h >= b, "{knots:?}: {t0} + {segs}·{h} < {b}");
+                assert!(h - h_raw <= 8.0 * f64::EPSILON * h_raw, "{h} vs {h_raw}");
+            }
+        }
+        // the rounding this guards against does occur on such grids
+        assert!(short_before > 100, "{short_before}");
+    }
 
     fn data(n: usize) -> Data {
         let t: Vec<f64> = (0..n).map(|i| i as f64 * 0.1 + 0.03 * ((i * 7) % 5) as f64).collect();
