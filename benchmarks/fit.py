@@ -8,7 +8,9 @@ Protocol, for each bundled recording: the ground truth is the natural spline thr
 (0.5°, 1°, 2°), and separately 1 % of the frames turned by 10°: on top of 0.5° noise
 ("outliers", the case recorded since the first run) and on the noise-free samples ("outliers
 only", the case as the issue words it). For the outlier cases the floor is the plain fit with
-the outlier frames given weight 0 (what a robust loss that knew them could reach).
+the outlier frames given weight 0 (what a robust loss that knew them could reach). For the
+noise cases the "truth space" columns fit with knots every 10 frames — where the truth has
+its keys — i.e. what an estimator that knew the truth's model could reach.
 Scored on a grid of 4 points per sample interval: RMS angle to the truth, RMS error of
 the angular velocity, RMS jerk (‖d²ω/dt²‖). "Best interpolant" = the interpolating method
 (slerp, squad, catmull_rom, natural, c3) with the smallest orientation error in that case.
@@ -146,6 +148,15 @@ def noise_table(seed: int):
                 orc = [scores(qs.fit(t, q, smoothing=float(lam)), truth, grid) for lam in lams]
                 row["oracle_angle_ratio"] = min(o["angle_deg"] for o in orc) / bs["angle_deg"]
                 row["oracle_omega_ratio"] = min(o["omega"] for o in orc) / bs["omega"]
+                # The truth's own spline space: uniform knots every 10 frames from t[0] (the
+                # truth's keys; exactly so on uniformly sampled recordings), plain least squares
+                # (λ → 0) and GCV's λ — what an estimator that knew where the truth has knots
+                # could reach; the first is the noise floor σ·√(p/n) of that space.
+                k10 = float(np.median(np.diff(t))) * 10.0
+                for tag, lam in (("truth_space", 1e-9), ("truth_space_gcv", "auto")):
+                    ts = scores(qs.fit(t, q, knots=k10, smoothing=lam), truth, grid)
+                    row[f"{tag}_angle_ratio"] = ts["angle_deg"] / bs["angle_deg"]
+                    row[f"{tag}_omega_ratio"] = ts["omega"] / bs["omega"]
                 jf = qs.fit(t, q, penalty="jerk")
                 js = scores(jf, truth, grid)
                 row["auto_penalty"] = "jerk" if jf.score < f.score else "acceleration"
@@ -313,6 +324,22 @@ def main():
                 f"{r['oracle_angle_ratio']:.3f}, {r['jerk_angle_ratio']:.3f} | "
                 f"{r['omega_ratio']:.3f}, {r['oracle_omega_ratio']:.3f}, "
                 f"{r['jerk_omega_ratio']:.3f} | {r['auto_penalty']} |"
+            )
+    print(
+        "\n## The truth's own space (knots every 10 frames, as the truth's keys): least squares "
+        "and GCV's λ there\n"
+    )
+    print(
+        "| recording | noise | angle ratio: fit, truth space LS, truth space GCV | ω ratio: same |"
+    )
+    print("|---|---|---|---|")
+    for r in rows:
+        if "truth_space_angle_ratio" in r:
+            print(
+                f"| {r['recording']} | {r['noise']} | {r['angle_ratio']:.3f}, "
+                f"{r['truth_space_angle_ratio']:.3f}, {r['truth_space_gcv_angle_ratio']:.3f} | "
+                f"{r['omega_ratio']:.3f}, {r['truth_space_omega_ratio']:.3f}, "
+                f"{r['truth_space_gcv_omega_ratio']:.3f} |"
             )
     print("\n## 1 % outliers of 10°: Huber vs plain fit (floor: outlier frames weighted 0)\n")
     print(
