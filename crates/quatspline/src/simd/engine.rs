@@ -4,7 +4,7 @@
 //! domain (or not finite) goes alone through the per-sample reference path, which raises,
 //! clamps (or extrapolates) and reports the first offending index exactly as before.
 
-use super::BatchKernel;
+use super::{BatchKernel, Isa};
 use crate::error::{Error, Result};
 use crate::spline::{Frame, Spline};
 
@@ -16,6 +16,7 @@ pub const CHUNK: usize = 256;
 fn chunks(
     s: &dyn Spline,
     k: &dyn BatchKernel,
+    isa: Isa,
     t: &[f64],
     first: usize,
     width: usize,
@@ -51,7 +52,7 @@ fn chunks(
         all_in &= (x >= lo) & (x <= hi);
         if all_in {
             // the common case: the whole chunk is one run
-            loc.locate_run(tc, &mut seg[..tc.len()], &mut cur, sorted);
+            loc.locate_run(isa, tc, &mut seg[..tc.len()], &mut cur, sorted);
             if !kern(&seg[..tc.len()], tc, oc) {
                 reference(tc, first_c, oc)?;
             }
@@ -69,7 +70,7 @@ fn chunks(
                 j += 1;
             }
             let run = &tc[i..j];
-            loc.locate_run(run, &mut seg[i..j], &mut cur, run.windows(2).all(|w| w[0] <= w[1]));
+            loc.locate_run(isa, run, &mut seg[i..j], &mut cur, run.windows(2).all(|w| w[0] <= w[1]));
             let o = &mut oc[i * width..j * width];
             if !kern(&seg[i..j], &tc[i..j], o) {
                 reference(&tc[i..j], first_c + i, o)?;
@@ -93,7 +94,7 @@ pub fn evaluate(
     let k = s.batch()?;
     let isa = super::isa()?;
     let kern = |seg: &[u32], tc: &[f64], o: &mut [f64]| k.evaluate(isa, seg, tc, order, o);
-    Some(chunks(s, k, t, first, 4 * (order + 1), out, kern, reference))
+    Some(chunks(s, k, isa, t, first, 4 * (order + 1), out, kern, reference))
 }
 
 /// The batch path of `angular_into` (see [`evaluate`]).
@@ -109,5 +110,5 @@ pub fn angular(
     let k = s.batch()?;
     let isa = super::isa()?;
     let kern = |seg: &[u32], tc: &[f64], o: &mut [f64]| k.angular(isa, seg, tc, order, frame, o);
-    Some(chunks(s, k, t, first, 3, out, kern, reference))
+    Some(chunks(s, k, isa, t, first, 3, out, kern, reference))
 }
