@@ -155,7 +155,8 @@ const SQUAD_STRIDE: usize = 20;
 /// i, with `SERIES_TERMS[i]` terms: the truncation error is below 1.9e-17 (tier 0), 3e-18
 /// (tier 1) and 1.4e-17 (tier 2) for every weight in [0, 1] at those angles (mpmath, 40
 /// digits), smaller below. Each tier is the first whose bound holds, so dense keys (steps of
-/// a few degrees, as animation and capture data have) take the shortest series.
+/// a few degrees, as animation and capture data have) take the shortest series; the first
+/// tier serves single curves (spherical Bézier), the others every de Casteljau table.
 pub const SERIES_MAX_ANGLE: [f64; 3] = [0.15, 0.3, 0.5];
 /// See [`SERIES_MAX_ANGLE`].
 pub const SERIES_TERMS: [usize; 3] = [6, 9, 12];
@@ -304,9 +305,14 @@ impl SlerpTable {
             let r = &mut data[i * stride..(i + 1) * stride];
             r[0] = joints[i];
             r[1] = joints[i + 1] - joints[i];
-            // field 2: 1 + the series tier where one applies, else 0 (see `body`)
-            r[2] = match SERIES_MAX_ANGLE.iter().position(|&m| l[..n - 1].iter().all(|ax| ax.a <= m)) {
-                Some(tier) => (tier + 1) as f64,
+            // field 2: 1 + the series tier where one applies, else 0 (see `body`). The
+            // shortest tier only for a single curve: segments of a spline sharing a vector
+            // (unsorted times) cost one pyramid per tier present, and a third tier among
+            // Catmull–Rom segments made unsorted input slower than it saves on sorted input
+            let first = if ctrl.len() == 1 { 0 } else { 1 };
+            r[2] = match SERIES_MAX_ANGLE[first..].iter().position(|&m| l[..n - 1].iter().all(|ax| ax.a <= m))
+            {
+                Some(tier) => (first + tier + 1) as f64,
                 None => 0.0,
             };
             for j in 0..n - 1 {
@@ -672,6 +678,12 @@ mod tests {
                 ctrl.windows(2).map(|w| Axis::from_log((w[0].conj() * w[1]).log().vec())).collect();
             let tab = SlerpTable::casteljau(&[0.0, 1.0], &[&ctrl[..]], &[&logs[..]]).unwrap();
             assert_eq!(tab.data[2], want, "half-angle {half}");
+            // segments of a spline (more than one) start at the second tier
+            let two =
+                SlerpTable::casteljau(&[0.0, 1.0, 2.0], &[&ctrl[..], &ctrl[..]], &[&logs[..], &logs[..]])
+                    .unwrap();
+            let want_many = if want == 1.0 { 2.0 } else { want };
+            assert_eq!((two.data[2], two.data[two.stride + 2]), (want_many, want_many), "half-angle {half}");
         }
     }
 
