@@ -235,22 +235,44 @@ pub(crate) fn series_coefficients<V: Arith, const K: usize>(w: V) -> Coef<V> {
     b
 }
 
-/// Σₖ βₖ xᵏ by Horner.
+/// Σₖ βₖ xᵏ (k = 0…K) by Estrin's scheme on the powers x, x², x⁴, x⁸ (`p`, shared by the
+/// two series of a slerp): pairs βₖ + βₖ₊₁ x, then pairs of pairs with x², and so on — the
+/// same number of fused multiply-adds as Horner's rule but a dependency chain of ⌈log₂(K+1)⌉
+/// instead of K, which is what the top levels of a de Casteljau pyramid (few independent
+/// slerps) wait on.
 #[inline(always)]
-fn series<V: Arith, const K: usize>(b: &Coef<V>, x: V) -> V {
-    let mut acc = b[K];
-    for k in (0..K).rev() {
-        acc = acc.fma(x, b[k]);
+fn series<V: Arith, const K: usize>(b: &Coef<V>, p: &[V; 4]) -> V {
+    let mut c = *b;
+    let mut n = K + 1;
+    let mut level = 0;
+    while n > 1 {
+        for i in 0..n / 2 {
+            c[i] = c[2 * i + 1].fma(p[level], c[2 * i]);
+        }
+        if n % 2 == 1 {
+            c[n / 2] = c[n - 1];
+        }
+        n = n.div_ceil(2);
+        level += 1;
     }
-    acc
+    c[0]
+}
+
+/// x, x², x⁴, x⁸ (for series of up to 16 terms).
+#[inline(always)]
+fn powers<V: Arith>(x: V) -> [V; 4] {
+    let x2 = x * x;
+    let x4 = x2 * x2;
+    [x, x2, x4, x4 * x4]
 }
 
 /// slerp(a, b; w) = a sin((1 − w)θ)/sin θ + b sin(wθ)/sin θ for unit a, b at an angle θ up to
 /// `SERIES_MAX_ANGLE[i]` and K = `SERIES_TERMS[i]`, with `bw` = βₖ(w) and `bv` = βₖ(1 − w)
 /// from [`series_coefficients`]:
-/// no square root, division or trigonometric function. x = a·b − 1 is summed from −1 on (its
-/// absolute error is a few ulp of 1, and ∂/∂x of either coefficient is below 0.2). Exact at
-/// the ends: βₖ(0) = 0 and βₖ(1) = (1, 0, 0, …), so w = 0 gives a and w = 1 gives b.
+/// no square root, division or trigonometric function. x = a·b − 1 takes the −1 into its
+/// first product (its absolute error is a few ulp of 1, and ∂/∂x of either coefficient is
+/// below 0.2). Exact at the ends: βₖ(0) = 0 and βₖ(1) = (1, 0, 0, …), so w = 0 gives a and
+/// w = 1 gives b (Estrin's pairs then hold 1 or 0 exactly).
 #[inline(always)]
 pub(crate) fn slerp_series<V: Arith, const K: usize>(
     a: Q4<V>,
@@ -258,14 +280,16 @@ pub(crate) fn slerp_series<V: Arith, const K: usize>(
     bw: &Coef<V>,
     bv: &Coef<V>,
 ) -> Q4<V> {
-    let x = a[3].fma(b[3], a[2].fma(b[2], a[1].fma(b[1], a[0].fma(b[0], V::splat(-1.0)))));
+    // two chains of two, then a sum: three operations deep instead of four
+    let x = a[1].fma(b[1], a[0].fma(b[0], V::splat(-1.0))) + a[3].fma(b[3], a[2] * b[2]);
     lin_series::<V, K>(a, b, x, bw, bv)
 }
 
 /// a sin((1 − w)θ)/sin θ + b sin(wθ)/sin θ for a given x = cos θ − 1.
 #[inline(always)]
 fn lin_series<V: Arith, const K: usize>(a: Q4<V>, b: Q4<V>, x: V, bw: &Coef<V>, bv: &Coef<V>) -> Q4<V> {
-    let (fa, fb) = (series::<V, K>(bv, x), series::<V, K>(bw, x));
+    let p = powers(x);
+    let (fa, fb) = (series::<V, K>(bv, &p), series::<V, K>(bw, &p));
     [b[0].fma(fb, a[0] * fa), b[1].fma(fb, a[1] * fa), b[2].fma(fb, a[2] * fa), b[3].fma(fb, a[3] * fa)]
 }
 
