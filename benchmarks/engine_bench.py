@@ -4,7 +4,8 @@ calls, AVX2 against the forced scalar kernels and the per-sample reference path 
 ``RotationSpline`` timed in the same run for the ratios.
 
 Every figure is the best of ``repeat`` runs (the machine is shared; the minimum is the least
-disturbed run), in ns per sample unless stated.
+disturbed run), in ns per sample unless stated; the figures of a ratio (sorted and unsorted;
+ω, α and jerk) take turns run by run.
 """
 
 from __future__ import annotations
@@ -27,6 +28,21 @@ def best_ns(fn: Callable[[], object], n: int, repeat: int) -> float:
         fn()
         best = min(best, time.perf_counter_ns() - t0)
     return best / n
+
+
+def best_ns_interleaved(fns: list[Callable[[], object]], n: int, repeat: int) -> list[float]:
+    """Best of ``repeat`` runs per function, the functions taking turns (f₀, f₁, …, f₀, …), so
+    that a burst of load on the shared machine spoils one run of each rather than every run
+    of one: the figures a ratio compares come from the same stretch of time."""
+    for fn in fns:
+        fn()
+    best = [float("inf")] * len(fns)
+    for _ in range(repeat):
+        for i, fn in enumerate(fns):
+            t0 = time.perf_counter_ns()
+            fn()
+            best[i] = min(best[i], time.perf_counter_ns() - t0)
+    return [b / n for b in best]
 
 
 def cpu_model() -> str:
@@ -111,8 +127,9 @@ def engine(n: int, repeat: int, keys: int = 1000) -> None:
         qs.set_num_threads(1)
         one = best_ns(lambda s=s, ts=ts: s(ts), n, repeat)
         qs.set_num_threads(0)
-        two = best_ns(lambda s=s, ts=ts: s(ts), n, repeat)
-        uns = best_ns(lambda s=s, tu=tu: s(tu), n, repeat)
+        two, uns = best_ns_interleaved(
+            [lambda s=s, ts=ts: s(ts), lambda s=s, tu=tu: s(tu)], n, repeat
+        )
         qs.set_simd("reference")
         ref = best_ns(lambda s=s, ts=ts: s(ts), n, max(1, repeat // 2))
         qs.set_simd(mode)
@@ -133,10 +150,16 @@ def engine(n: int, repeat: int, keys: int = 1000) -> None:
             continue
         ts = t_all[name][0]
         cells = [best_ns(lambda s=s, k=k, ts=ts: s.derivatives(ts, k), n, repeat) for k in range(4)]
-        w = best_ns(lambda s=s, ts=ts: s.angular_velocity(ts), n, repeat)
-        wb = best_ns(lambda s=s, ts=ts: s.angular_velocity(ts, frame="body"), n, repeat)
-        al = best_ns(lambda s=s, ts=ts: s.angular_acceleration(ts), n, repeat)
-        jk = best_ns(lambda s=s, ts=ts: s.jerk(ts), n, repeat)
+        w, wb, al, jk = best_ns_interleaved(
+            [
+                lambda s=s, ts=ts: s.angular_velocity(ts),
+                lambda s=s, ts=ts: s.angular_velocity(ts, frame="body"),
+                lambda s=s, ts=ts: s.angular_acceleration(ts),
+                lambda s=s, ts=ts: s.jerk(ts),
+            ],
+            n,
+            repeat,
+        )
         row = " | ".join(f"{v:.1f}" for v in (*cells, w, wb, al, jk))
         print(f"| {name} | {row} | {al / w:.2f} | {jk / w:.2f} | {scw / min(w, wb):.0f}× |")
 
