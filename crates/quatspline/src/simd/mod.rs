@@ -179,9 +179,12 @@ pub struct Locator {
 }
 
 impl Locator {
-    /// From strictly increasing joints (at least two).
+    /// From strictly increasing joints (at least two). Segment indices are `u32` with the top
+    /// bit as [`MULTI`]: fewer than 2³⁰ segments (every kernel table is tens of bytes per
+    /// segment, so memory ends far sooner).
     pub fn new(joints: &[f64]) -> Self {
         let nseg = joints.len() - 1;
+        debug_assert!(nseg < 1 << 30, "Locator: {nseg} segments");
         let nb = 2 * nseg;
         let (t0, t1) = (joints[0], joints[nseg]);
         let w = (t1 - t0) / nb as f64;
@@ -301,8 +304,10 @@ impl Locator {
         }
         let mut done = 0;
         #[cfg(target_arch = "x86_64")]
-        if isa == Isa::Avx2 && avx2_available() {
-            // SAFETY: AVX2 and FMA detected; t and seg have the same length
+        // (bucket indices as i32 lanes: below 2³¹ buckets, i.e. 2³⁰ segments)
+        if isa == Isa::Avx2 && avx2_available() && start.len() < i32::MAX as usize {
+            // SAFETY: AVX2 and FMA detected; t and seg have the same length; every bucket
+            // index fits an i32 lane
             done = unsafe { self.locate_unsorted_avx2(t, seg) };
         }
         let _ = isa;
