@@ -69,10 +69,10 @@ def cpu_model() -> str:
     return f"{name} (family {fam}, model {model}, stepping {step}; {simd})"
 
 
-def _keys(n: int, seed: int) -> np.ndarray:
+def _keys(n: int, seed: int, step: float = 0.3) -> np.ndarray:
     from bench import random_walk
 
-    return random_walk(n, seed)
+    return random_walk(n, seed, step)
 
 
 def _methods(keys: int):
@@ -89,6 +89,12 @@ def _methods(keys: int):
         ("KochanekBartels (T=0.3)", qs.KochanekBartels(q, times, tension=0.3)),
         ("CumulativeBezier (8 points)", qs.CumulativeBezier(q[:8], domain=(0.0, keys - 1.0))),
         ("SphericalBezier (8 points)", qs.SphericalBezier(q[:8], domain=(0.0, keys - 1.0))),
+        # control points a few degrees apart (half-angles ≤ 0.15), as dense keys are: the
+        # shortest series tier
+        (
+            "SphericalBezier (8 dense points)",
+            qs.SphericalBezier(_keys(8, 4, 0.15), domain=(0.0, keys - 1.0)),
+        ),
     ]
 
 

@@ -5,6 +5,7 @@ use numpy::{PyArray2, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use quatspline::convert::{self, EulerSeq};
+use quatspline::simd::Isa;
 use quatspline::{interp, special, DualQuat, Error, Quat};
 
 type Arr<'py> = PyReadonlyArray2<'py, f64>;
@@ -165,44 +166,39 @@ fn nlerp<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>, long_pat
     })
 }
 
-#[pyfunction]
-fn slerp<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>, long_path: bool) -> Out<'py> {
-    let (a, b, t) =
-        (Rows::unchecked(&q0, "q0", 4)?, Rows::unchecked(&q1, "q1", 4)?, Rows::unchecked(&t, "t", 1)?);
-    // the element checks in the order (and with the messages) of `Rows::new`, `parameters`
+/// The shared path of the pairs functions (`slerp`, `sclerp`): rows `a`, `b` of `width`
+/// numbers and parameters `t`, checked in the order (and with the messages) of `Rows::new` and
+/// `parameters`. Contiguous rows go to the SIMD engine's pairs `kernel` (AVX2 where the CPU has
+/// it) in parallel blocks that check their own inputs, where the kernel then finds them in
+/// cache (a serial pass before them took ~40% of the time on 2 threads); any error re-runs the
+/// serial checks first, so the error raised is the one they name. Other layouts: the serial
+/// checks, then `serial(n)` row by row.
+fn pairs<'py>(
+    py: Python<'py>,
+    what: &str,
+    (a, b, t): (&Rows, &Rows, &Rows),
+    width: usize,
+    kernel: impl Fn(Isa, &[f64], &[f64], &[f64], &mut [f64]) -> Result<(), Error> + Sync,
+    serial: impl FnOnce(usize) -> Out<'py>,
+) -> Out<'py> {
     let validate = || -> PyResult<()> {
         a.check_finite()?;
         b.check_finite()?;
         t.check_finite()?;
         t.check_parameters()
     };
-    let n = match same_len(&[("q0", a.len()), ("q1", b.len()), ("t", t.len())]) {
+    let n = match same_len(&[(a.name, a.len()), (b.name, b.len()), (t.name, t.len())]) {
         Ok(n) => n,
         Err(e) => return validate().and(Err(e)),
     };
-    // contiguous rows: the pairs kernel of the SIMD engine (AVX2 where the CPU has it); the
-    // inputs are checked block by block in the parallel tasks, where the kernel then finds
-    // them in cache (a serial pass before them took ~40% of the time on 2 threads); any error
-    // re-runs the serial checks first, so the error raised is the one they name
-    if let (Some(q0), Some(q1), Some(tt), Some(isa)) = (a.flat, b.flat, t.flat, quatspline::simd::isa()) {
-        let out = fill_blocks(py, "slerp", n, 4, |first, block| {
-            let m = block.len() / 4;
-            let r = first..first + m;
-            if !(all_finite(&q0[4 * r.start..4 * r.end])
-                && all_finite(&q1[4 * r.start..4 * r.end])
-                && all_parameters(&tt[r.clone()]))
-            {
-                return Err(Error::invalid("q0", "non-finite input (re-checked serially)"));
+    if let (Some(fa), Some(fb), Some(ft), Some(isa)) = (a.flat, b.flat, t.flat, quatspline::simd::isa()) {
+        let out = fill_blocks(py, what, n, width, |first, block| {
+            let r = first..first + block.len() / width;
+            let (ra, rb) = (&fa[width * r.start..width * r.end], &fb[width * r.start..width * r.end]);
+            if !(all_finite(ra) && all_finite(rb) && all_parameters(&ft[r.clone()])) {
+                return Err(Error::invalid(a.name, "non-finite input (re-checked serially)"));
             }
-            quatspline::simd::pairs::slerp_pairs(
-                isa,
-                &q0[4 * r.start..4 * r.end],
-                &q1[4 * r.start..4 * r.end],
-                &tt[r],
-                long_path,
-                block,
-            )
-            .map_err(|e| match e {
+            kernel(isa, ra, rb, &ft[r], block).map_err(|e| match e {
                 Error::ZeroNorm { arg, index } => Error::ZeroNorm { arg, index: first + index },
                 e => e,
             })
@@ -210,9 +206,25 @@ fn slerp<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>, long_pat
         return out.or_else(|e| validate().and(Err(e)));
     }
     validate()?;
-    fill(py, "slerp", n, |i| {
-        Ok(interp::slerp(a.rotation(i)?, b.rotation(i)?, t.scalar(i), long_path).to_wxyz())
-    })
+    serial(n)
+}
+
+#[pyfunction]
+fn slerp<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>, long_path: bool) -> Out<'py> {
+    let (a, b, t) =
+        (Rows::unchecked(&q0, "q0", 4)?, Rows::unchecked(&q1, "q1", 4)?, Rows::unchecked(&t, "t", 1)?);
+    pairs(
+        py,
+        "slerp",
+        (&a, &b, &t),
+        4,
+        |isa, q0, q1, tt, block| quatspline::simd::pairs::slerp_pairs(isa, q0, q1, tt, long_path, block),
+        |n| {
+            fill(py, "slerp", n, |i| {
+                Ok(interp::slerp(a.rotation(i)?, b.rotation(i)?, t.scalar(i), long_path).to_wxyz())
+            })
+        },
+    )
 }
 
 #[pyfunction]
@@ -320,44 +332,14 @@ fn dq_power<'py>(py: Python<'py>, dq: Arr<'py>, t: Arr<'py>, long_path: bool) ->
 fn sclerp<'py>(py: Python<'py>, dq0: Arr<'py>, dq1: Arr<'py>, t: Arr<'py>) -> Out<'py> {
     let (a, b, t) =
         (Rows::unchecked(&dq0, "dq0", 8)?, Rows::unchecked(&dq1, "dq1", 8)?, Rows::unchecked(&t, "t", 1)?);
-    // the element checks in the order (and with the messages) of `Rows::new`, `parameters`
-    let validate = || -> PyResult<()> {
-        a.check_finite()?;
-        b.check_finite()?;
-        t.check_finite()?;
-        t.check_parameters()
-    };
-    let n = match same_len(&[("dq0", a.len()), ("dq1", b.len()), ("t", t.len())]) {
-        Ok(n) => n,
-        Err(e) => return validate().and(Err(e)),
-    };
-    // contiguous rows: the pairs kernel of the SIMD engine (AVX2 where the CPU has it), the
-    // inputs checked block by block in the parallel tasks as in `slerp`
-    if let (Some(a8), Some(b8), Some(tt), Some(isa)) = (a.flat, b.flat, t.flat, quatspline::simd::isa()) {
-        let out = fill_blocks(py, "sclerp", n, 8, |first, block| {
-            let r = first..first + block.len() / 8;
-            if !(all_finite(&a8[8 * r.start..8 * r.end])
-                && all_finite(&b8[8 * r.start..8 * r.end])
-                && all_parameters(&tt[r.clone()]))
-            {
-                return Err(Error::invalid("dq0", "non-finite input (re-checked serially)"));
-            }
-            quatspline::simd::pairs::sclerp_pairs(
-                isa,
-                &a8[8 * r.start..8 * r.end],
-                &b8[8 * r.start..8 * r.end],
-                &tt[r],
-                block,
-            )
-            .map_err(|e| match e {
-                Error::ZeroNorm { arg, index } => Error::ZeroNorm { arg, index: first + index },
-                e => e,
-            })
-        });
-        return out.or_else(|e| validate().and(Err(e)));
-    }
-    validate()?;
-    fill(py, "sclerp", n, |i| Ok(interp::sclerp(unit_dq(&a, i)?, unit_dq(&b, i)?, t.scalar(i)).to_array()))
+    pairs(py, "sclerp", (&a, &b, &t), 8, quatspline::simd::pairs::sclerp_pairs, |n| {
+        fill(
+            py,
+            "sclerp",
+            n,
+            |i| Ok(interp::sclerp(unit_dq(&a, i)?, unit_dq(&b, i)?, t.scalar(i)).to_array()),
+        )
+    })
 }
 
 /// dqs: (N, 8K) rows of K poses; weights: (N, K).

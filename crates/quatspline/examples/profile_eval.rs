@@ -1,4 +1,5 @@
-//! Times the value path of a few splines on one core (a quick profile, not a benchmark).
+//! Times the value path of a few splines on one core, and the angular rates (ω, α, jerk) of
+//! the natural spline and the cubic B-spline (a quick profile, not a benchmark).
 use quatspline::spline::*;
 use quatspline::Quat;
 use std::time::Instant;
@@ -33,6 +34,7 @@ fn main() {
         }
         println!("  raw loop {:.1} ns/sample ({acc:.3})", start.elapsed().as_nanos() as f64 / t.len() as f64);
     }
+    rates(&q, &t);
     let start = Instant::now();
     let mut acc = 0.0;
     for &ti in &t {
@@ -69,4 +71,26 @@ pub fn pieces(t: &[f64]) {
         a2 = Quat::new(0.5, 0.5, 0.5, 0.5) * Quat::new(c, s * 0.6, 0.0, s * 0.8);
     }
     println!("plain quat: {:.1} ns ({:?})", start.elapsed().as_nanos() as f64 / t.len() as f64, a2.w);
+}
+
+/// ω, α and jerk (world frame) of the natural spline and the cubic B-spline, best of 10.
+pub fn rates(q: &[Quat], t: &[f64]) {
+    let splines: Vec<Box<dyn Spline>> = vec![
+        Box::new(NaturalSpline::new(q, None, NaturalEnds::Natural, true).unwrap()),
+        Box::new(CumulativeBSpline::new(q, 1.0, 0.0, 4, true).unwrap()),
+    ];
+    let mut out = vec![0.0; 3 * t.len()];
+    for s in &splines {
+        let mut row = Vec::new();
+        for order in 1..=3 {
+            let mut best = f64::MAX;
+            for _ in 0..10 {
+                let start = Instant::now();
+                angular_into(&**s, t, 0, order, Frame::World, Extrapolate::Raise, &mut out).unwrap();
+                best = best.min(start.elapsed().as_secs_f64());
+            }
+            row.push(best * 1e9 / t.len() as f64);
+        }
+        println!("{}: ω {:.2}  α {:.2}  jerk {:.2} ns/sample", s.name(), row[0], row[1], row[2]);
+    }
 }

@@ -239,9 +239,11 @@ pub(crate) fn series_coefficients<V: Arith, const K: usize>(w: V) -> Coef<V> {
 /// x, x², x⁴, x⁸ (`p`, shared by the two series of a slerp): pairs βₖ + βₖ₊₁ x, then pairs of
 /// pairs with x², and so on — as many fused multiply-adds but a dependency chain of
 /// ⌈log₂(K+1)⌉ instead of K. A tall de Casteljau pyramid waits on its top levels' chains (few
-/// independent slerps), so it takes Estrin (8 points: 53.7 → 49.1 ns/sample on one core);
+/// independent slerps), so it takes Estrin (8 points, one core: 53.1–53.7 → 49.1–50.1 ns/sample
+/// in `benchmarks/engine_bench.py`);
 /// a cubic segment (4 points) is throughput-bound — consecutive samples overlap — and keeps
-/// Horner, which needs no powers (Estrin made Catmull–Rom 20 % slower).
+/// Horner, which needs no powers (Estrin made Catmull–Rom 20 % slower: 10.1 → 12.1 ns/sample
+/// on both cores, same benchmark).
 #[inline(always)]
 fn series<V: Arith, const K: usize, const ESTRIN: bool>(b: &Coef<V>, p: &[V; 4]) -> V {
     if !ESTRIN {
