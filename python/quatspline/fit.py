@@ -353,7 +353,8 @@ def fit(
         Robust loss (iteratively reweighted), so single bad frames do not bend the curve.
     robust_scale : float, optional
         The loss's scale c in radians (default: 1.345 σ̂ for Huber, 2.385 σ̂ for Cauchy, with
-        σ̂ = 1.4826 × the median residual of the non-robust fit). For positions the scale is
+        σ̂ = 1.4826 × the median residual of the non-robust fit, taken once its step is
+        below √tol). For positions the scale is
         estimated from the position residuals.
     order : int, optional
         Spline order (default 4 for acceleration, 6 for jerk).
