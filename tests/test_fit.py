@@ -245,7 +245,9 @@ def test_robust_loss_rejects_injected_outliers(loss):
     assert rob.residuals[bad].min() > np.deg2rad(15)
 
 
-@pytest.mark.parametrize(("deg", "frac"), [(170.0, 0.01), (170.0, 0.05), (179.0, 0.05), (180.0, 0.01)])
+@pytest.mark.parametrize(
+    ("deg", "frac"), [(170.0, 0.01), (170.0, 0.05), (179.0, 0.05), (180.0, 0.01)]
+)
 def test_far_glitches_converge_and_robust_losses_reject_them(deg, frac):
     """Glitches up to a half turn (marker swaps, flipped tracker frames): the fit starts from a
     curve near the good frames and every loss converges quickly; the robust ones reject them.
