@@ -60,7 +60,7 @@ def test_unknown_euler_sequence_lists_valid_ones():
     "bad", [np.array([1 + 0j, 0, 0, 0]), np.array([1, 0, 0, "a"], dtype=object)]
 )
 def test_complex_and_object_dtypes_rejected(bad):
-    with pytest.raises(ValueError, match="q: expected real numbers"):
+    with pytest.raises(TypeError, match="q: expected real numbers"):
         qs.normalize(bad)
 
 

@@ -258,3 +258,29 @@ def test_console_script_runs():
         [sys.executable, "-m", "quatspline.cli", "--version"], capture_output=True, text=True
     )
     assert r.returncode == 0 and "quatspline" in r.stdout
+
+
+def test_python_dash_m_package_runs_the_cli(tmp_path):
+    # `python -m quatspline` is the same command line as the console script, exit codes too
+    r = subprocess.run(
+        [sys.executable, "-m", "quatspline", "--version"], capture_output=True, text=True
+    )
+    assert r.returncode == 0 and "quatspline" in r.stdout
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "quatspline",
+            "fit",
+            str(tmp_path / "missing.csv"),
+            "-o",
+            "x.csv",
+            "--rate",
+            "10",
+        ],
+        capture_output=True,
+        text=True,
+    )
+    assert (
+        r.returncode == 1 and "missing.csv" in r.stderr and len(r.stderr.strip().splitlines()) == 1
+    )

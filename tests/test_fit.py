@@ -4,6 +4,8 @@ differences, the banded solver and the selected inverse are tested in Rust
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import pytest
 import quatspline as qs
@@ -50,10 +52,80 @@ def test_exact_recovery_of_a_spline_in_the_fits_own_space(penalty):
     assert np.allclose(f.knots, knots)
 
 
+def _full_knots(breaks, k):
+    """Breakpoints extended by k − 1 knots at each end with the end intervals' widths (the
+    fitted spline's documented knot vector)."""
+    h0, h1 = breaks[1] - breaks[0], breaks[-1] - breaks[-2]
+    return np.r_[
+        breaks[0] - h0 * np.arange(k - 1, 0, -1), breaks, breaks[-1] + h1 * np.arange(1, k)
+    ]
+
+
+def _uneven_breaks(seed=4, n=14, end=5.0):
+    """Breakpoints from 0 to `end`, widths varying by a factor of about 8."""
+    w = np.random.default_rng(seed).uniform(0.2, 1.6, n)
+    b = np.r_[0.0, np.cumsum(w) / w.sum() * end]
+    b[-1] = end
+    return b
+
+
+@pytest.mark.parametrize("penalty", ["acceleration", "jerk"])
+def test_non_uniform_knots_recover_a_spline_in_the_fits_own_space(penalty):
+    order = 4 if penalty == "acceleration" else 6
+    breaks = _uneven_breaks()
+    rng = np.random.default_rng(3)
+    n_ctrl = len(breaks) - 1 + order - 1
+    ctrl = qs.from_rotvec(np.cumsum(rng.normal(scale=0.4, size=(n_ctrl, 3)), axis=0))
+    truth = qs.CumulativeBSpline(ctrl, order=order, knots=_full_knots(breaks, order))
+    t = np.linspace(0.0, 5.0, 300)
+    f = qs.fit(t, truth(t), smoothing=1e-14, penalty=penalty, knots=breaks)
+    dense = np.linspace(0.0, 5.0, 2001)
+    assert np.max(angle(f(dense), truth(dense))) < 1e-9
+    assert np.allclose(f.knots, breaks, rtol=0, atol=1e-12)
+    assert f.continuity == order - 2
+
+
+@pytest.mark.parametrize("penalty", ["acceleration", "jerk"])
+def test_non_uniform_knots_rates_match_finite_differences_and_join_smoothly(penalty):
+    breaks = _uneven_breaks(seed=6, n=40, end=8.0)
+    f = qs.fit(T, noisy(T, 1.0), knots=breaks, penalty=penalty)
+    assert f.continuity == (2 if penalty == "acceleration" else 4)
+    t = np.linspace(0.3, 7.7, 57)
+    h = 1e-4
+    for rate, lower in (
+        (f.angular_acceleration, f.angular_velocity),
+        (f.jerk, f.angular_acceleration),
+    ):
+        fd = (lower(t + h, frame="body") - lower(t - h, frame="body")) / (2 * h)
+        an = rate(t, frame="body")
+        assert np.max(np.abs(fd - an)) < 1e-5 * (1 + np.max(np.abs(an)))
+    # Across every interior knot: ω, α continuous (and jerk, snap for C⁴).
+    eps = 1e-9
+    for b in breaks[1:-1]:
+        for rate in (f.angular_velocity, f.angular_acceleration):
+            lo, hi = rate(np.array([b - eps])), rate(np.array([b + eps]))
+            assert np.max(np.abs(lo - hi)) < 1e-5 * (1 + np.max(np.abs(lo)))
+
+
+def test_uniform_knot_array_is_the_uniform_fit_and_positions_follow_uneven_knots():
+    q = noisy(T, 1.0)
+    a = qs.fit(T, q, knots=np.linspace(0.0, 8.0, 81), smoothing=1e-4)
+    b = qs.fit(T, q, knots=0.1, smoothing=1e-4)
+    assert np.max(angle(a(T), b(T))) < 1e-12
+    breaks = _uneven_breaks(seed=9, n=25, end=8.0)
+    p = np.column_stack([T**3 - 2 * T, 0.5 * T**2, np.full_like(T, 3.0)])
+    f = qs.fit(T, q, positions=p, knots=breaks, smoothing=1e-10)
+    assert np.max(f.position_residuals) < 1e-6
+    tt = np.linspace(0.0, 8.0, 97)
+    v = np.column_stack([3 * tt**2 - 2, tt, 0 * tt])
+    assert np.allclose(f.linear_velocity(tt), v, atol=1e-5)
+    assert np.allclose(f.rotation.knots, breaks, rtol=0, atol=1e-12)
+
+
 def test_lambda_to_infinity_acceleration_gives_constant_angular_velocity():
     q = noisy(T, 2.0)
     prev = None
-    for lam in (1e5, 1e7, 1e9):
+    for lam in (1e5, 1e7, 1e9):  # the largest λ resolved here is 1.5e9
         f = qs.fit(T, q, smoothing=lam)
         w = f.angular_velocity(T, frame="body")
         a = np.max(np.linalg.norm(f.angular_acceleration(T, frame="body"), axis=1))
@@ -62,17 +134,85 @@ def test_lambda_to_infinity_acceleration_gives_constant_angular_velocity():
             assert a < 0.02 * prev[0] and spread < 0.02 * prev[1]
         prev = (a, spread)
     assert prev[0] < 1e-6 and prev[1] < 1e-6
-    # The limit is the least-squares constant-velocity rotation: λ beyond that moves nothing.
-    g = qs.fit(T, q, smoothing=1e10)
+    # A λ beyond what double precision resolves is fitted at the largest λ it does, with a
+    # warning and the λ used in `smoothing`: that curve is the limit already (1e-6 rad).
+    with pytest.warns(RuntimeWarning, match=r"smoothing: λ = 1e\+20 is beyond .* fitted with λ ="):
+        g = qs.fit(T, q, smoothing=1e20)
+    assert 1e9 < g.smoothing < 1e20
     assert np.max(angle(f(T), g(T))) < 1e-6
-    with pytest.raises(ValueError, match="smoothing: λ = 1e20 is beyond"):
-        qs.fit(T, q, smoothing=1e20)
+    wg = g.angular_velocity(T, frame="body")
+    assert np.max(np.abs(wg - wg.mean(axis=0))) < 1e-6
+
+
+@pytest.mark.parametrize("n, span", [(20, 1.0), (50, 2.0), (200, 2.0)])
+def test_huge_smoothing_is_the_least_squares_constant_velocity_rotation(n, span):
+    """λ → ∞ with the acceleration penalty: the least-squares rotation q₀·Exp(t ω) (computed
+    here independently by scipy's least_squares on its 6 parameters), reached by any huge λ
+    without an internal error, the λ used capped where double precision still resolves it."""
+    from scipy.optimize import least_squares
+
+    t = np.linspace(0.0, span, n)
+    rng = np.random.default_rng(n)
+    y = qs.multiply(smooth_motion(t), qs.from_rotvec(rng.normal(size=(n, 3)) * 0.03))
+
+    def curve(x):
+        return qs.multiply(qs.from_rotvec(x[:3]), qs.from_rotvec(t[:, None] * x[3:]))
+
+    def res(x):
+        return qs.as_rotvec(qs.multiply(qs.conjugate(curve(x)), y)).ravel()
+
+    x = least_squares(res, np.zeros(6), xtol=1e-15, ftol=1e-15, gtol=1e-15).x
+    for lam in (1e12, 1e30, 1e300):
+        with pytest.warns(RuntimeWarning, match="beyond what double precision resolves"):
+            f = qs.fit(t, y, smoothing=lam)
+        assert f.smoothing < lam and f.converged
+        assert np.max(angle(f(t), curve(x))) < 1e-6
+
+
+@pytest.mark.parametrize("penalty, degree", [("acceleration", 1), ("jerk", 2)])
+@pytest.mark.parametrize("n, span", [(20, 1.0), (50, 2.0), (200, 2.0)])
+def test_huge_position_smoothing_is_the_least_squares_polynomial(penalty, degree, n, span):
+    """Positions, λ → ∞: the least-squares line (acceleration) or parabola (jerk), as numpy's
+    polyfit gives it. Solving for the data itself lost up to 2e-2 of this unit-size curve to
+    rounding at large λ (and raised an internal error beyond); the polynomial part is now fitted
+    apart from the spline of what it leaves, and λ is capped where the factor still exists."""
+    t = np.linspace(0.0, span, n)
+    rng = np.random.default_rng(n)
+    p = np.stack([(t / span) ** 3, np.sin(3 * t / span), 0 * t], 1) + rng.normal(size=(n, 3)) * 0.01
+    q = smooth_motion(t)
+    want = np.stack([np.polyval(np.polyfit(t, p[:, d], degree), t) for d in range(3)], 1)
+    errs = []
+    for lam in (1e4, 1e8, 1e12, 1e20, 1e300):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # the cap, checked below
+            f = qs.fit(t, q, positions=p, smoothing=(1e-3, lam), penalty=penalty)
+        errs.append(np.max(np.abs(f.position(t) - want)))
+    assert errs[-1] < (1e-8 if n < 200 else 1e-5)  # 200 jerk: the cap stops at 5e-6
+    assert all(b <= a * 1.01 + 1e-12 for a, b in zip(errs, errs[1:]))  # no rounding growth
+    with pytest.warns(RuntimeWarning, match=r"smoothing\[1\]: λ = 1e\+300 is beyond"):
+        qs.fit(t, q, positions=p, smoothing=(1e-3, 1e300), penalty=penalty)
+
+
+@pytest.mark.parametrize("penalty", ["acceleration", "jerk"])
+def test_no_smoothing_raises_an_internal_error(penalty):
+    """Every λ from 1 to 1e300 either fits or (rotations, jerk, stiff λ) says it did not
+    converge — never the factorisation's internal error (it reached users near the old cap)."""
+    t = np.linspace(0.0, 1.0, 20)
+    q = noisy(t, 1.0)
+    p = np.stack([t, t**2, np.cos(t)], 1)
+    for e in range(0, 301, 4):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            try:
+                qs.fit(t, q, positions=p, smoothing=float(10.0**e), penalty=penalty, max_iter=500)
+            except RuntimeError as err:
+                assert "did not converge" in str(err), (e, str(err))
 
 
 def test_lambda_to_infinity_jerk_gives_zero_jerk():
     q = noisy(T, 2.0)
     jerks = []
-    for lam in (1e2, 1e4, 1e6):
+    for lam in (1e1, 1e3, 1e5):  # the largest λ resolved here is 2.8e5
         f = qs.fit(T, q, smoothing=lam, penalty="jerk")
         jerks.append(np.max(np.linalg.norm(f.jerk(T, frame="body"), axis=1)))
     a = np.max(np.linalg.norm(f.angular_acceleration(T, frame="body"), axis=1))
@@ -119,6 +259,42 @@ def test_smoothing_zero_with_too_few_knots_is_a_clear_error():
     t = np.linspace(0.0, 4.0, 41)
     with pytest.raises(ValueError, match="interpolat"):
         qs.fit(t, noisy(t, 1.0), smoothing=0, knots=0.5)
+
+
+def test_smoothing_zero_with_knots_that_cannot_interpolate_names_the_samples():
+    # Enough control points overall (41 + 3 for 41 samples) but 8 samples crowd between two
+    # knots that only 4 control points reach: no interpolant exists (Schoenberg–Whitney).
+    t = np.linspace(0.0, 4.0, 41)
+    knots = np.r_[0.0, 0.75, np.linspace(0.8, 4.0, 39)[1:]]
+    assert len(knots) + 2 >= len(t)
+    with pytest.raises(
+        ValueError, match=r"the 8 samples 0 … 7 lie between knots 0 and 0.75, which only 4 "
+    ):
+        qs.fit(t, noisy(t, 1.0), smoothing=0, knots=knots)
+    # a cluster the knots do reach still interpolates, and so do zero-weight samples anywhere
+    w = np.ones(41)
+    w[1:8] = 0.0
+    w[3] = 1.0
+    f = qs.fit(t, noisy(t, 1.0), smoothing=0, knots=knots, weights=w)
+    assert np.max(f.residuals[w > 0]) < 1e-9
+    # with λ > 0 the same knots are fine
+    assert qs.fit(t, noisy(t, 1.0), smoothing=1e-3, knots=knots).iterations > 0
+
+
+def test_robust_scale_without_a_robust_loss_is_refused():
+    t = np.linspace(0.0, 4.0, 41)
+    with pytest.raises(ValueError, match=r"^robust_scale: only with a robust loss"):
+        qs.fit(t, noisy(t, 1.0), robust_scale=0.01)
+
+
+def test_non_numeric_samples_are_a_type_error():
+    t = np.linspace(0.0, 4.0, 41)
+    with pytest.raises(TypeError, match=r"^quats: expected real numbers"):
+        qs.fit(t, "abc")
+    with pytest.raises(TypeError, match=r"^times: expected real numbers"):
+        qs.fit(["a"] * 41, noisy(t, 1.0))
+    with pytest.raises(TypeError, match=r"^positions: expected real numbers"):
+        qs.fit(t, noisy(t, 1.0), positions="xyz")
 
 
 # ---- noise, λ selection ---------------------------------------------------------------------
@@ -272,10 +448,11 @@ def test_far_glitches_converge_and_robust_losses_reject_them(deg, frac):
 
 def test_large_fixed_lambda_reaches_the_same_minimum_as_smaller_ones():
     """A fixed λ far above the data's bandwidth is reached by continuation, not by one step
-    from the curve through the samples (which landed in a worse minimum at λ = 1e10)."""
+    from the curve through the samples (which landed in a worse minimum at λ = 1e10; the
+    largest λ resolved here is now 1.5e9)."""
     q = noisy(T, 2.0)
     costs = []
-    for lam in (1e6, 1e8, 1e10):
+    for lam in (1e6, 1e8, 1e9):
         f = qs.fit(T, q, smoothing=lam)
         costs.append(np.sum(f.residuals**2))
     assert costs[0] <= costs[1] <= costs[2] < costs[0] * (1 + 1e-3)
@@ -309,6 +486,42 @@ def test_positions_recover_a_known_cubic():
     line = np.polynomial.polynomial.polyfit(t, p, 1)
     assert np.max(np.abs(g.position(d) - np.polynomial.polynomial.polyval(d, line).T)) < 1e-5
     assert f.position_residuals.shape == (61,) and np.max(f.position_residuals) < 1e-9
+
+
+@pytest.mark.parametrize("loss", ["huber", "cauchy"])
+@pytest.mark.parametrize("uneven", [False, True])
+def test_noise_free_positions_with_a_robust_loss_recover_the_curve(loss, uneven):
+    """Noise-free positions: the median residual is at rounding level, and a scale taken from
+    it alone downweighted every sample until the data term vanished (1000 iterations, or a
+    curve hundreds of units off this cubic). The scale has a floor of 1e-6 × the extent."""
+    p = np.column_stack([T, T**2, T**3])
+    knots = _uneven_breaks(seed=2, n=50, end=8.0) if uneven else None
+    f = qs.fit(T, noisy(T, 0.0), positions=p, robust=loss, knots=knots)
+    assert np.max(np.abs(f.position(T) - p)) < 1e-3
+
+
+@pytest.mark.parametrize("loss", ["huber", "cauchy"])
+@pytest.mark.parametrize(("seed", "noise", "magnitude", "knots"), [
+    (0, 0.0, 0.5, None), (0, 1e-3, 5.0, None), (0, 1e-3, 0.5, 8 / 50), (1, 1e-3, 0.5, None),
+])  # fmt: skip
+def test_robust_position_fits_with_outliers_converge_and_beat_the_plain_fit(
+    loss, seed, noise, magnitude, knots
+):
+    """Cases that ran out of the 1000 IRLS rounds when λ was re-chosen by GCV every round
+    (falling weights and λ fed each other): λ is now chosen on the pilot and once more under
+    the first robust weights. Outliers on 1 % of a cubic spanning 512 units."""
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0.0, 8.0, 201)
+    truth = np.stack([t**3, -2 * t**2 + t, 5 + 0 * t], axis=1)
+    p = truth + (rng.normal(0.0, noise, truth.shape) if noise else 0.0)
+    bad = rng.choice(len(t), 2, replace=False)
+    p[bad] += rng.normal(0.0, magnitude, (2, 3))
+    plain = qs.fit(t, smooth_motion(t), positions=p, knots=knots)
+    f = qs.fit(t, smooth_motion(t), positions=p, robust=loss, knots=knots, max_iter=1000)
+    err = np.sqrt(np.mean((f.position(t) - truth) ** 2))
+    err_plain = np.sqrt(np.mean((plain.position(t) - truth) ** 2))
+    assert err < 2.5 * err_plain and err < 0.1
+    assert np.all(f.position_robust_weights[bad] < 0.5)
 
 
 def test_positions_with_auto_lambda_and_huber():
@@ -354,6 +567,7 @@ GOOD_Q = smooth_motion(GOOD_T)
         (dict(knots=[0.0, 0.5, 2.0]), ValueError, "knots"),
         (dict(knots=[-1.0, 0.0, 1.0]), ValueError, "knots"),
         (dict(knots=[0.0, 0.6, 0.5, 1.0]), ValueError, "knots: not strictly increasing"),
+        (dict(knots=[-1e-12, 0.0, 0.5, 1.0]), ValueError, "knots: an interior knot coincides"),
         (dict(knots=-0.1), ValueError, "knots"),
         (dict(knots=5.0), ValueError, "knots: spacing"),
         (dict(knots="x"), TypeError, "knots"),
@@ -440,3 +654,16 @@ def test_fit_is_identical_on_any_number_of_threads():
         assert f.rotation.smoothing == ref.rotation.smoothing
         assert f.rotation.effective_dof == ref.rotation.effective_dof
         np.testing.assert_array_equal(f.position(t), ref.position(t))
+
+
+def test_fitted_and_pose_splines_have_informative_reprs():
+    t = np.linspace(0.0, 2.0, 21)
+    q = qs.from_rotvec(np.outer(t, [0.0, 0.3, 1.0]))
+    p = np.column_stack([t, t**2, 0 * t])
+    f = qs.fit(t, q, positions=p, smoothing=1e-3)
+    r = repr(f)
+    assert r.startswith("FittedPose(segments=20, domain=[0, 2], smoothing=0.001")
+    assert "position_smoothing=" in r
+    assert repr(qs.PoseSpline(q, t, p, translation="linear")) == (
+        "PoseSpline(segments=20, domain=[0, 2], rotation=C3Spline, translation=linear)"
+    )

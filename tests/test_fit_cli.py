@@ -39,6 +39,55 @@ def test_fit_command_at_times_and_fixed_smoothing(tmp_path):
     assert len(qs.io.read(out)) == 10
 
 
+def test_fit_command_huge_smoothing_warns_in_one_line(tmp_path, capsys):
+    """λ beyond what double precision resolves: fitted at the bound; the library's
+    RuntimeWarning reaches the terminal as one line, like the errors."""
+    t = np.linspace(0.0, 2.0, 50)
+    src = tmp_path / "in.csv"
+    qs.io.write(src, qs.io.Trajectory(t, qs.from_rotvec(np.stack([t, 0 * t, 0.2 * t**2], 1))))
+    argv = ["fit", str(src), "-o", str(tmp_path / "o.csv"), "--count", "10"]
+    assert main([*argv, "--smoothing", "1e20"]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1
+    assert err[0].startswith("quatspline: warning: smoothing: λ = 1e+20 is beyond what double")
+
+
+def test_fit_command_takes_a_file_of_uneven_knots_on_the_recordings_clock(tmp_path):
+    traj = qs.io.read(TUM)
+    t = traj.times
+    # denser knots in the first half: every sample interval there, every third after
+    half = len(t) // 2
+    knots = np.r_[t[:half], t[half:-1:3], t[-1]]
+    kf = tmp_path / "knots.txt"
+    np.savetxt(kf, knots, fmt="%.6f", header="knot times")
+    knots = np.loadtxt(kf)
+    knots[0], knots[-1] = t[0], t[-1]  # the file's rounding is within the fit's 1e-9 span rule
+    out = tmp_path / "o.csv"
+    argv = ["fit", str(TUM), "-o", str(out), "--count", "7", "--smoothing", "1e-4"]
+    assert main([*argv, "--knots", str(kf)]) == 0
+    f = qs.fit(t - t[0], traj.quats, positions=traj.positions, smoothing=1e-4, knots=knots - t[0])
+    got = qs.io.read(out)
+    ref = f.orientation(got.times - t[0])
+    assert np.allclose(np.abs(np.sum(got.quats * ref, 1)), 1, atol=1e-9)
+    assert np.allclose(got.positions, f.position(got.times - t[0]), atol=1e-9)
+    # and a spacing is still a number
+    assert main([*argv, "--knots", "0.1"]) == 0
+
+
+def test_fit_command_bad_knot_file_is_one_line(tmp_path, capsys):
+    kf = tmp_path / "k.txt"
+    kf.write_text("0 1\n2 3\n")
+    code = main(
+        ["fit", str(TUM), "-o", str(tmp_path / "x.csv"), "--count", "5", "--knots", str(kf)]
+    )
+    err = capsys.readouterr().err
+    assert code == 1 and "--knots" in err and "one knot time per line" in err
+    assert err.count("\n") == 1
+    code = main(["fit", str(TUM), "-o", str(tmp_path / "x.csv"), "--count", "5", "--knots", "nope"])
+    err = capsys.readouterr().err
+    assert code == 1 and "nope" in err and err.count("\n") == 1
+
+
 @pytest.mark.parametrize(
     ("extra", "match"),
     [

@@ -153,7 +153,7 @@ def test_hermite_bad_input():
         )
     with pytest.raises(ValueError, match=r"^angular_velocity: required"):
         qs.Hermite(q)
-    with pytest.raises(ValueError, match=r"^angular_velocity: expected real numbers"):
+    with pytest.raises(TypeError, match=r"^angular_velocity: expected real numbers"):
         qs.Hermite(q, angular_velocity="fast")
     with pytest.raises(ValueError, match=r"^frame: expected"):
         qs.Hermite(q, angular_velocity=w, frame="inertial")

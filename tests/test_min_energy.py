@@ -131,6 +131,20 @@ def test_jerk_variant_has_less_jerk_than_the_acceleration_variant():
     assert energy(a) < energy(j)
 
 
+@pytest.mark.parametrize("seed", [0, 5])
+def test_jerk_energy_attributes_are_the_body_jerk_integrals_and_fall_with_resolution(seed):
+    t, q = keys(9, seed=seed)
+    nat = qs.NaturalSpline(q, t)
+    found = []
+    for res in (4, 8, 16):  # nested uniform knot spaces
+        s = qs.MinimumEnergySpline(q, t, penalty="jerk", resolution=res)
+        assert s.energy == pytest.approx(energy(s, "jerk"), rel=1e-6)
+        assert s.natural_energy == pytest.approx(energy(nat, "jerk"), rel=1e-6)
+        found.append(s.energy)
+    assert found[2] <= found[1] * (1 + 1e-9) and found[1] <= found[0] * (1 + 1e-9)
+    assert found[2] < s.natural_energy
+
+
 RECORDINGS = [
     (DATA / "tum_rgbd_fr1_xyz" / "freiburg1_xyz-groundtruth.txt", {}),
     (DATA / "euroc_v1_02_medium" / "V102_groundtruth_first10s.csv", {}),
@@ -196,6 +210,8 @@ def test_closed_loop_is_c2_across_the_seam_below_the_closed_natural_spline():
         (dict(penalty=3), TypeError, "penalty"),
         (dict(ends="sideways"), ValueError, "ends: unknown"),
         (dict(ends="rest", penalty="jerk"), ValueError, "ends: penalty='jerk'"),
+        # the unsupported combination is named first, not the closed loop's time count
+        (dict(ends="closed", penalty="jerk"), ValueError, "ends: penalty='jerk'"),
         (dict(start_rate=[0, 0, 1]), ValueError, "start_rate: only with ends='clamped'"),
         (dict(ends="clamped", end_rate=[0, 1]), ValueError, "end_rate: expected 3 components"),
         (dict(ends="clamped", start_rate=[0, np.nan, 1]), ValueError, "start_rate: non-finite"),

@@ -117,6 +117,9 @@ def test_cli_help(env):
     assert r.returncode == 0, r.stderr
     for cmd in ("sample", "compare", "plot", "demo"):
         assert cmd in r.stdout
+    # the wheel ships quatspline/__main__.py: `python -m quatspline` is the same command line
+    r2 = _run(env, str(env[0]), "-m", "quatspline", "--help")
+    assert r2.returncode == 0 and r2.stdout == r.stdout, r2.stderr
 
 
 _COUNT_METHODS = "from quatspline.registry import interpolating_methods as m; print(len(m()))"

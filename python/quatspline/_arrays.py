@@ -45,7 +45,8 @@ def _unmasked(x, name: str):
 
 
 def as_real(x, name: str) -> np.ndarray:
-    """``x`` as a float64 array, or a ValueError naming ``name``.
+    """``x`` as a float64 array, or an error naming ``name``: ``TypeError`` when the values are
+    not real numbers (strings, objects, complex), ``ValueError`` for ragged nesting.
 
     A masked array with masked elements is refused (its mask would otherwise be silently
     dropped); one without masked elements is read as its data.
@@ -56,7 +57,7 @@ def as_real(x, name: str) -> np.ndarray:
     except (ValueError, TypeError) as e:  # ragged lists and the like
         raise ValueError(f"{name}: not an array of numbers ({e})") from None
     if a.dtype.kind not in "biuf":
-        raise ValueError(f"{name}: expected real numbers, got dtype {a.dtype}")
+        raise TypeError(f"{name}: expected real numbers, got dtype {a.dtype}")
     return a.astype(np.float64, copy=False)
 
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -168,6 +169,22 @@ def cmd_sample(args) -> int:
 
 
 # ---- fit ------------------------------------------------------------------------------------
+def _knot_file(path: Path) -> np.ndarray:
+    """Knot times from a text file (one per line, ``#`` comments), on the recording's clock."""
+    from .io._common import check_regular_input
+
+    check_regular_input(path)
+    try:
+        k = np.loadtxt(path, ndmin=1, comments="#")
+    except (OSError, ValueError) as e:
+        raise ValueError(f"--knots {path}: cannot read knot times ({e})") from None
+    if k.ndim != 1:
+        raise ValueError(
+            f"--knots {path}: expected one knot time per line, got {k.shape[1]} columns"
+        )
+    return k
+
+
 def cmd_fit(args) -> int:
     """``quatspline fit``: least-squares fitting spline through noisy measurements (thin: the
     work is :func:`quatspline.fit_trajectory`)."""
@@ -186,6 +203,12 @@ def cmd_fit(args) -> int:
             times = np.loadtxt(at, ndmin=1, comments="#")
         except (OSError, ValueError) as e:
             raise ValueError(f"{at}: cannot read times ({e})") from None
+    knots = None
+    if args.knots is not None:
+        try:
+            knots = float(args.knots)
+        except ValueError:
+            knots = _knot_file(Path(args.knots))
     smoothing = args.smoothing
     if smoothing != "auto":
         try:
@@ -200,7 +223,7 @@ def cmd_fit(args) -> int:
         smoothing=smoothing,
         penalty=args.penalty,
         robust=args.robust,
-        knots=args.knots,
+        knots=knots,
         derivatives=args.derivatives,
         max_samples=args.max_samples,
         progress=True if len(traj) >= 20_000 else None,
@@ -436,7 +459,12 @@ def build_parser() -> argparse.ArgumentParser:
     ft.add_argument("--smoothing", default="auto", help="λ: auto (GCV, default) or a number ≥ 0")
     ft.add_argument("--penalty", choices=("acceleration", "jerk", "auto"), default="acceleration")
     ft.add_argument("--robust", choices=("huber", "cauchy"), help="robust loss against glitches")
-    ft.add_argument("--knots", type=float, metavar="SPACING", help="knot spacing (default: data)")
+    ft.add_argument(
+        "--knots",
+        metavar="SPACING|FILE",
+        help="knot spacing, or a file of knot times (one per line, the recording's clock, from "
+        "its first to its last time; uneven spacing allowed); default: one per sample interval",
+    )
     g = ft.add_mutually_exclusive_group(required=True)
     g.add_argument("--rate", type=float, help="samples per time unit")
     g.add_argument("--count", type=int, help="number of samples")
@@ -538,6 +566,21 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
+
+    def one_line(message, category, filename, lineno, file=None, line=None):
+        # A warning from the library (e.g. a λ capped where double precision ends) is one
+        # line too, like the errors; --debug keeps Python's form with the source line.
+        print(f"quatspline: warning: {message}", file=sys.stderr)
+
+    with warnings.catch_warnings():
+        if not args.debug:
+            warnings.showwarning = one_line
+            # the command's own warnings are messages to its user, whatever -W says
+            warnings.filterwarnings("default", category=RuntimeWarning, module="quatspline")
+        return _run(args)
+
+
+def _run(args) -> int:
     try:
         return int(args.func(args))
     except KeyboardInterrupt:

@@ -25,13 +25,14 @@ relates to Spicv and Sping.
 from __future__ import annotations
 
 import numbers
+import warnings
 
 import numpy as np
 
 from . import _core
 from ._arrays import as_real, with_width
 from .algebra import rotate
-from .spline import Spline
+from .spline import Spline, _describe, _gauss_legendre
 
 __all__ = ["FittedPose", "FittedSpline", "MinimumEnergySpline", "fit", "fit_trajectory"]
 
@@ -168,7 +169,11 @@ class FittedSpline(Spline):
 
     def __init__(self, result: dict, penalty: str, extrapolate: str = "raise"):
         ctrl = result["ctrl"]
-        core = _core.cumulative_bspline(ctrl, result["dt"], result["t0"], result["order"], True)
+        full = result.get("knots_full")
+        if full is None:
+            core = _core.cumulative_bspline(ctrl, result["dt"], result["t0"], result["order"], True)
+        else:  # non-uniform knots: the same spline on its full knot vector
+            core = _core.nonuniform_bspline(ctrl, np.asarray(full), result["order"], True)
         super().__init__(core, extrapolate)
         self.control_quats = ctrl
         self.order = int(result["order"])
@@ -189,7 +194,7 @@ class FittedSpline(Spline):
 
     @property
     def knots(self) -> np.ndarray:
-        """The knot (joint) times: uniform, spanning the data's time range."""
+        """The knot (joint) times, spanning the data's time range (uniform unless given)."""
         return self.joints
 
 
@@ -227,6 +232,8 @@ class FittedPose:
         self.extrapolate = extrapolate
         self._pc = np.ascontiguousarray(pos["ctrl"])
         self._pdt, self._pt0, self._porder = float(pos["dt"]), float(pos["t0"]), int(pos["order"])
+        br = pos.get("breaks")
+        self._pbreaks = None if br is None else np.ascontiguousarray(br, dtype=float)
         self.position_residuals = np.asarray(pos["residuals"])
         self.position_smoothing = float(pos["smoothing"])
         self.position_effective_dof = float(pos["effective_dof"])
@@ -240,6 +247,14 @@ class FittedPose:
         if name.startswith("_") or name == "rotation":
             raise AttributeError(name)
         return getattr(self.rotation, name)
+
+    def __repr__(self) -> str:
+        return _describe(
+            self,
+            len(self.rotation.joints) - 1,
+            smoothing=f"{self.rotation.smoothing:.3g}",
+            position_smoothing=f"{self.position_smoothing:.3g}",
+        )
 
     @property
     def domain(self) -> tuple[float, float]:
@@ -257,7 +272,7 @@ class FittedPose:
             k = int(np.argmax(outside))
             raise ValueError(f"t: t[{k}] = {flat[k]} is outside the domain [{a}, {b}]")
         out = _core.position_bspline_eval(
-            self._pc, self._pdt, self._pt0, self._porder, np.clip(flat, a, b)
+            self._pc, self._pdt, self._pt0, self._porder, np.clip(flat, a, b), self._pbreaks
         )
         out[outside, 3:] = 0.0
         return ta.shape, out
@@ -337,7 +352,9 @@ def fit(
         ``∫|penalty|² dt``, i.e. time³ for acceleration, time⁵ for jerk); 0 interpolates every
         sample (the minimum-penalty curve through them; needs at least as many knots as
         samples). With positions, a pair gives (orientation λ, position λ); a single float
-        is used for both.
+        is used for both. A λ beyond what double precision resolves for the data (about
+        1e15 · max diag G / max diag P of the normal equations) is fitted at that bound with a
+        ``RuntimeWarning``; ``smoothing`` then reports the λ used.
     penalty : {"acceleration", "jerk", "auto"}
         Integrate ``|ω̇|²`` (order-4 spline, C²) or the body-frame ``|ω̈|²`` (order-6 spline,
         C⁴). "auto" (with ``smoothing="auto"``) fits both and keeps the one with the lower
@@ -347,14 +364,16 @@ def fit(
         0.005 in the benchmark's error ratios (``benchmarks/fit.py``).
     knots : None, float or array_like
         None: one knot interval per median sample spacing. A float: about that spacing
-        (rounded so the knots span the data exactly). An array: uniform knots from the first
-        to the last sample time.
+        (rounded so the knots span the data exactly). An array: the knot (joint) times, strictly
+        increasing from the first to the last sample time — uniform or not (denser knots where
+        the motion is faster); the spline is then a non-uniform cumulative B-spline with the
+        same continuity (C² / C⁴), extended beyond the ends with the end intervals' widths.
     robust : {None, "huber", "cauchy"}
         Robust loss (iteratively reweighted), so single bad frames do not bend the curve.
     robust_scale : float, optional
         The loss's scale c in radians (default: 1.345 σ̂ for Huber, 2.385 σ̂ for Cauchy, with
         σ̂ = 1.4826 × the median residual of the non-robust fit, taken once its step is
-        below √tol). For positions the scale is
+        below √tol). For positions the scale is at least 1e-6 × their extent and otherwise
         estimated from the position residuals.
     order : int, optional
         Spline order (default 4 for acceleration, 6 for jerk).
@@ -459,11 +478,26 @@ def fit(
     finally:
         if cb is not None and hasattr(cb, "close"):
             cb.close()
+    _warn_capped(res, "smoothing[0]" if isinstance(smoothing, tuple) else "smoothing")
     rot = FittedSpline(res, penalty, extrapolate)
     if p is None:
         return rot
     pos = _core.fit_positions(t, p, w, penalty, order, lam_p, ks, ka, robust, None)
+    _warn_capped(pos, "smoothing[1]" if isinstance(smoothing, tuple) else "smoothing (positions)")
     return FittedPose(rot, pos, extrapolate)
+
+
+def _warn_capped(res: dict, name: str) -> None:
+    """A fixed λ beyond what double precision resolves was fitted at the largest λ that it
+    does (the core's ``lambda_cap``): say so, since ``smoothing`` then differs from the λ given."""
+    asked = res.get("smoothing_requested")
+    if asked is not None:
+        warnings.warn(
+            f"{name}: λ = {asked:.3g} is beyond what double precision resolves for these knots "
+            f"and data; fitted with λ = {res['smoothing']:.3g}, the largest it resolves",
+            RuntimeWarning,
+            stacklevel=3,
+        )
 
 
 class MinimumEnergySpline(Spline):
@@ -509,7 +543,9 @@ class MinimumEnergySpline(Spline):
     Attributes
     ----------
     energy, natural_energy : float
-        ∫|ω̇|² of this spline and of the natural spline (acceleration; the quadrature above).
+        The penalised energy of this spline and of :class:`NaturalSpline` through the same
+        keys with the same ends: ∫|ω̇|² for ``acceleration`` (the quadrature above), the
+        body-frame ∫|ω̈|² for ``jerk`` (8-point Gauss–Legendre between the joints of both).
     iterations : int
 
     Examples
@@ -545,6 +581,8 @@ class MinimumEnergySpline(Spline):
     ):
         penalty = _choice(penalty, "penalty", _PENALTIES)
         ends = _choice(ends, "ends", ("natural", "rest", "clamped", "closed"))
+        if penalty == "jerk" and ends != "natural":
+            raise ValueError(f"ends: penalty='jerk' supports ends='natural' only, got {ends!r}")
         q = with_width(quats, "quats", 4)
         if q.ndim != 2:
             raise ValueError(f"quats: expected shape (N, 4), got {q.shape}")
@@ -577,10 +615,6 @@ class MinimumEnergySpline(Spline):
         cb = _progress(progress)
         try:
             if penalty == "jerk":
-                if ends != "natural":
-                    raise ValueError(
-                        f"ends: penalty='jerk' supports ends='natural' only, got {ends!r}"
-                    )
                 res = _core.min_energy(
                     np.ascontiguousarray(t), np.ascontiguousarray(q), penalty, int(resolution), cb
                 )
@@ -589,7 +623,7 @@ class MinimumEnergySpline(Spline):
                 )
                 self.control_quats = res["ctrl"]
                 self.order = int(res["order"])
-                self.energy = self.natural_energy = float("nan")
+                self.energy = self.natural_energy = float("nan")  # set below, once built
             else:
                 tt = None if times is None else np.ascontiguousarray(t)
                 core, res = _core.min_energy_spline(
@@ -601,10 +635,24 @@ class MinimumEnergySpline(Spline):
             if cb is not None and hasattr(cb, "close"):
                 cb.close()
         super().__init__(core, extrapolate)
+        if penalty == "jerk":
+            from .spline import NaturalSpline
+
+            natural = NaturalSpline(q, t)
+            self.energy = _jerk_energy(self, natural)
+            self.natural_energy = _jerk_energy(natural, self)
         self.iterations = int(res["iterations"])
         self.penalty = penalty
         self.params = dict(quats=q, times=t, penalty=penalty, ends=ends, resolution=resolution)
         self.ends = ends
+
+
+def _jerk_energy(s: Spline, other: Spline) -> float:
+    """∫|ω̈|² dt (body frame) of ``s`` over its domain: 8-point Gauss–Legendre on every interval
+    between the joints of ``s`` and ``other`` (both smooth inside them)."""
+    lo, hi = s.domain
+    edges = np.unique(np.clip(np.r_[s.joints, other.joints, lo, hi], lo, hi))
+    return _gauss_legendre(edges, lambda t: np.sum(s.jerk(np.clip(t, lo, hi), "body") ** 2, -1))
 
 
 def fit_trajectory(
@@ -630,8 +678,10 @@ def fit_trajectory(
     rate, count, times
         Where to sample: exactly one of a rate, a count over the time range, or times on the
         recording's clock (see :func:`quatspline.ops.sample_times`).
-    smoothing, penalty, robust, knots
+    smoothing, penalty, robust
         As :func:`fit`.
+    knots : None, float or array_like
+        As :func:`fit`; an array holds knot times on the recording's clock (as ``times``).
     derivatives : bool
         Add ``omega``, ``alpha`` and ``jerk`` columns (world frame).
     max_samples : int, optional
@@ -664,6 +714,9 @@ def fit_trajectory(
     if sum(x is not None for x in (rate, count, times)) != 1:
         raise ops.ParameterError("rate, count, times: give exactly one of them")
     t0 = float(traj.times[0])
+    spacing, array = _knots(knots)
+    if array is not None:
+        knots = array - t0  # knot times on the recording's clock, as ``times``
     f = fit(
         traj.times - t0,
         traj.quats,

@@ -109,6 +109,14 @@ class PoseSpline:
             raise ValueError(f"positions: non-finite value (NaN or inf) at element {k}")
         self._cubic = translation == "cubic"
 
+    def __repr__(self) -> str:
+        return sp._describe(
+            self,
+            len(self._times) - 1,
+            rotation=type(self.rotation).__name__,
+            translation="cubic" if self._cubic else "linear",
+        )
+
     @property
     def domain(self) -> tuple[float, float]:
         """(first key time, last key time)."""

@@ -89,6 +89,14 @@ def _frozen_copy(v):
     return v
 
 
+def _describe(obj, segments: int, **fields: object) -> str:
+    """``Name(segments=…, domain=[a, b], field=value, …)``: the repr of every spline object
+    (splines, pose splines, fitted poses)."""
+    a, b = obj.domain
+    extra = "".join(f", {k}={v}" for k, v in fields.items())
+    return f"{type(obj).__name__}(segments={segments}, domain=[{a:g}, {b:g}]{extra})"
+
+
 class Spline:
     """One interface for every curve: call it for orientations, ask it for derivatives.
 
@@ -181,8 +189,7 @@ class Spline:
         return float("inf") if c == 255 else c
 
     def __repr__(self) -> str:
-        a, b = self.domain
-        return f"{type(self).__name__}(segments={len(self.joints) - 1}, domain=[{a:g}, {b:g}])"
+        return _describe(self, len(self.joints) - 1)
 
     # ---- evaluation -------------------------------------------------------------------
     def _eval(self, t, order: int):
@@ -1227,15 +1234,20 @@ def path_length(spline: Spline, per_segment: int = 8) -> float:
     >>> round(float(np.degrees(qs.path_length(s))), 9)
     180.0
     """
-    x, w = np.polynomial.legendre.leggauss(8)
     j = spline.joints
     edges = np.concatenate(
         [np.linspace(a, b, per_segment + 1)[:-1] for a, b in zip(j[:-1], j[1:])] + [j[-1:]]
     )
+    return _gauss_legendre(edges, lambda t: np.linalg.norm(spline.angular_velocity(t), axis=-1))
+
+
+def _gauss_legendre(edges: np.ndarray, f) -> float:
+    """∫ f(t) dt from ``edges[0]`` to ``edges[-1]``, by 8-point Gauss–Legendre on every interval
+    between consecutive ``edges`` (place them where ``f`` is not smooth: spline joints).
+    ``f`` maps an array of times (n_intervals, 8) to values of the same shape."""
+    x, w = np.polynomial.legendre.leggauss(8)
     a, b = edges[:-1, None], edges[1:, None]
-    t = (0.5 * (b - a) * x + 0.5 * (a + b)).ravel()
-    speed = np.linalg.norm(spline.angular_velocity(t), axis=1).reshape(a.shape[0], -1)
-    return float(np.sum(0.5 * (b - a) * speed * w))
+    return float(np.sum(0.5 * (b - a) * w * f(0.5 * (b - a) * x + 0.5 * (a + b))))
 
 
 def reparameterize(spline: Spline, kind: str = "angle") -> Spline:

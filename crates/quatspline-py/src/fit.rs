@@ -83,10 +83,13 @@ fn fit_rotations<'py>(
     d.set_item("dt", r.dt)?;
     d.set_item("t0", r.t0)?;
     d.set_item("order", r.order)?;
+    let full = r.breaks.as_ref().map(|b| fit::layout::full_knots(b, r.order).into_pyarray(py));
+    d.set_item("knots_full", full)?;
     d.set_item("residuals", r.residuals.into_pyarray(py))?;
     d.set_item("robust_weights", r.robust_weights.into_pyarray(py))?;
     d.set_item("robust_scale", r.robust_scale)?;
     d.set_item("smoothing", r.lambda)?;
+    d.set_item("smoothing_requested", r.lambda_requested)?;
     d.set_item("effective_dof", r.edf)?;
     d.set_item("score", r.score)?;
     d.set_item("iterations", r.iterations)?;
@@ -200,17 +203,20 @@ fn fit_positions<'py>(
     d.set_item("dt", r.dt)?;
     d.set_item("t0", r.t0)?;
     d.set_item("order", r.order)?;
+    d.set_item("breaks", r.breaks.map(|b| b.into_pyarray(py)))?;
     d.set_item("residuals", r.residuals.into_pyarray(py))?;
     d.set_item("robust_weights", r.robust_weights.into_pyarray(py))?;
     d.set_item("smoothing", r.lambda)?;
+    d.set_item("smoothing_requested", r.lambda_requested)?;
     d.set_item("effective_dof", r.edf)?;
     d.set_item("score", r.score)?;
     d.set_item("iterations", r.iterations)?;
     Ok(d)
 }
 
-/// (M, 12): p, p', p'', p''' of a position B-spline at t.
+/// (M, 12): p, p', p'', p''' of a position B-spline at t (uniform, or on `breaks`).
 #[pyfunction]
+#[pyo3(signature = (ctrl, dt, t0, order, t, breaks=None))]
 fn position_bspline_eval<'py>(
     py: Python<'py>,
     ctrl: PyReadonlyArray2<'py, f64>,
@@ -218,7 +224,9 @@ fn position_bspline_eval<'py>(
     t0: f64,
     order: usize,
     t: PyReadonlyArray1<'py, f64>,
+    breaks: Option<PyReadonlyArray1<'py, f64>>,
 ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+    let breaks = breaks.map(|b| vec1(&b));
     let rows = Rows::new(&ctrl, "ctrl", 3)?;
     let c: Vec<[f64; 3]> = (0..rows.len()).map(|i| std::array::from_fn(|k| rows.view[[i, k]])).collect();
     if !(2..=fit::model::MAXK).contains(&order) || c.len() < order {
@@ -232,7 +240,7 @@ fn position_bspline_eval<'py>(
     let m = tv.len();
     let out = guarded(py, "position_bspline_eval", move || {
         let mut out = vec![0.0; 12 * m];
-        position::evaluate(&c, dt, t0, order, &tv, &mut out)?;
+        position::evaluate(&c, dt, t0, order, breaks.as_deref(), &tv, &mut out)?;
         Ok(out)
     })?;
     out.into_pyarray(py).reshape([m, 12])

@@ -11,13 +11,8 @@ fn main() {
     let n: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(1_000_000);
     let reps: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(3);
     // xorshift normals by Box–Muller: uniformly random rotations
-    let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
-    let mut uni = || {
-        x ^= x << 13;
-        x ^= x >> 7;
-        x ^= x << 17;
-        ((x >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    };
+    let mut rng = quatspline::testing::XorShift64::new(0x9E37_79B9_7F4A_7C15);
+    let mut uni = || ((rng.next_u64() >> 11) as f64 + 0.5) / (1u64 << 53) as f64;
     let mut normal = || (-2.0 * uni().ln()).sqrt() * (2.0 * std::f64::consts::PI * uni()).cos();
     let keys: Vec<Quat> = (0..n).map(|_| Quat::new(normal(), normal(), normal(), normal())).collect();
     let mut best = f64::INFINITY;

@@ -5,13 +5,8 @@ use quatspline::Quat;
 use std::time::Instant;
 
 fn main() {
-    let mut x: u64 = 4;
-    let mut next = || {
-        x ^= x << 13;
-        x ^= x >> 7;
-        x ^= x << 17;
-        (x >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = quatspline::testing::XorShift64::new(4);
+    let mut next = || rng.uniform();
     for (label, lo, hi) in [("half-angles 0.05–0.3", 0.05, 0.3), ("half-angles 0.02–0.15", 0.02, 0.15)] {
         let mut q = vec![Quat::new(0.5, 0.5, -0.5, 0.5)];
         for _ in 1..8 {

@@ -51,12 +51,9 @@ fn main() {
     let mut tb: Vec<f64> = (0..m).map(|i| i as f64 * 997.0 / (m - 1) as f64).collect();
     if std::env::var("QS_UNSORTED").is_ok_and(|v| v == "1") {
         // a fixed pseudo-random permutation (xorshift Fisher–Yates)
-        let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut rng = quatspline::testing::XorShift64::new(0x9E37_79B9_7F4A_7C15);
         for i in (1..m).rev() {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            let j = (x % (i as u64 + 1)) as usize;
+            let j = (rng.next_u64() % (i as u64 + 1)) as usize;
             t.swap(i, j);
             tb.swap(i, j);
         }

@@ -6,15 +6,8 @@ fn main() {
     let joints: Vec<f64> = (0..=999).map(|i| i as f64).collect();
     let loc = Locator::new(&joints);
     let n = 1_000_000;
-    let mut x: u64 = 3;
-    let t: Vec<f64> = (0..n)
-        .map(|_| {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            999.0 * ((x >> 11) as f64 / (1u64 << 53) as f64)
-        })
-        .collect();
+    let mut rng = quatspline::testing::XorShift64::new(3);
+    let t: Vec<f64> = (0..n).map(|_| 999.0 * rng.uniform()).collect();
     let mut seg = vec![0u32; n];
     for isa in [Isa::Scalar, Isa::Avx2] {
         let mut best = f64::MAX;

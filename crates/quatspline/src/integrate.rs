@@ -72,17 +72,7 @@ pub fn check_inputs(times: &[f64], rates: &[Vec3], q0: Quat) -> Result<Quat> {
             format!("expected {} rates (one per time), got {}", times.len(), rates.len()),
         ));
     }
-    for (i, &t) in times.iter().enumerate() {
-        if !t.is_finite() {
-            return Err(Error::NonFinite { arg: "times", index: i });
-        }
-        if i > 0 && t <= times[i - 1] {
-            return Err(Error::invalid(
-                "times",
-                format!("not strictly increasing at index {i} ({t} after {})", times[i - 1]),
-            ));
-        }
-    }
+    crate::spline::check_increasing("times", times, false)?;
     for (i, r) in rates.iter().enumerate() {
         if !r.iter().all(|v| v.is_finite()) {
             return Err(Error::NonFinite { arg: "angular_velocity", index: i });

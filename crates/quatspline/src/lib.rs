@@ -24,6 +24,8 @@ pub mod se3;
 pub mod simd;
 pub mod special;
 pub mod spline;
+#[doc(hidden)]
+pub mod testing;
 pub mod translation;
 pub mod vec3;
 

@@ -264,13 +264,8 @@ mod tests {
     use super::*;
 
     fn random_spd(n: usize, p: usize, seed: u64) -> Band {
-        let mut x = seed;
-        let mut rnd = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x % 10_000) as f64 / 10_000.0 - 0.5
-        };
+        let mut rng = crate::testing::XorShift64::new(seed);
+        let mut rnd = || (rng.next_u64() % 10_000) as f64 / 10_000.0 - 0.5;
         let mut b = Band::zeros(n, p);
         for i in 0..n {
             for d in 1..=p.min(i) {

@@ -1,8 +1,9 @@
 //! Fitting splines on SO(3) (seed 003's 拟合样条; MATH.md §12); minimum-energy
 //! interpolation (seed 003's Spicv/Sping; MATH.md §13) is in `min_energy.rs`.
 //!
-//! Model: a uniform cumulative B-spline of order k on SO(3) (`model.rs`; k = 4 for the
-//! acceleration penalty, 6 for jerk), knots at t₀ + jΔt spanning exactly the data's time range.
+//! Model: a cumulative B-spline of order k on SO(3) (`model.rs`; k = 4 for the acceleration
+//! penalty, 6 for jerk), knots at t₀ + jΔt or at given breakpoints (`layout.rs`) spanning
+//! exactly the data's time range.
 //! Objective, on the rotation group (never on quaternion components):
 //!   Σ_s w_s ρ(|r_s|²) + λ ∫ |p(t)|² dt,   r_s = Log(q(t_s)⁻¹ y_s)  (rotation vector, sign-safe),
 //! with p = ω̇ (body angular acceleration, `Penalty::Acceleration`) or p = ω̈ (body jerk,
@@ -49,6 +50,7 @@
 //! iterations returns [`Error::NotConverged`] with the iteration count and the last step.
 
 pub mod banded;
+pub mod layout;
 pub mod min_energy;
 pub mod model;
 pub mod position;
@@ -192,6 +194,8 @@ pub struct FitResult {
     pub dt: f64,
     pub t0: f64,
     pub order: usize,
+    /// The breakpoints τ₀ … τ_S of a non-uniform fit (None: uniform t₀ + jΔt).
+    pub breaks: Option<Vec<f64>>,
     /// |r_s|, radians, per sample.
     pub residuals: Vec<f64>,
     /// Final IRLS weights (1 without a robust loss), per sample.
@@ -199,6 +203,9 @@ pub struct FitResult {
     /// The robust scale c used (∞ without a robust loss).
     pub robust_scale: f64,
     pub lambda: f64,
+    /// The λ asked for when it was beyond what double precision resolves and the fit used
+    /// the largest λ that it does ([`lambda_cap`]) instead; None otherwise.
+    pub lambda_requested: Option<f64>,
     /// tr A (effective degrees of freedom, in scalar observations).
     pub edf: f64,
     /// GCV(λ) at the solution.
@@ -335,31 +342,7 @@ fn knot_layout_raw(knots: &Knots, t: &[f64]) -> Result<(f64, f64, usize)> {
             Ok((a, span / s as f64, s))
         }
         Knots::Array(k) => {
-            if k.len() < 2 {
-                return Err(Error::invalid("knots", format!("expected at least 2 knots, got {}", k.len())));
-            }
-            for (i, &v) in k.iter().enumerate() {
-                if !v.is_finite() {
-                    return Err(Error::NonFinite { arg: "knots", index: i });
-                }
-                if i > 0 && v <= k[i - 1] {
-                    return Err(Error::invalid(
-                        "knots",
-                        format!("not strictly increasing at index {i} ({v} after {})", k[i - 1]),
-                    ));
-                }
-            }
-            let tol = 1e-9 * span.max(1e-300);
-            if (k[0] - a).abs() > tol || (k[k.len() - 1] - b).abs() > tol {
-                return Err(Error::invalid(
-                    "knots",
-                    format!(
-                        "knots must span the data's time range exactly: [{}, {}] given, data [{a}, {b}]",
-                        k[0],
-                        k[k.len() - 1]
-                    ),
-                ));
-            }
+            check_knot_array(k, t)?;
             let s = k.len() - 1;
             let h = span / s as f64;
             for (i, &v) in k.iter().enumerate() {
@@ -373,6 +356,58 @@ fn knot_layout_raw(knots: &Knots, t: &[f64]) -> Result<(f64, f64, usize)> {
             Ok((a, h, s))
         }
     }
+}
+
+/// An explicit knot array: at least 2 knots, finite, strictly increasing, first and last at
+/// the first and last sample times (to 1e-9 of the span).
+fn check_knot_array(k: &[f64], t: &[f64]) -> Result<()> {
+    let (a, b) = (t[0], t[t.len() - 1]);
+    let span = b - a;
+    if k.len() < 2 {
+        return Err(Error::invalid("knots", format!("expected at least 2 knots, got {}", k.len())));
+    }
+    crate::spline::check_increasing("knots", k, false)?;
+    let tol = 1e-9 * span.max(1e-300);
+    if (k[0] - a).abs() > tol || (k[k.len() - 1] - b).abs() > tol {
+        return Err(Error::invalid(
+            "knots",
+            format!(
+                "knots must span the data's time range exactly: [{}, {}] given, data [{a}, {b}]",
+                k[0],
+                k[k.len() - 1]
+            ),
+        ));
+    }
+    if k.len() - 1 > 50_000_000 {
+        return Err(Error::invalid("knots", format!("{} knot intervals (limit 5e7)", k.len() - 1)));
+    }
+    Ok(())
+}
+
+/// The layout of a fit: uniform for the default, a spacing or a uniform array (to 1e-6 of the
+/// spacing), otherwise the given breakpoints with their ends set to the first and last sample
+/// times exactly (so every sample lies in the domain).
+fn fit_layout(knots: &Knots, t: &[f64], k: usize) -> Result<layout::Layout> {
+    if let Knots::Array(arr) = knots {
+        check_knot_array(arr, t)?;
+        let (a, b) = (t[0], t[t.len() - 1]);
+        let s = arr.len() - 1;
+        let h = (b - a) / s as f64;
+        if arr.iter().enumerate().any(|(i, &v)| (v - (a + i as f64 * h)).abs() > 1e-6 * h) {
+            let mut br = arr.clone();
+            br[0] = a;
+            br[s] = b;
+            if s >= 2 && (br[1] <= a || br[s - 1] >= b) {
+                return Err(Error::invalid(
+                    "knots",
+                    format!("an interior knot coincides with the first or last sample time ({a}, {b})"),
+                ));
+            }
+            return Ok(layout::Layout::nonuniform(br, k));
+        }
+    }
+    let (t0, dt, segs) = knot_layout(knots, t)?;
+    Ok(layout::Layout::uniform(t0, dt, segs, k))
 }
 
 /// Quadrature points per knot interval for the penalty integral: k − 1 − m for a smoothing fit
@@ -579,10 +614,10 @@ fn penalty_value<const N: usize>(model: &Model, m: usize, nodes: &[(f64, f64)]) 
     ordered_sum(segs, |i| {
         let mut acc = 0.0;
         for &(u, w) in nodes {
-            let q = model.value::<N>(i, Jet::variable(u, 1.0 / model.dt));
+            let q = model.value::<N>(i, Jet::variable(u, 1.0 / model.width(i)));
             let om = Model::omega(&q);
             let p: Vec3 = std::array::from_fn(|r| om[r].derivative(m));
-            acc += w * model.dt * vec3::dot(p, p);
+            acc += w * model.width(i) * vec3::dot(p, p);
         }
         acc
     })
@@ -625,8 +660,9 @@ fn penalty_half<const N: usize>(model: &Model, m: usize, nodes: &[(f64, f64)], b
             blk.iter_mut().for_each(|v| *v = 0.0);
             let off = 3 * (i - s0);
             for &(u, w) in nodes {
-                let c = w * model.dt;
-                let q = model.value_and_factors::<N>(i, Jet::variable(u, 1.0 / model.dt), &mut mats);
+                let h = model.width(i);
+                let c = w * h;
+                let q = model.value_and_factors::<N>(i, Jet::variable(u, 1.0 / h), &mut mats);
                 let om = Model::omega(&q);
                 let p: Vec3 = std::array::from_fn(|r| om[r].derivative(m));
                 pcp += c * vec3::dot(p, p);
@@ -787,6 +823,24 @@ fn gcv_at(lin: &Lin, lam: f64, h: &mut Band) -> Result<(f64, f64)> {
     Ok((score, tr))
 }
 
+/// The largest λ for which the normal matrix G + λP is still resolved in double precision:
+/// `LAMBDA_RESOLVED` · max diag G / max diag P. Beyond it the penalty's null space, which
+/// only G pins down, drowns in P's rounding and the banded Cholesky meets negative pivots.
+/// A fixed λ above the cap is fitted at the cap, and the result says so
+/// (`lambda_requested`): on short data the fit has long reached the minimum-penalty curve
+/// there; on long data the penalty's slowest modes still bend it (P's condition grows like
+/// n^(2m)), and no larger λ would be resolved.
+pub(crate) fn lambda_cap(g: &Band, p: &Band) -> f64 {
+    let dmax = |b: &Band| b.diag().into_iter().fold(0.0, f64::max);
+    LAMBDA_RESOLVED * dmax(g) / dmax(p).max(f64::MIN_POSITIVE)
+}
+
+/// See [`lambda_cap`]. Measured on 112 orientation and position fits (12–2000 samples, uneven
+/// times, both penalties, knots per sample and per 3 samples) at λ = c · max diag G / max diag
+/// P: the Cholesky failed at the old cap c = 3e16 in 86 of them and at c ≥ 9e15 in some; none
+/// at c ≤ 3e15. 1e15 keeps a factor 9 below the first failure.
+const LAMBDA_RESOLVED: f64 = 1e15;
+
 fn dotv(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
@@ -936,7 +990,7 @@ fn select_lambda(
 
 /// Initial control rotations: the data slerped at each control point's Greville time.
 fn initial_controls(data: &Data, t0: f64, dt: f64, segs: usize, k: usize) -> Vec<Quat> {
-    initial_controls_from(data, &data.y, t0, dt, segs, k)
+    initial_controls_from(data, &data.y, &layout::Layout::uniform(t0, dt, segs, k))
 }
 
 /// Step (radians) that ends a stage of the λ continuation of a fixed, large λ (see `solve`).
@@ -976,20 +1030,14 @@ fn medoid_filter(data: &Data) -> Vec<Quat> {
 
 /// Controls at the knots' Greville-like abscissae, slerped between the neighbouring `anchors`
 /// (one per sample).
-fn initial_controls_from(
-    data: &Data,
-    anchors: &[Quat],
-    t0: f64,
-    dt: f64,
-    segs: usize,
-    k: usize,
-) -> Vec<Quat> {
-    let n = segs + k - 1;
+fn initial_controls_from(data: &Data, anchors: &[Quat], lay: &layout::Layout) -> Vec<Quat> {
+    let n = lay.segs + lay.order - 1;
+    let xs = lay.abscissae();
     let t = &data.t;
     let mut out = Vec::with_capacity(n);
     let mut j = 0usize;
     for m in 0..n {
-        let tau = (t0 + (m as f64 - (k as f64 - 2.0) / 2.0) * dt).clamp(t[0], t[t.len() - 1]);
+        let tau = xs[m].clamp(t[0], t[t.len() - 1]);
         while j + 2 < t.len() && t[j + 1] <= tau {
             j += 1;
         }
@@ -1041,6 +1089,12 @@ pub fn fit(
         }
     }
     if let Some(c) = opts.robust_scale {
+        if opts.robust == Robust::None {
+            return Err(Error::invalid(
+                "robust_scale",
+                "only with a robust loss (robust='huber' or 'cauchy')".to_string(),
+            ));
+        }
         if !(c.is_finite() && c > 0.0) {
             return Err(Error::invalid(
                 "robust_scale",
@@ -1054,7 +1108,8 @@ pub fn fit(
     if !(opts.tol.is_finite() && opts.tol > 0.0) {
         return Err(Error::invalid("tol", format!("expected a finite positive tolerance, got {}", opts.tol)));
     }
-    let (t0, dt, segs) = knot_layout(&opts.knots, &data.t)?;
+    let lay = fit_layout(&opts.knots, &data.t, k)?;
+    let segs = lay.segs;
     let used = data.w.iter().filter(|w| **w > 0.0).count();
     if opts.smoothing == Smoothing::Fixed(0.0) && segs + k - 1 < used {
         return Err(Error::invalid(
@@ -1066,13 +1121,68 @@ pub fn fit(
             ),
         ));
     }
+    if opts.smoothing == Smoothing::Fixed(0.0) {
+        schoenberg_whitney(&data, &lay)?;
+    }
     let init = if opts.smoothing == Smoothing::Fixed(0.0) {
-        initial_controls(&data, t0, dt, segs, k)
+        initial_controls_from(&data, &data.y, &lay)
     } else {
-        initial_controls_from(&data, &medoid_filter(&data), t0, dt, segs, k)
+        initial_controls_from(&data, &medoid_filter(&data), &lay)
     };
-    let model = Model::new(init, dt, t0, k);
+    let model = Model::with_layout(init, lay);
     solve(model, &data, opts, progress)
+}
+
+/// Refuses `smoothing=0` when the knots cannot interpolate the samples (Schoenberg–Whitney).
+///
+/// Interpolation needs the collocation matrix of the weighted samples to have full row rank,
+/// and a run of segments a … b is reached by only (b − a + 1) + k − 1 control points: more
+/// samples in it than that is a rank deficiency (Hall's condition on the intervals). Samples
+/// are counted in the segment `locate` gives them, whose k basis functions include all that
+/// are non-zero there, so the test is necessary — it never refuses knots that can interpolate.
+/// The worst run is the maximum-sum run of (count − 1) (Kadane, O(segments)).
+fn schoenberg_whitney(data: &Data, lay: &layout::Layout) -> Result<()> {
+    let k = lay.order;
+    let mut count = vec![0usize; lay.segs];
+    for (t, w) in data.t.iter().zip(&data.w) {
+        if *w > 0.0 {
+            count[lay.locate(*t).0] += 1;
+        }
+    }
+    let (mut best, mut best_range) = (i64::MIN, (0, 0));
+    let (mut run, mut start) = (0i64, 0usize);
+    for (s, &c) in count.iter().enumerate() {
+        if run <= 0 {
+            run = 0;
+            start = s;
+        }
+        run += c as i64 - 1;
+        if run > best {
+            best = run;
+            best_range = (start, s);
+        }
+    }
+    if best < k as i64 {
+        return Ok(());
+    }
+    let (a, b) = best_range;
+    let knot = |s: usize| lay.breaks.as_ref().map_or(lay.t0 + s as f64 * lay.dt, |v| v[s]);
+    let (lo, hi) = (knot(a), knot(b + 1));
+    let inside: Vec<usize> = (0..data.t.len())
+        .filter(|&i| data.w[i] > 0.0 && (a..=b).contains(&lay.locate(data.t[i]).0))
+        .collect();
+    Err(Error::invalid(
+        "smoothing",
+        format!(
+            "smoothing=0 cannot interpolate with these knots: the {} samples {} … {} lie between \
+             knots {lo} and {hi}, which only {} control points reach (Schoenberg–Whitney \
+             condition); add knots there or use smoothing > 0",
+            inside.len(),
+            inside[0],
+            inside[inside.len() - 1],
+            b - a + k
+        ),
+    ))
 }
 
 fn pen_name(p: Penalty) -> &'static str {
@@ -1105,7 +1215,8 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
     // from the curve through the samples straight to a stiff curve lands in whichever local
     // minimum its linearisation points at (measured: λ = 1e10 on 8 s of motion reached a
     // constant-velocity rotation with 47 % more cost than the one λ = 1e9 found).
-    let lam_target = lam;
+    let mut lam_target = lam;
+    let mut lam_requested = None;
     if !auto && !interpolate {
         lam = lam.min(lam_of(10.0 * dts));
     }
@@ -1159,19 +1270,13 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
             None => data_half(&model, data, &w, &offs, spare.pop().unwrap_or(Band::zeros(0, 0))),
         };
         let mut lin = Lin::new(dh, ph);
-        // The largest λ double precision resolves: beyond λ·max diag P / max diag G ≈ 3e16
-        // the normal matrix loses positive definiteness in rounding (measured: 4e16 works,
-        // 4e17 fails), and the curve is the minimum-penalty curve long before.
-        let dmax = |b: &Band| b.diag().into_iter().fold(0.0, f64::max);
-        let lam_max = 3e16 * dmax(&lin.g) / dmax(&lin.p).max(f64::MIN_POSITIVE);
+        // The largest λ double precision resolves here (the curve and the weights move it a
+        // little): a fixed λ beyond it is fitted at it, and the result says so.
+        let lam_max = lambda_cap(&lin.g, &lin.p);
         if !auto && !interpolate && lam_target > lam_max {
-            return Err(Error::invalid(
-                "smoothing",
-                format!(
-                    "λ = {lam_target:e} is beyond what double precision resolves for these knots and data \
-                     (λ ≤ {lam_max:.1e}); the fit is the minimum-penalty curve well before that"
-                ),
-            ));
+            lam_requested.get_or_insert(lam_target);
+            lam_target = lam_max;
+            lam = lam.min(lam_target);
         }
         let mut lam_changed = false;
         if !lam_frozen {
@@ -1302,7 +1407,9 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
         }
         if interpolate {
             let (rv, ang) = residuals(&model, data, &offs);
-            let worst = ang.iter().cloned().fold(0.0, f64::max);
+            // zero-weight samples are not data: nothing interpolates them
+            let worst =
+                ang.iter().zip(&data.w).filter(|(_, w)| **w > 0.0).map(|(a, _)| *a).fold(0.0, f64::max);
             if worst <= 1e-11 {
                 break;
             }
@@ -1378,11 +1485,13 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
         ctrl: model.ctrl.clone(),
         dt: model.dt,
         t0: model.t0,
+        breaks: model.layout.breaks.as_ref().map(|b| b.to_vec()),
         order: k,
         residuals: ang,
         robust_weights,
         robust_scale: c_robust,
         lambda: lam,
+        lambda_requested: lam_requested,
         edf,
         score,
         iterations: it,
@@ -1399,13 +1508,8 @@ mod tests {
     /// joint (t₀ + segments·Δt), on spans and spacings where span/segments rounds down.
     #[test]
     fn knot_layouts_cover_the_last_sample() {
-        let mut x: u64 = 17;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::testing::XorShift64::new(17);
+        let mut next = || rng.uniform();
         let mut short_before = 0;
         for _ in 0..20_000 {
             let a = (next() - 0.5) * 10f64.powi((next() * 8.0) as i32);

@@ -1,5 +1,6 @@
-//! The fitted curve and its closed-form Jacobians: a uniform cumulative B-spline on SO(3)
-//! (MATH.md §6), q(t) = R_i Π_{j=1}^{k−1} Exp(B̃_j(u) d_{i+j}), d_m = Log(R_{m−1}⁻¹ R_m),
+//! The fitted curve and its closed-form Jacobians: a cumulative B-spline on SO(3) (MATH.md §6;
+//! uniform or on breakpoints, `layout.rs`: only the basis tables B̃_j(u) and the segment widths
+//! differ), q(t) = R_i Π_{j=1}^{k−1} Exp(B̃_j(u) d_{i+j}), d_m = Log(R_{m−1}⁻¹ R_m),
 //! perturbed on the right, R_m ← R_m Exp(δ_m) (rotation vectors).
 //!
 //! Jacobian (Sommer, Usenko, Schubert, Demmel & Cremers, "Efficient Derivative Computation for
@@ -19,6 +20,7 @@
 //! δω̇ = d/dt(ξ̇ + ω × ξ) and δω̈ = d²/dt²(ξ̇ + ω × ξ): the penalty's Jacobians are the jets of
 //! ξ̇ + ω × ξ. The data residual r = Log(q(t)⁻¹ y) moves by −J_l⁻¹(r) ξ.
 
+use super::layout::Layout;
 use super::so3::{self, M3};
 use crate::jet::{Axis, JQuat, Jet};
 use crate::quat::Quat;
@@ -42,7 +44,7 @@ pub struct Model {
     pub dt: f64,
     pub t0: f64,
     pub ctrl: Vec<Quat>,
-    basis: Vec<Vec<f64>>,
+    pub layout: Layout,
     d: Vec<Vec3>,
     axes: Vec<Axis>,
     jri: Vec<M3>,
@@ -102,12 +104,18 @@ pub fn shift<const N: usize>(j: Jet<N>) -> Jet<N> {
 
 impl Model {
     pub fn new(ctrl: Vec<Quat>, dt: f64, t0: f64, order: usize) -> Self {
+        let layout = Layout::uniform(t0, dt, ctrl.len() + 1 - order, order);
+        Self::with_layout(ctrl, layout)
+    }
+
+    /// A model on any knot layout (uniform or breakpoints).
+    pub fn with_layout(ctrl: Vec<Quat>, layout: Layout) -> Self {
         let mut m = Model {
-            order,
-            dt,
-            t0,
+            order: layout.order,
+            dt: layout.dt,
+            t0: layout.t0,
             ctrl,
-            basis: crate::spline::cumulative_blending_matrix(order),
+            layout,
             d: vec![],
             axes: vec![],
             jri: vec![],
@@ -162,7 +170,7 @@ impl Model {
             dt: self.dt,
             t0: self.t0,
             ctrl: vec![],
-            basis: vec![],
+            layout: self.layout.clone(),
             d: vec![],
             axes: vec![],
             jri: vec![],
@@ -171,7 +179,7 @@ impl Model {
         out.order = self.order;
         out.dt = self.dt;
         out.t0 = self.t0;
-        out.basis.clone_from(&self.basis);
+        out.layout = self.layout.clone();
         out.ctrl.resize(self.ctrl.len(), Quat::IDENTITY);
         out.ctrl.par_iter_mut().with_min_len(4096).enumerate().for_each(|(m, o)| {
             *o = (self.ctrl[m] * so3::exp([delta[3 * m], delta[3 * m + 1], delta[3 * m + 2]])).normalize()
@@ -187,10 +195,13 @@ impl Model {
     /// (segment, local parameter u) of time t (clamped to the domain).
     #[inline]
     pub fn locate(&self, t: f64) -> (usize, f64) {
-        let x = (t - self.t0) / self.dt;
-        let last = self.segments() - 1;
-        let i = (x.floor().max(0.0) as usize).min(last);
-        (i, x - i as f64)
+        self.layout.locate(t)
+    }
+
+    /// The width of segment i (Δt for uniform knots).
+    #[inline(always)]
+    pub fn width(&self, i: usize) -> f64 {
+        self.layout.width(i)
     }
 
     /// The curve on segment i at local parameter u (a jet: u and du/dt = 1/Δt).
@@ -198,7 +209,7 @@ impl Model {
     pub fn value<const N: usize>(&self, i: usize, u: Jet<N>) -> JQuat<N> {
         let mut q = JQuat::constant(self.ctrl[i]);
         for j in 1..self.order {
-            let b = Jet::poly(&self.basis[j], u);
+            let b = Jet::poly(self.layout.row(i, j), u);
             q = q * JQuat::exp_axis(&self.axes[i + j], b);
         }
         q
@@ -262,8 +273,9 @@ impl Model {
         let mut b = [zero; KK];
         let mut s = [one; KK];
         let mut a = [one; KK];
+        let (tab, ko) = (self.layout.table(i), self.order);
         for j in 1..k {
-            b[j] = Jet::poly(&self.basis[j], u);
+            b[j] = Jet::poly(&tab[j * ko..(j + 1) * ko], u);
             a[j] = JQuat::exp_axis(&self.axes[i + j], b[j]);
         }
         // S_{k−1} = 1, S_{k−2} = A_{k−1}, S_{j−1} = A_j S_j.

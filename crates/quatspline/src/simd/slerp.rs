@@ -673,13 +673,8 @@ mod tests {
     /// tier's [`SERIES_MAX_ANGLE`] and weights across [0, 1], ends exact.
     #[test]
     fn series_slerp_equals_the_trigonometric_slerp() {
-        let mut x: u64 = 5;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::testing::XorShift64::new(5);
+        let mut next = || rng.uniform();
         // both evaluation schemes (Horner, Estrin)
         fn tier<const K: usize>(a: [f64; 4], b: [f64; 4], w: f64, estrin: bool) -> [f64; 4] {
             let (bw, bv) = (series_coefficients::<_, K>(w), series_coefficients::<_, K>(1.0 - w));
@@ -770,13 +765,8 @@ mod tests {
         {
             return;
         }
-        let mut x: u64 = 9;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::testing::XorShift64::new(9);
+        let mut next = || rng.uniform();
         let nseg = 12;
         let joints: Vec<f64> = (0..=nseg).map(|i| i as f64 * 0.7).collect();
         let mut ctrl: Vec<Vec<Quat>> = Vec::new();

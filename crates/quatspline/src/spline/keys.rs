@@ -42,21 +42,28 @@ pub fn prepare_times(times: Option<&[f64]>, n: usize) -> Result<Vec<f64>> {
     if t.len() != n {
         return Err(Error::invalid("times", format!("expected {n} times (one per key), got {}", t.len())));
     }
-    for (i, &v) in t.iter().enumerate() {
-        if !v.is_finite() {
-            return Err(Error::NonFinite { arg: "times", index: i });
+    check_increasing("times", t, true)?;
+    Ok(t.to_vec())
+}
+
+/// Checks that `v` is finite and strictly increasing, naming `arg` and the first bad index;
+/// with `spans`, also that each step is wide enough ([`check_span`]), in index order.
+pub fn check_increasing(arg: &'static str, v: &[f64], spans: bool) -> Result<()> {
+    for (i, &x) in v.iter().enumerate() {
+        if !x.is_finite() {
+            return Err(Error::NonFinite { arg, index: i });
         }
-        if i > 0 && v <= t[i - 1] {
+        if i > 0 && x <= v[i - 1] {
             return Err(Error::invalid(
-                "times",
-                format!("not strictly increasing at index {i} ({v} after {})", t[i - 1]),
+                arg,
+                format!("not strictly increasing at index {i} ({x} after {})", v[i - 1]),
             ));
         }
-        if i > 0 {
-            check_span("times", t[i - 1], v, i)?;
+        if spans && i > 0 {
+            check_span(arg, v[i - 1], x, i)?;
         }
     }
-    Ok(t.to_vec())
+    Ok(())
 }
 
 /// The smallest key spacing accepted, relative to the times' magnitude: closer keys leave

@@ -56,8 +56,8 @@ pub use eval::{
 pub use hermite::Hermite;
 pub use keyframe::{prepare_loop, same_rotation, KeyEnds, KeyLoop};
 pub use keys::{
-    canonicalize_chain, chain_logs, check_domain, check_shape, check_span, prepare_keys, prepare_times,
-    MAX_TIME, MIN_RELATIVE_SPACING,
+    canonicalize_chain, chain_logs, check_domain, check_increasing, check_shape, check_span, prepare_keys,
+    prepare_times, MAX_TIME, MIN_RELATIVE_SPACING,
 };
 pub use kochanek_bartels::{alpha_times, tcb_ends, KochanekBartels, Tcb, TcbEnds, CATMULL_ROM};
 pub use lin_euler::PiecewiseLinEuler;
