@@ -27,7 +27,7 @@ def sources(tmp_path_factory):
     to_gltf(tr, d / "m.gltf", max_error=1, progress=False)
     qio.write(d / "m.bag", tr, format="rosbag")
     qio.write(d / "m.mcap", tr, format="rosbag")
-    qio.write(d / "k.txt", tr, format="kitti")
+    qio.write(d / "k.txt", qio.Trajectory(np.arange(5.0), q, np.eye(5)[:, :3]), format="kitti")
     return d
 
 

@@ -50,7 +50,7 @@ def test_matrices_match_scipy(tmp_path):
 def test_cross_read_with_evo(tmp_path):
     file_interface = pytest.importorskip("evo.tools.file_interface")
     tr = traj(seed=2)
-    qio.write(tmp_path / "k.txt", tr, format="kitti")
+    qio.write(tmp_path / "k.txt", tr, format="kitti", times_path=tmp_path / "t.txt")
     ev = file_interface.read_kitti_poses_file(str(tmp_path / "k.txt"))
     np.testing.assert_allclose(ev.positions_xyz, tr.positions, atol=1e-12)
     same_rotation(ev.orientations_quat_wxyz, tr.quats, 1e-12)
@@ -76,7 +76,7 @@ def test_bad_rows(tmp_path, text, match):
 
 
 def test_times_file_mismatch(tmp_path):
-    qio.write(tmp_path / "k.txt", traj(5), format="kitti")
+    qio.write(tmp_path / "k.txt", traj(5), format="kitti", times_path=tmp_path / "t0.txt")
     (tmp_path / "t.txt").write_text("0\n1\n2\n")
     with pytest.raises(ValueError, match=r"t.txt: 3 times for 5 poses in .*k.txt"):
         qio.read(tmp_path / "k.txt", times=tmp_path / "t.txt")

@@ -5,17 +5,41 @@ device, FIFO, socket or directory is refused, never replaced; a symbolic link is
 its target replaced (the link stays); a replaced file keeps its permission bits and, where the
 process may set them, its owner and group; the temporary file is removed on any error, on
 Ctrl-C and on SIGTERM.
+
+Temporaries left by a killed writer (SIGKILL, power loss) are removed by the next write to
+the same target, and only they: a file named exactly ``.NAME.<12 hex digits>.tmp`` beside
+``NAME`` (and, for ROS 2 bags, a directory ``.NAME.<12 hex digits>.bagtmp``). A live writer
+holds an advisory lock (``flock``) on its temporary from the moment it creates it until it
+renames or removes it; a temporary is stale when nobody holds that lock and it is not empty
+(a writer locks before writing its first byte) or, when empty, when it has not been modified
+for :data:`STALE_EMPTY_SECONDS` (the instant between creating and locking). Where ``flock``
+does not exist (Windows), a temporary is stale when it has not been modified for
+:data:`STALE_UNLOCKED_SECONDS`.
 """
 
 from __future__ import annotations
 
 import contextlib
+import json
 import os
+import re
 import secrets
+import shutil
 import signal
 import stat
 import threading
+import time
 from pathlib import Path
+
+try:
+    import fcntl
+except ImportError:  # pragma: no cover - Windows
+    fcntl = None
+
+#: An empty temporary nobody locks is stale after this many seconds without a change.
+STALE_EMPTY_SECONDS = 10.0
+#: Without ``flock`` (Windows), a temporary is stale after this many seconds without a change.
+STALE_UNLOCKED_SECONDS = 24 * 3600.0
 
 
 def _kind(mode: int) -> str:
@@ -91,6 +115,85 @@ def sigterm_unwinds():
         signal.signal(signal.SIGTERM, previous)
 
 
+def lock_descriptor(fd: int) -> bool:
+    """Takes the advisory lock that marks a temporary as in use by a live writer (False
+    where ``flock`` does not exist or is not supported by the file system)."""
+    if fcntl is None:
+        return False
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        return False
+    return True
+
+
+def _temporary_pattern(name: str, suffix: str) -> re.Pattern:
+    return re.compile(re.escape(f".{name}.") + r"[0-9a-f]{12}" + re.escape(suffix) + r"\Z")
+
+
+def _euid() -> int:
+    return os.geteuid() if hasattr(os, "geteuid") else 0
+
+
+def _is_stale(path: Path, fd: int, st: os.stat_result) -> bool:
+    """Whether the temporary open as ``fd`` belongs to no live writer (see the module's
+    rules); when True the lock is held by us until ``fd`` is closed."""
+    age = time.time() - st.st_mtime
+    if fcntl is None:
+        return age > STALE_UNLOCKED_SECONDS
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        return False  # a live writer holds it
+    empty = st.st_size == 0 if stat.S_ISREG(st.st_mode) else not os.listdir(path)
+    return not empty or age > STALE_EMPTY_SECONDS
+
+
+def remove_stale_temporaries(target, suffixes=(".tmp",)) -> list[Path]:
+    """Removes the stale temporaries a killed write to ``target`` left beside it (names
+    ``.NAME.<12 hex>SUFFIX`` for each suffix; ``.tmp`` files, ``.bagtmp`` directories) and
+    returns their paths. Anything else, however similar its name, is left alone: a wrong
+    kind (a file where a directory is expected, a symbolic link), a live writer's temporary,
+    another name. Errors are ignored (a temporary that cannot be removed stays)."""
+    target = Path(target)
+    removed: list[Path] = []
+    try:
+        names = os.listdir(target.parent)
+    except OSError:
+        return removed
+    patterns = [(_temporary_pattern(target.name, sfx), sfx) for sfx in suffixes]
+    for name in names:
+        for pattern, sfx in patterns:
+            if not pattern.match(name):
+                continue
+            path = target.parent / name
+            want_dir = sfx != ".tmp"
+            flags = os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0)
+            flags |= getattr(os, "O_CLOEXEC", 0)
+            try:
+                fd = os.open(path, flags)
+            except OSError:
+                continue  # a symbolic link (O_NOFOLLOW), gone, or unreadable: not ours
+            try:
+                st = os.fstat(fd)
+                kind_ok = stat.S_ISDIR(st.st_mode) if want_dir else stat.S_ISREG(st.st_mode)
+                if not kind_ok or st.st_uid != _euid() or not _is_stale(path, fd, st):
+                    continue
+                now = os.lstat(path)
+                if (now.st_dev, now.st_ino) != (st.st_dev, st.st_ino):
+                    continue  # replaced meanwhile
+                if want_dir:
+                    shutil.rmtree(path)
+                else:
+                    os.unlink(path)
+                removed.append(path)
+            except OSError:
+                continue
+            finally:
+                os.close(fd)
+    return removed
+
+
 def _create_temporary(target: Path, holder: list) -> int:
     """Creates ``.NAME.XXXXXXXXXXXX.tmp`` beside ``target`` (mode 0600, O_EXCL) and returns its
     descriptor. The name is put in ``holder`` *before* the file is created, so an interrupt
@@ -102,9 +205,12 @@ def _create_temporary(target: Path, holder: list) -> int:
         name = target.parent / f".{target.name}.{secrets.token_hex(6)}.tmp"
         holder.append(name)
         try:
-            return os.open(name, flags, 0o600)
+            fd = os.open(name, flags, 0o600)
         except FileExistsError:
             holder.pop()  # someone else's file: never ours to remove
+            continue
+        lock_descriptor(fd)  # marks it live until it is renamed or removed
+        return fd
     raise FileExistsError(f"{target}: cannot create a temporary file beside it")
 
 
@@ -114,6 +220,7 @@ def atomic_write(path, mode: str = "w", **kwargs):
     temporary file is removed and any existing ``path`` is left untouched."""
     target, old = resolve_output(path)
     target.parent.mkdir(parents=True, exist_ok=True)
+    remove_stale_temporaries(target)
     with sigterm_unwinds():
         holder: list[Path] = []
         try:
@@ -124,9 +231,164 @@ def atomic_write(path, mode: str = "w", **kwargs):
                 yield f
                 f.flush()
                 os.fsync(f.fileno())
-            os.replace(tmp, target)
+                if fcntl is not None:  # renamed while still locked: never seen as stale
+                    os.replace(tmp, target)
+            if fcntl is None:  # pragma: no cover - Windows renames closed files only
+                os.replace(tmp, target)
         except BaseException:
             if holder:
                 with contextlib.suppress(FileNotFoundError):
                     os.unlink(holder[-1])
             raise
+
+
+def _fsync_directory(directory: Path) -> None:
+    """Makes renames in ``directory`` durable (where directories can be opened)."""
+    try:
+        fd = os.open(directory, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
+    except OSError:  # pragma: no cover - Windows
+        return
+    try:
+        with contextlib.suppress(OSError):
+            os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def _journal_path(primary: Path) -> Path:
+    return primary.parent / f".{primary.name}.pair"
+
+
+def _read_journal(journal: Path) -> list[tuple[Path, Path]] | None:
+    """The (temporary, final) renames a committed pair write recorded, or None when
+    ``journal`` is missing or is not such a record (then it is not ours and is ignored)."""
+    try:
+        with open(journal, "rb") as f:
+            doc = json.loads(f.read(1 << 16).decode("utf-8"))
+        moves = [(Path(a), Path(b)) for a, b in doc["renames"]]
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    for tmp, final in moves:
+        if tmp.parent != final.parent or not _temporary_pattern(final.name, ".tmp").match(tmp.name):
+            return None
+    return moves
+
+
+def committed_pair(primary) -> dict[Path, Path]:
+    """For a reader of a file pair: the files to read in place of the pair's final names
+    while an interrupted :func:`atomic_write_pair` has not been completed yet (final →
+    committed temporary), so that a reader sees both new files; empty when there is nothing
+    to complete (then the final names hold a consistent pair)."""
+    primary = Path(os.path.realpath(primary))
+    moves = _read_journal(_journal_path(primary))
+    if not moves:
+        return {}
+    return {final: tmp for tmp, final in moves if tmp.is_file()}
+
+
+def complete_pair(primary) -> None:
+    """Completes an :func:`atomic_write_pair` that a kill interrupted after its commit point
+    (renames its remaining temporaries into place, removes the journal). A journal locked by
+    a live writer is a ``ValueError`` (two writes of one pair at once)."""
+    primary = Path(os.path.realpath(primary))
+    journal = _journal_path(primary)
+    try:
+        fd = os.open(journal, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | os.O_NONBLOCK)
+    except OSError:
+        return
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            return
+        if fcntl is not None:
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError:
+                raise ValueError(
+                    f"{primary}: another write of this file pair is in progress"
+                ) from None
+        moves = _read_journal(journal)
+        if moves is None:
+            return
+        for tmp, final in moves:
+            if os.path.isfile(tmp) and not os.path.islink(tmp):
+                os.replace(tmp, final)
+        for directory in {final.parent for _, final in moves}:
+            _fsync_directory(directory)
+        os.unlink(journal)
+        _fsync_directory(journal.parent)
+    finally:
+        os.close(fd)
+
+
+@contextlib.contextmanager
+def atomic_write_pair(primary, secondary, mode: str = "w", **kwargs):
+    """Yields two file objects ``(f_primary, f_secondary)`` and replaces both files so that
+    they change together: after a kill at any point, a reader that resolves the pair through
+    :func:`committed_pair` sees either both old files or both new ones.
+
+    The scheme (a journal, as databases do): both temporaries (``.NAME.<hex>.tmp``, each
+    beside its file, each kept locked) are written in full and fsynced; then a journal
+    ``.PRIMARY.pair`` beside the primary file, listing the two renames, is written, fsynced
+    and renamed into place — the commit point; then the secondary temporary is renamed onto
+    the secondary file, the primary onto the primary, the directories are fsynced and the
+    journal is removed. The guarantee, precisely:
+
+    - killed before the commit point: both files are untouched (old); the temporaries are
+      removed by the next write (see the module's rules for stale temporaries);
+    - killed after it: the journal names the new files; :func:`committed_pair` lets a reader
+      read them (both new) and the next write of the pair completes the renames first
+      (:func:`complete_pair`);
+    - a program that reads the final names without this library may, between such a kill and
+      the next write of the pair, see the new secondary beside the old primary (POSIX has no
+      rename of two files at once); the primary (e.g. KITTI poses) is always renamed last.
+
+    On an error or Ctrl-C before the commit point, nothing is changed and the temporaries
+    are removed. Each replaced file keeps its mode; both targets follow :func:`atomic_write`'s
+    rules (regular files only, symbolic links followed). The two must be different files.
+    """
+    first, old_first = resolve_output(primary)
+    second, old_second = resolve_output(secondary)
+    first = Path(os.path.realpath(first))
+    second = Path(os.path.realpath(second))
+    if first == second:
+        raise ValueError(f"{secondary}: is the same file as {primary}; a pair needs two files")
+    for target in (first, second):
+        target.parent.mkdir(parents=True, exist_ok=True)
+    complete_pair(first)
+    remove_stale_temporaries(first)
+    remove_stale_temporaries(second)
+    journal = _journal_path(first)
+    with sigterm_unwinds():
+        holder: list[Path] = []
+        files = []
+        committed = False
+        try:
+            for target, old in ((first, old_first), (second, old_second)):
+                fd = _create_temporary(target, holder)
+                files.append(os.fdopen(fd, mode, **kwargs))
+                adopt_mode(holder[-1], old)
+            tmp_first, tmp_second = holder[0], holder[1]
+            yield files[0], files[1]
+            for f in files:
+                f.flush()
+                os.fsync(f.fileno())
+            record = {"renames": [[str(tmp_second), str(second)], [str(tmp_first), str(first)]]}
+            with atomic_write(journal) as j:
+                json.dump(record, j)
+            _fsync_directory(journal.parent)
+            committed = True  # from here on the new pair is what readers get
+            os.replace(tmp_second, second)
+            os.replace(tmp_first, first)
+            for directory in {first.parent, second.parent}:
+                _fsync_directory(directory)
+            os.unlink(journal)
+        except BaseException:
+            if not committed:
+                for name in holder:
+                    with contextlib.suppress(FileNotFoundError):
+                        os.unlink(name)
+            raise
+        finally:
+            for f in files:
+                with contextlib.suppress(OSError):
+                    f.close()

@@ -14,7 +14,13 @@ import inspect
 from pathlib import Path
 
 from . import bvh, csv_format, euroc, gltf, json_format, kitti, npz_format, repoimu, rosbag, tum
-from ._common import MAX_SNIFF_LINE, Trajectory, TrajectoryError, check_regular_input
+from ._common import (
+    MAX_SNIFF_LINE,
+    Trajectory,
+    TrajectoryError,
+    check_regular_input,
+    open_regular,
+)
 from .evo_bridge import from_evo, to_evo
 from .pandas_bridge import from_dataframe, to_dataframe
 
@@ -81,8 +87,8 @@ def detect_format(path: str | Path) -> str:
         return "tum"
     first = ""
     if p.exists():
-        check_regular_input(p)  # a FIFO would block, /dev/zero would never end a line
-        with open(p, encoding="utf-8-sig", errors="replace") as f:
+        # a FIFO would block, /dev/zero would never end a line
+        with open_regular(p, encoding="utf-8-sig", errors="replace") as f:
             first = f.readline(MAX_SNIFF_LINE)
     if first.startswith("#timestamp") and "q_RS_w" in first:
         return "euroc"
@@ -244,7 +250,7 @@ def detect_format_for_writing(path) -> str:
 def _kitti_like(p: Path) -> bool:
     """A .txt whose first data line has 12 numbers (KITTI) rather than 8 (TUM)."""
     try:
-        with open(p, encoding="utf-8-sig", errors="replace") as f:
+        with open_regular(p, encoding="utf-8-sig", errors="replace") as f:
             for _ in range(64):
                 line = f.readline(1 << 16)
                 if not line:
@@ -252,6 +258,6 @@ def _kitti_like(p: Path) -> bool:
                 s = line.strip()
                 if s and not s.startswith("#"):
                     return len(s.split()) == 12
-    except OSError:
+    except (OSError, ValueError):
         return False
     return False

@@ -209,17 +209,59 @@ def _kind(mode: int) -> str:
     return "not a regular file"
 
 
+def _require_regular(path, mode: int) -> None:
+    if not stat.S_ISREG(mode):
+        raise TrajectoryError(f"{path}: is {_kind(mode)}; only regular files are read")
+
+
 def check_regular_input(path) -> None:
     """Refuses anything but a regular file (symbolic links are followed): a FIFO would block
-    forever, a device such as /dev/zero would never end."""
+    forever, a device such as /dev/zero would never end. The one check every input goes
+    through: readers open their files with :func:`open_regular`, which makes it again on the
+    opened descriptor; files a third-party library opens itself (bag storage files) are
+    checked here just before."""
     try:
         st = os.stat(path)
     except FileNotFoundError:
-        raise ValueError(f"{path}: no such file") from None
+        raise TrajectoryError(f"{path}: no such file") from None
     except OSError as e:
-        raise ValueError(f"{path}: cannot read ({e.strerror or e})") from None
-    if not stat.S_ISREG(st.st_mode):
-        raise ValueError(f"{path}: is {_kind(st.st_mode)}; only regular files are read")
+        raise TrajectoryError(f"{path}: cannot read ({e.strerror or e})") from None
+    _require_regular(path, st.st_mode)
+
+
+_OPEN_FLAGS = (
+    os.O_RDONLY
+    | getattr(os, "O_NONBLOCK", 0)
+    | getattr(os, "O_NOCTTY", 0)
+    | getattr(os, "O_CLOEXEC", 0)
+    | getattr(os, "O_BINARY", 0)
+)
+
+
+def open_regular(path, mode: str = "r", **kwargs):
+    """Opens ``path`` for reading if it is a regular file, else a one-line
+    :class:`TrajectoryError` naming it.
+
+    The path is checked before it is opened (a device is never opened), then opened without
+    blocking (``O_NONBLOCK``: a FIFO put in its place in between cannot block the open) and
+    checked again on the descriptor (``fstat``), which is what is read: a race cannot make
+    the reader block on a FIFO or read a device. ``mode`` and ``kwargs`` as for
+    :func:`open` (read modes only)."""
+    if any(c in mode for c in "wax+"):
+        raise ValueError(f"mode: open_regular reads only, got {mode!r}")
+    check_regular_input(path)
+    try:
+        fd = os.open(path, _OPEN_FLAGS)
+    except OSError as e:
+        raise TrajectoryError(f"{path}: cannot read ({e.strerror or e})") from None
+    try:
+        _require_regular(path, os.fstat(fd).st_mode)
+        if _OPEN_FLAGS & getattr(os, "O_NONBLOCK", 0):
+            os.set_blocking(fd, True)
+        return os.fdopen(fd, mode, **kwargs)
+    except BaseException:
+        os.close(fd)
+        raise
 
 
 def parse_float(path, line: int, col: int, name: str, cell: str) -> float:

@@ -14,6 +14,7 @@ import os
 import numpy as np
 
 from .. import _progress
+from ._common import open_regular
 
 #: below this size the careful parser is fast enough and pandas' import is not worth it
 MIN_BYTES = 1 << 16
@@ -23,10 +24,10 @@ def table(path, sep: str, ncols: int | None, skip: int = 0, int_first: bool = Fa
     """Rows after ``skip`` header lines; ``sep`` one character or ``"ws"`` (any whitespace);
     ``ncols`` the exact column count (``min_cols``: at least that many, extra ignored)."""
     try:
-        with open(path, "rb") as f:
+        with open_regular(path, "rb") as f:
             head = f.read(MIN_BYTES)
-    except OSError:
-        return None
+    except (OSError, ValueError):
+        return None  # the caller's careful parser opens it again and names what is wrong
     if len(head) < MIN_BYTES:
         return None
     try:
@@ -82,9 +83,11 @@ def _read(pd, path, sep: str, top: int):
         encoding="utf-8-sig", header=None, engine="c", skip_blank_lines=True, skiprows=top, sep=sep
     )
     try:
-        if _progress.on_terminal() and os.stat(path).st_size >= BAR_BYTES:
-            with _progress.reading(path) as bar, open(path, "rb") as raw:
-                return pd.read_csv(_progress.counting(raw, bar), **kw)
-        return pd.read_csv(path, **kw)
+        # the open file, not the path: pandas must read what open_regular checked
+        with open_regular(path, "rb") as raw:
+            if _progress.on_terminal() and os.fstat(raw.fileno()).st_size >= BAR_BYTES:
+                with _progress.reading(path) as bar:
+                    return pd.read_csv(_progress.counting(raw, bar), **kw)
+            return pd.read_csv(raw, **kw)
     except Exception:  # ParserError (ragged rows), EmptyDataError, UnicodeDecodeError, …
         return None

@@ -20,6 +20,7 @@ from ._common import (
     TrajectoryError,
     check_for_writing,
     finish,
+    open_regular,
     parse_float,
     refuse_extra,
 )
@@ -124,7 +125,7 @@ def _translation(joint: Joint, frames: np.ndarray) -> np.ndarray:
 
 
 def joints_of(path) -> list[str]:
-    with open(path, encoding="utf-8-sig") as f:
+    with open_regular(path, encoding="utf-8-sig") as f:
         lines = f.read().splitlines()
     return [j.name for j in _parse_hierarchy(path, lines)[0]]
 
@@ -143,7 +144,7 @@ def read(
         raise TypeError(f"skip_frames: expected an integer, got {type(skip_frames).__name__}")
     if skip_frames < 0:
         raise TrajectoryError(f"{path}: skip_frames must be ≥ 0, got {int(skip_frames)}")
-    with open(path, encoding="utf-8-sig") as f:
+    with open_regular(path, encoding="utf-8-sig") as f:
         lines = f.read().splitlines()
     joints, nchan, i = _parse_hierarchy(path, lines)
     if not joints:

@@ -22,7 +22,15 @@ import numpy as np
 from .. import _progress
 from .._atomic import atomic_write
 from . import _fast
-from ._common import Trajectory, TrajectoryError, check_for_writing, finish, fmt, parse_float
+from ._common import (
+    Trajectory,
+    TrajectoryError,
+    check_for_writing,
+    finish,
+    fmt,
+    open_regular,
+    parse_float,
+)
 
 TIME = ("t", "time", "timestamp", "times", "sec", "seconds")
 QUATS = (("qw", "qx", "qy", "qz"), ("w", "x", "y", "z"), ("q_w", "q_x", "q_y", "q_z"))
@@ -50,7 +58,7 @@ def read(
     sort: bool = False,
     dedupe: bool = False,
 ) -> Trajectory:
-    with open(path, encoding="utf-8-sig", newline="") as f:
+    with open_regular(path, encoding="utf-8-sig", newline="") as f:
         header_line = f.readline()
         if len(header_line) > MAX_LINE:
             raise TrajectoryError(f"{path}:1: header line longer than {MAX_LINE} characters")

@@ -15,6 +15,7 @@ from ._common import (
     TrajectoryError,
     check_for_writing,
     finish,
+    open_regular,
     parse_float,
     refuse_extra,
 )
@@ -24,7 +25,7 @@ NAMES = ("timestamp", "p_x", "p_y", "p_z", "q_w", "q_x", "q_y", "q_z")
 
 def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
     rows, times, lines, stamps = [], [], [], []
-    with open(path, encoding="utf-8-sig") as f:
+    with open_regular(path, encoding="utf-8-sig") as f:
         header = f.readline()
         if not header.startswith("#"):
             raise TrajectoryError(f"{path}:1: bad header: expected '#timestamp [ns], p_RS_R_x …'")

@@ -9,7 +9,7 @@ import math
 import numpy as np
 
 from .._atomic import atomic_write
-from ._common import Trajectory, TrajectoryError, check_for_writing, finish
+from ._common import Trajectory, TrajectoryError, check_for_writing, finish, open_regular
 
 
 def _parse_int(s: str) -> float:
@@ -28,7 +28,7 @@ def _parse_float(s: str) -> float:
 
 
 def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
-    with open(path, encoding="utf-8-sig") as f:
+    with open_regular(path, encoding="utf-8-sig") as f:
         text = f.read()
     try:
         doc = json.loads(text, parse_int=_parse_int, parse_float=_parse_float)

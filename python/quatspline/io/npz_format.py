@@ -17,7 +17,7 @@ import zlib
 import numpy as np
 
 from .._atomic import atomic_write
-from ._common import Trajectory, TrajectoryError, check_for_writing, finish
+from ._common import Trajectory, TrajectoryError, check_for_writing, finish, open_regular
 
 #: Largest array read (declared size after decompression): 1 GiB, about 33 million keys.
 MAX_ARRAY_BYTES = 1 << 30
@@ -70,8 +70,9 @@ def _read_member(zf: zipfile.ZipFile, name: str, path) -> np.ndarray:
 
 
 def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
+    raw = open_regular(path, "rb")
     try:
-        with zipfile.ZipFile(path) as zf:
+        with raw, zipfile.ZipFile(raw) as zf:
             names = {n[:-4] for n in zf.namelist() if n.endswith(".npy")}
             if "times" not in names or "quats" not in names:
                 raise TrajectoryError(

@@ -12,6 +12,7 @@ from ._common import (
     TrajectoryError,
     check_for_writing,
     finish,
+    open_regular,
     parse_float,
     refuse_extra,
 )
@@ -21,7 +22,7 @@ NAMES = ("time", "W", "X", "Y", "Z")
 
 def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
     rows, lines = [], []
-    with open(path, encoding="utf-8-sig") as f:
+    with open_regular(path, encoding="utf-8-sig") as f:
         first = f.readline()
         if not first.startswith("Time (s);Vicon Orientation"):
             raise TrajectoryError(f"{path}:1: bad header: not a RepoIMU file")

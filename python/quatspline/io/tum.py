@@ -14,6 +14,7 @@ from ._common import (
     check_for_writing,
     finish,
     fmt,
+    open_regular,
     parse_float,
     refuse_extra,
 )
@@ -29,7 +30,7 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
         except TrajectoryError:
             pass  # the careful parser below gives the message with the file's line numbers
     rows, lines = [], []
-    with open(path, encoding="utf-8-sig") as f, _progress.reading(path) as bar:
+    with open_regular(path, encoding="utf-8-sig") as f, _progress.reading(path) as bar:
         for line, text in enumerate(_progress.lines(f, bar), start=1):
             s = text.strip()
             if not s or s.startswith("#"):
