@@ -149,12 +149,13 @@ def _is_stale(path: Path, fd: int, st: os.stat_result) -> bool:
     return not empty or age > STALE_EMPTY_SECONDS
 
 
-def remove_stale_temporaries(target, suffixes=(".tmp",)) -> list[Path]:
+def remove_stale_temporaries(target, suffixes=(".tmp",), remove=None) -> list[Path]:
     """Removes the stale temporaries a killed write to ``target`` left beside it (names
     ``.NAME.<12 hex>SUFFIX`` for each suffix; ``.tmp`` files, ``.bagtmp`` directories) and
     returns their paths. Anything else, however similar its name, is left alone: a wrong
     kind (a file where a directory is expected, a symbolic link), a live writer's temporary,
-    another name. Errors are ignored (a temporary that cannot be removed stays)."""
+    another name. ``remove(path)`` removes a stale directory temporary (default: the whole
+    tree). Errors are ignored (a temporary that cannot be removed stays)."""
     target = Path(target)
     removed: list[Path] = []
     try:
@@ -183,7 +184,7 @@ def remove_stale_temporaries(target, suffixes=(".tmp",)) -> list[Path]:
                 if (now.st_dev, now.st_ino) != (st.st_dev, st.st_ino):
                     continue  # replaced meanwhile
                 if want_dir:
-                    shutil.rmtree(path)
+                    (remove or shutil.rmtree)(path)
                 else:
                     os.unlink(path)
                 removed.append(path)

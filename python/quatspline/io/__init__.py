@@ -11,6 +11,10 @@ taken from ``format`` or guessed from the extension and the first line. Every er
 from __future__ import annotations
 
 import inspect
+import lzma
+import os
+import struct
+import zlib
 from pathlib import Path
 
 from . import bvh, csv_format, euroc, gltf, json_format, kitti, npz_format, repoimu, rosbag, tum
@@ -166,6 +170,74 @@ def read(path: str | Path, format: str | None = None, **options: object) -> Traj
         raise ValueError(f"{path}: cannot read ({e.strerror or e})") from None
     except UnicodeDecodeError as e:
         raise ValueError(f"{path}: not a text file ({e.reason} at byte {e.start})") from None
+    except TrajectoryError:
+        raise
+    except _BUILTIN_PARSER_ERRORS as e:
+        if not _raised_by_a_parser(e):
+            raise  # ours: a wrong option is a TypeError or a ValueError naming the option
+        raise _parser_error(path, fmt, e) from None
+    except Exception as e:
+        if not isinstance(e, _third_party_errors()):
+            raise
+        raise _parser_error(path, fmt, e) from None
+
+
+#: What a third-party parser (rosbags, pygltflib, numpy, zipfile …) raises on bad bytes.
+_BUILTIN_PARSER_ERRORS = (
+    ValueError,
+    TypeError,
+    KeyError,
+    IndexError,
+    AttributeError,
+    AssertionError,
+    EOFError,
+    OverflowError,
+    ZeroDivisionError,
+    RecursionError,
+    NotImplementedError,
+    struct.error,
+    zlib.error,
+    lzma.LZMAError,
+)
+
+_PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def _raised_by_a_parser(e: BaseException) -> bool:
+    """Whether ``e`` was raised in code outside this package (the innermost frame of its
+    traceback), i.e. by a third-party parser on a file's content."""
+    tb = e.__traceback__
+    if tb is None:
+        return False
+    while tb.tb_next is not None:
+        tb = tb.tb_next
+    filename = os.path.abspath(tb.tb_frame.f_code.co_filename)
+    return not filename.startswith(_PACKAGE_DIR + os.sep)
+
+
+def _third_party_errors() -> tuple[type[BaseException], ...]:
+    """The error classes of the optional parsers that are installed (rosbags' own)."""
+    found: list[type[BaseException]] = []
+    for module, names in (
+        ("rosbags.highlevel", ("AnyReaderError",)),
+        ("rosbags.rosbag1", ("ReaderError",)),
+        ("rosbags.rosbag2", ("ReaderError",)),
+        ("rosbags.serde", ("SerdeError",)),
+        ("rosbags.typesys", ("TypesysError",)),
+    ):
+        try:
+            mod = __import__(module, fromlist=list(names))
+        except ImportError:
+            continue
+        found += [getattr(mod, n) for n in names if hasattr(mod, n)]
+    return tuple(found)
+
+
+def _parser_error(path, fmt: str, e: BaseException) -> TrajectoryError:
+    text = " ".join(str(e).split())
+    if len(text) > 200:
+        text = text[:200] + "…"
+    return TrajectoryError(f"{path}: not a readable {fmt} file ({type(e).__name__}: {text})")
 
 
 def write(

@@ -12,6 +12,20 @@ Messages with an orientation, by type:
 - ``sensor_msgs/Imu``: ``orientation`` only (no positions);
 - ``geometry_msgs/QuaternionStamped``: ``quaternion`` (no positions).
 
+Only regular files are read: a bag directory's ``metadata.yaml`` and the storage files it
+lists are checked before the bag is opened (a FIFO would block the reader forever). A message
+whose fields differ from the standard type (a bag that embeds its own definition) is refused
+naming the file, topic, message and field.
+
+The writer replaces an existing ROS 2 bag directory only when it provably is a bag: its
+``metadata.yaml`` parses as rosbag2 bag information and the directory holds nothing but that
+file and the storage files it lists; anything else is refused and left untouched. The new bag
+is built in a locked work directory ``.NAME.<12 hex>.bagtmp`` beside the target and swapped
+in (atomically where the system can exchange two directories, else by two renames undone on
+failure), keeping the directory's permission bits; the old bag's files are removed, and
+nothing else is. A killed write's work directory is removed by the next write (restoring the
+old bag first if the kill fell between the two renames).
+
 Times are the messages' header stamps (``stamp="header"``, default) or the bag's receive
 times (``stamp="bag"``), in seconds; the integer nanoseconds are kept exactly in
 ``Trajectory.stamps_ns``. ROS quaternions are (x, y, z, w); the trajectory's are (w, x, y, z).
@@ -20,16 +34,27 @@ times (``stamp="bag"``), in seconds; the integer nanoseconds are kept exactly in
 from __future__ import annotations
 
 import contextlib
+import ctypes
+import ctypes.util
+import numbers
 import os
+import secrets
 import shutil
-import tempfile
-from pathlib import Path
+import stat
+import warnings
+from pathlib import Path, PurePath
 
 import numpy as np
 
-from .._atomic import adopt_mode, resolve_output, sigterm_unwinds
+from .._atomic import (
+    adopt_mode,
+    lock_descriptor,
+    remove_stale_temporaries,
+    resolve_output,
+    sigterm_unwinds,
+)
 from .._progress import progress
-from ._common import Trajectory, TrajectoryError, finish
+from ._common import Trajectory, TrajectoryError, check_regular_input, finish, open_regular
 
 HINT = "ROS bags need the rosbags library: pip install 'quatspline[bag]'"
 
@@ -58,13 +83,45 @@ def _rosbags():
 def is_bag(path) -> bool:
     """Whether ``path`` looks like a bag: a .bag/.mcap/.db3 file or a ROS 2 bag directory."""
     p = Path(path)
-    return p.suffix.lower() in SUFFIXES or (p.is_dir() and (p / "metadata.yaml").is_file())
+    return p.suffix.lower() in SUFFIXES or (p.is_dir() and os.path.lexists(p / "metadata.yaml"))
 
 
-def _get(msg, dotted: str):
+class _Where:
+    """Where a message is, for messages: the file, topic and message number."""
+
+    def __init__(self, path, topic):
+        self.path, self.topic, self.index = path, topic, 0
+
+    def __str__(self):
+        return f"{self.path}: topic {self.topic!r}, message {self.index}"
+
+
+def _get(where, msg, dotted: str):
+    """The field ``dotted`` of a decoded message; a bag whose embedded definition lacks or
+    renames it is a one-line error naming the file, topic, message and field."""
+    obj = msg
     for part in dotted.split("."):
-        msg = getattr(msg, part)
-    return msg
+        try:
+            obj = getattr(obj, part)
+        except AttributeError:
+            raise TrajectoryError(
+                f"{where}: no field {dotted!r} (the bag's definition of "
+                f"{_short(getattr(msg, '__msgtype__', type(msg).__name__))} differs from the "
+                "standard one)"
+            ) from None
+    return obj
+
+
+def _number(where, msg, dotted: str, integer: bool = False):
+    x = _get(where, msg, dotted)
+    kinds = numbers.Integral if integer else numbers.Real
+    if isinstance(x, bool) or not isinstance(x, kinds):
+        raise TrajectoryError(
+            f"{where}: field {dotted!r} is {type(x).__name__}, expected "
+            f"{'an integer' if integer else 'a number'} (the bag's definition differs from "
+            "the standard one)"
+        )
+    return int(x) if integer else float(x)
 
 
 def _short(msgtype: str) -> str:
@@ -83,6 +140,7 @@ def _open(path, AnyReader):
     from rosbags.highlevel import AnyReaderError
 
     p = Path(path)
+    check_bag_files(p)
     reader = None
     try:
         reader = AnyReader([p])
@@ -97,6 +155,48 @@ def _open(path, AnyReader):
         yield reader
     finally:
         reader.close()
+
+
+def _load_yaml(path, f):
+    """``metadata.yaml`` as Python objects (None when it is not YAML)."""
+    from ruamel.yaml import YAML
+    from ruamel.yaml.error import YAMLError
+
+    try:
+        return YAML(typ="safe").load(f.read(1 << 24))
+    except (YAMLError, UnicodeDecodeError, ValueError, RecursionError):
+        return None
+
+
+def _bag_info(directory: Path):
+    """The ``rosbag2_bagfile_information`` mapping of a bag directory's metadata.yaml (read
+    through the regular-file check), or None when it is not one."""
+    meta = directory / "metadata.yaml"
+    with open_regular(meta, "rb") as f:
+        doc = _load_yaml(meta, f)
+    info = doc.get("rosbag2_bagfile_information") if isinstance(doc, dict) else None
+    if not isinstance(info, dict):
+        return None
+    files = info.get("relative_file_paths")
+    if not isinstance(files, list) or not all(isinstance(x, str) and x for x in files):
+        return None
+    return info
+
+
+def check_bag_files(path) -> None:
+    """The regular-file check for every file the bag reader will open: a bag file, or a
+    bag directory's metadata.yaml and each storage file it lists."""
+    p = Path(path)
+    if not p.is_dir():
+        check_regular_input(p)
+        return
+    info = _bag_info(p)
+    if info is None:
+        return  # rosbags reports what is wrong with it
+    for name in info["relative_file_paths"]:
+        storage = p / PurePath(name).name  # as rosbags resolves it
+        if os.path.lexists(storage):
+            check_regular_input(storage)
 
 
 def _guarded(path, messages):
@@ -184,20 +284,25 @@ def read(
         is_tf = msgtype == "tf2_msgs/msg/TFMessage"
         ns, quats, pos, children = [], [], [], set()
         total = sum(int(getattr(c, "msgcount", 0) or 0) for c in chosen) or None
+        where = _Where(path, topic)
         with progress(total=total, desc=f"reading {topic}", unit="msg") as bar:
             for conn, bag_ns, raw in _guarded(path, reader.messages(connections=chosen)):
                 bar.update(1)
+                where.index += 1
                 try:
                     msg = reader.deserialize(raw, conn.msgtype)
                 except Exception as e:  # a corrupt message: name where it is
-                    raise TrajectoryError(
-                        f"{path}: topic {topic!r}, message {len(ns) + 1}: cannot decode ({e})"
-                    ) from None
-                items = msg.transforms if is_tf else [msg]
+                    raise TrajectoryError(f"{where}: cannot decode ({e})") from None
+                items = _get(where, msg, "transforms") if is_tf else [msg]
+                if is_tf and not isinstance(items, (list, tuple)):
+                    raise TrajectoryError(f"{where}: field 'transforms' is not a list")
                 for item in items:
                     if is_tf or msgtype == "geometry_msgs/msg/TransformStamped":
-                        children.add(item.child_frame_id)
-                        if frame is not None and item.child_frame_id != frame:
+                        child = _get(where, item, "child_frame_id")
+                        if not isinstance(child, str):
+                            raise TrajectoryError(f"{where}: field 'child_frame_id' is not text")
+                        children.add(child)
+                        if frame is not None and child != frame:
                             continue
                         if is_tf and frame is None and len(children) > 1:
                             raise TrajectoryError(
@@ -206,19 +311,24 @@ def read(
                                 "(--frame)"
                             )
                     if stamp == "header":
-                        st = item.header.stamp
-                        ns.append(int(st.sec) * 1_000_000_000 + int(st.nanosec))
+                        sec = _number(where, item, "header.stamp.sec", integer=True)
+                        nsec = _number(where, item, "header.stamp.nanosec", integer=True)
+                        ns.append(sec * 1_000_000_000 + nsec)
                     else:
                         ns.append(int(bag_ns))
-                    q = _get(item, qpath)
-                    quats.append((q.w, q.x, q.y, q.z))
+                    quats.append(tuple(_number(where, item, f"{qpath}.{c}") for c in "wxyz"))
                     if ppath is not None:
-                        p = _get(item, ppath)
-                        pos.append((p.x, p.y, p.z))
+                        pos.append(tuple(_number(where, item, f"{ppath}.{c}") for c in "xyz"))
     if not ns:
         extra = f" with child frame {frame!r} (frames: {', '.join(sorted(children)) or 'none'})"
         raise TrajectoryError(
             f"{path}: no messages on topic {topic!r}" + (extra if frame is not None else "")
+        )
+    out_of_range = [k for k, v in enumerate(ns) if not -(2**63) <= v < 2**63]
+    if out_of_range:
+        k = out_of_range[0]
+        raise TrajectoryError(
+            f"{path}: topic {topic!r}, stamp {k + 1}: {ns[k]} ns is beyond 64-bit nanoseconds"
         )
     stamps = np.array(ns, dtype=np.int64)
     return finish(
@@ -249,10 +359,11 @@ def write(
     """Writes ``geometry_msgs/PoseStamped`` messages on ``topic`` — or
     ``geometry_msgs/QuaternionStamped`` when the trajectory has no positions, so that a round
     trip keeps "no positions": ``.bag`` → ROS 1, ``.mcap`` → a ROS 2 MCAP file, any other
-    path → a ROS 2 bag directory (sqlite3). The bag is built beside the target and renamed
-    into place. A file target follows every writer's rules (only a regular file is replaced,
-    a symbolic link is followed, the replaced file keeps its mode); a directory target is
-    replaced only if it is a bag."""
+    path → a ROS 2 bag directory (sqlite3). The bag is built in a work directory beside the
+    target and renamed into place. A file target follows every writer's rules (only a
+    regular file is replaced, a symbolic link is followed, the replaced file keeps its mode);
+    a directory target is replaced only if it provably is a ROS 2 bag (see the module's
+    rules), keeping its mode; anything else is refused and left untouched."""
     from ._common import check_for_writing
 
     _rosbags()  # the one-line install hint before anything else
@@ -266,24 +377,168 @@ def write(
     if not (np.all(np.isfinite(traj.quats)) and np.all(np.isfinite(pos))):
         raise ValueError(f"{path}: refusing to write NaN or inf")
     as_file = ros == 1 or suffix == ".mcap"
+    old_files = None
     if as_file:
         target, old = resolve_output(path)  # regular files only; symbolic links followed
     else:
         target, old = (Path(os.path.realpath(path)) if path.is_symlink() else path), None
-        if target.exists() and not (target.is_file() or is_bag(target)):
-            raise ValueError(f"{path}: exists and is not a bag; refusing to replace it")
+        # first: a killed write's old bag is put back before the target is judged
+        remove_stale_temporaries(target, suffixes=(".bagtmp",), remove=_remove_work_dir)
+        if os.path.lexists(target):
+            old_files = proven_bag_files(path, target)
+            old = os.stat(target)
     target.parent.mkdir(parents=True, exist_ok=True)
+    if as_file:
+        remove_stale_temporaries(target, suffixes=(".bagtmp",), remove=_remove_work_dir)
     with sigterm_unwinds():
-        tmpdir = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+        work = _make_work_dir(target)
         try:
-            out = _write_bag(tmpdir, ros, suffix, traj.quats, stamps, pos, has_pos, topic, frame_id)
+            out = _write_bag(work, ros, suffix, traj.quats, stamps, pos, has_pos, topic, frame_id)
             if as_file:
                 adopt_mode(out, old)
-            elif target.is_dir():
-                shutil.rmtree(target)
-            os.replace(out, target)
+                os.replace(out, target)
+            else:
+                os.chmod(out, stat.S_IMODE(old.st_mode) if old is not None else _new_dir_mode())
+                _swap_in(out, target, work, old_files)
         finally:
-            shutil.rmtree(tmpdir, ignore_errors=True)
+            with contextlib.suppress(OSError):  # what cannot be removed stays, named by rules
+                _remove_work_dir(work)
+
+
+def _new_dir_mode() -> int:
+    umask = os.umask(0)
+    os.umask(umask)
+    return 0o777 & ~umask
+
+
+def proven_bag_files(path, directory: Path) -> list[str]:
+    """The names of the files of the ROS 2 bag ``directory`` (metadata.yaml and the storage
+    files it lists), or a one-line ValueError when it is not provably a bag: not a directory,
+    metadata.yaml missing or not rosbag2 bag information, or any other entry inside."""
+    st = os.lstat(directory)
+    if not stat.S_ISDIR(st.st_mode):
+        raise ValueError(
+            f"{path}: exists and is not a ROS 2 bag directory; refusing to replace it "
+            "(a .bag or .mcap name writes a single file)"
+        )
+    try:
+        info = _bag_info(directory)
+    except ValueError:
+        info = None
+    if info is None:
+        raise ValueError(
+            f"{path}: is a directory but not a ROS 2 bag (no metadata.yaml holding rosbag2 bag "
+            "information); refusing to replace it"
+        )
+    names = {"metadata.yaml"} | {PurePath(x).name for x in info["relative_file_paths"]}
+    entries = os.listdir(directory)
+    others = sorted(e for e in entries if e not in names)
+    if others:
+        shown = ", ".join(others[:3]) + (", …" if len(others) > 3 else "")
+        raise ValueError(
+            f"{path}: holds files that are not part of the bag ({shown}); refusing to replace it"
+        )
+    for e in entries:
+        if not stat.S_ISREG(os.lstat(directory / e).st_mode):
+            raise ValueError(
+                f"{path}: {e} is not a regular file, so this is not a bag this library "
+                "writes; refusing to replace it"
+            )
+    return entries
+
+
+def _make_work_dir(target: Path) -> Path:
+    """A new, locked work directory ``.NAME.<12 hex>.bagtmp`` beside ``target``. The lock
+    (held until the process ends or the directory is removed) tells a later write that it
+    is live; a killed write's directory is unlocked and so stale."""
+    for _ in range(100):
+        work = target.parent / f".{target.name}.{secrets.token_hex(6)}.bagtmp"
+        try:
+            os.mkdir(work, 0o700)
+        except FileExistsError:
+            continue
+        fd = os.open(work, os.O_RDONLY)
+        if lock_descriptor(fd):
+            _WORK_LOCKS[work] = fd
+        else:
+            os.close(fd)
+        return work
+    raise FileExistsError(f"{target}: cannot create a work directory beside it")
+
+
+_WORK_LOCKS: dict[Path, int] = {}
+
+#: the old bag, set aside inside the work directory during the swap
+_OLD = "old"
+
+
+def _remove_work_dir(work: Path) -> None:
+    """Removes a work directory: what we wrote into it, and an old bag set aside in it
+    (which a kill between the two renames leaves there: put back if the target is missing)."""
+    target = work.parent / work.name[1:].rsplit(".", 2)[0]
+    old = work / _OLD
+    if old.is_dir() and not old.is_symlink():
+        if not os.path.lexists(target):
+            os.rename(old, target)  # a write killed mid-swap: the old bag comes back
+        else:
+            try:
+                names = proven_bag_files(old, old)
+            except ValueError:
+                warnings.warn(
+                    f"{old}: the replaced bag now holds other files; left in place",
+                    RuntimeWarning,
+                    stacklevel=3,
+                )
+                return
+            for name in names:
+                os.unlink(old / name)
+            os.rmdir(old)
+    bag = work / "bag"
+    if bag.is_dir() and not bag.is_symlink():
+        shutil.rmtree(bag)
+    for entry in os.listdir(work):  # only what _write_bag makes: bag.bag, bag/
+        if entry == "bag.bag":
+            os.unlink(work / entry)
+    fd = _WORK_LOCKS.pop(work, None)
+    try:
+        os.rmdir(work)
+    finally:
+        if fd is not None:
+            os.close(fd)
+
+
+def _swap_in(new: Path, target: Path, work: Path, old_files) -> None:
+    """Puts the bag directory ``new`` at ``target``; an existing bag there (``old_files``
+    not None) ends up as ``work/old`` for removal."""
+    if old_files is None:
+        os.rename(new, target)  # fails if something appeared there meanwhile: nothing lost
+        return
+    if _exchange(new, target):  # one atomic step: target is the new bag, new the old one
+        os.rename(new, work / _OLD)
+        return
+    os.rename(target, work / _OLD)
+    try:
+        os.rename(new, target)
+    except BaseException:
+        os.rename(work / _OLD, target)
+        raise
+
+
+_RENAME_EXCHANGE = 2
+_AT_FDCWD = -100
+
+
+def _exchange(a: Path, b: Path) -> bool:
+    """Atomically exchanges two paths (Linux renameat2 RENAME_EXCHANGE); False where the
+    system or file system cannot."""
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or None, use_errno=True)
+        fn = libc.renameat2
+    except (OSError, AttributeError):
+        return False
+    fn.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
+    rc = fn(_AT_FDCWD, os.fsencode(a), _AT_FDCWD, os.fsencode(b), _RENAME_EXCHANGE)
+    return rc == 0
 
 
 def _write_bag(tmpdir: Path, ros, suffix, quats, stamps, pos, has_pos, topic, frame_id) -> Path:
