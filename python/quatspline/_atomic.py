@@ -260,18 +260,31 @@ def _journal_path(primary: Path) -> Path:
     return primary.parent / f".{primary.name}.pair"
 
 
-def _read_journal(journal: Path) -> list[tuple[Path, Path]] | None:
-    """The (temporary, final) renames a committed pair write recorded, or None when
-    ``journal`` is missing or is not such a record (then it is not ours and is ignored)."""
+def _read_journal(journal: Path, primary: Path) -> list[tuple[Path, Path]] | None:
+    """The (temporary, final) renames a committed pair write of ``primary`` recorded, or
+    None when ``journal`` is missing or is not such a record (then it is not ours and is
+    ignored): each temporary must be named as ours beside its final file, and ``primary``
+    must be one of the finals."""
+    flags = os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0)
     try:
-        with open(journal, "rb") as f:
+        fd = os.open(journal, flags)  # a FIFO put there cannot block us
+    except OSError:
+        return None
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            return None
+        with os.fdopen(os.dup(fd), "rb") as f:
             doc = json.loads(f.read(1 << 16).decode("utf-8"))
         moves = [(Path(a), Path(b)) for a, b in doc["renames"]]
     except (OSError, ValueError, KeyError, TypeError):
         return None
+    finally:
+        os.close(fd)
     for tmp, final in moves:
         if tmp.parent != final.parent or not _temporary_pattern(final.name, ".tmp").match(tmp.name):
             return None
+    if primary not in {final for _, final in moves}:
+        return None
     return moves
 
 
@@ -281,7 +294,7 @@ def committed_pair(primary) -> dict[Path, Path]:
     committed temporary), so that a reader sees both new files; empty when there is nothing
     to complete (then the final names hold a consistent pair)."""
     primary = Path(os.path.realpath(primary))
-    moves = _read_journal(_journal_path(primary))
+    moves = _read_journal(_journal_path(primary), primary)
     if not moves:
         return {}
     return {final: tmp for tmp, final in moves if tmp.is_file()}
@@ -294,7 +307,8 @@ def complete_pair(primary) -> None:
     primary = Path(os.path.realpath(primary))
     journal = _journal_path(primary)
     try:
-        fd = os.open(journal, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | os.O_NONBLOCK)
+        flags = os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0)
+        fd = os.open(journal, flags)
     except OSError:
         return
     try:
@@ -307,7 +321,7 @@ def complete_pair(primary) -> None:
                 raise ValueError(
                     f"{primary}: another write of this file pair is in progress"
                 ) from None
-        moves = _read_journal(journal)
+        moves = _read_journal(journal, primary)
         if moves is None:
             return
         for tmp, final in moves:
