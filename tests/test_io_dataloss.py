@@ -317,6 +317,8 @@ def test_a_rerun_removes_the_temporaries_of_a_killed_write_and_only_those(tmp_pa
     for name in keep:
         (tmp_path / name).write_text("user data")
     (tmp_path / ".out.csv.aaaaaaaaaaaa.tmp").mkdir()  # a directory: not a file temporary
+    (tmp_path / "precious").write_text("user data")
+    (tmp_path / ".out.csv.dddddddddddd.tmp").symlink_to(tmp_path / "precious")  # a link
     live = tmp_path / ".out.csv.bbbbbbbbbbbb.tmp"
     live.write_text("in progress")
     fd = os.open(live, os.O_RDONLY)
@@ -330,6 +332,8 @@ def test_a_rerun_removes_the_temporaries_of_a_killed_write_and_only_those(tmp_pa
             assert (tmp_path / name).read_text() == "user data"
         assert live.exists() and empty_new.exists()
         assert (tmp_path / ".out.csv.aaaaaaaaaaaa.tmp").is_dir()
+        assert (tmp_path / ".out.csv.dddddddddddd.tmp").is_symlink()
+        assert (tmp_path / "precious").read_text() == "user data"
         # an empty one nobody locks, unchanged for longer than a writer needs to lock it
         old = time.time() - 10 * _atomic.STALE_EMPTY_SECONDS
         os.utime(empty_new, (old, old))
@@ -496,3 +500,33 @@ def test_a_wrong_option_kind_inside_the_package_stays_a_type_error(tmp_path):
     qio.write(tmp_path / "k.txt", frames, format="kitti")
     with pytest.raises(TypeError):
         qio.read(tmp_path / "k.txt", format="kitti", times=object())
+
+
+@needs_rosbags
+def test_bag_with_a_retyped_field_is_refused_not_converted(tmp_path):
+    from rosbags.rosbag1 import Writer
+    from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+
+    name, qn = "geometry_msgs/msg/PoseStamped", "geometry_msgs/msg/Quaternion"
+    foreign = get_typestore(Stores.ROS1_NOETIC)
+    foreign.fielddefs.pop(qn)
+    foreign.types.pop(qn)
+    foreign.register(get_types_from_msg("float64 x\nfloat64 y\nfloat64 z\nstring w\n", qn))
+    T = foreign.types
+    header = T["std_msgs/msg/Header"](
+        seq=0, stamp=T["builtin_interfaces/msg/Time"](sec=1, nanosec=0), frame_id="m"
+    )
+    pose = T["geometry_msgs/msg/Pose"](
+        position=T["geometry_msgs/msg/Point"](x=0.0, y=0.0, z=0.0),
+        orientation=T[qn](x=0.0, y=0.0, z=0.0, w="1.0"),
+    )
+    path = tmp_path / "retyped.bag"
+    with Writer(path) as w:
+        conn = w.add_connection("/pose", name, typestore=foreign)
+        raw = foreign.serialize_ros1(T[name](header=header, pose=pose), name)
+        w.write(conn, 1_000_000_000, raw)
+    with pytest.raises(
+        qio.TrajectoryError,
+        match=r"retyped.bag: topic '/pose', message 1: field 'pose.orientation.w' is str",
+    ):
+        qio.read(path)
