@@ -111,17 +111,28 @@ def _not_regular(path) -> str | None:
     return None
 
 
-def _subdirs_and_files(d: Path, problems: list, seen: set, exclude: set):
+def _subdirs_and_files(d: Path, problems: list, seen: set, exclude: set, cache=None):
     """The entries of ``d``: subdirectories not yet seen (each real directory once, whatever
-    the symbolic links: no loop is followed twice) and the other names."""
+    the symbolic links: no loop is followed twice) and the other names. ``cache`` (a dict)
+    keeps listings by real directory, so that a pattern's later parts, or a link back to a
+    directory already listed, do not list it again."""
     dirs: list[Path] = []
     files: list[Path] = []
-    try:
-        with os.scandir(d) as it:
-            entries = sorted(it, key=lambda e: e.name)
-    except OSError as e:
-        problems.append((str(d), f"{d}: cannot list this directory ({e.strerror or e})"))
-        return dirs, files
+    key: object = str(d)
+    if cache is not None:
+        with contextlib.suppress(OSError):
+            key = _identity(d.stat())
+    if cache is not None and key in cache:
+        entries = cache[key]
+    else:
+        try:
+            with os.scandir(d) as it:
+                entries = sorted(it, key=lambda e: e.name)
+        except OSError as e:
+            problems.append((str(d), f"{d}: cannot list this directory ({e.strerror or e})"))
+            entries = []
+        if cache is not None:
+            cache[key] = entries
     for e in entries:
         try:
             is_dir = e.is_dir()  # follows links: a linked directory is searched once
@@ -172,6 +183,7 @@ def _glob(pattern: str, problems: list, exclude: set) -> list[Path]:
         return []
     out: list[Path] = []
     level = [base]
+    cache: dict = {}
     for k in range(i, len(parts)):
         part, last = parts[k], k == len(parts) - 1
         nxt: list[Path] = []
@@ -180,7 +192,7 @@ def _glob(pattern: str, problems: list, exclude: set) -> list[Path]:
                 seen = {_identity(d.stat())}
                 stack, found = [d], [d]
                 while stack:
-                    dirs, files = _subdirs_and_files(stack.pop(), problems, seen, exclude)
+                    dirs, files = _subdirs_and_files(stack.pop(), problems, seen, exclude, cache)
                     dirs = [s for s in dirs if not s.name.startswith(".")]
                     found += dirs
                     stack += reversed(dirs)
@@ -188,8 +200,7 @@ def _glob(pattern: str, problems: list, exclude: set) -> list[Path]:
                         out += [f for f in files if not f.name.startswith(".")]
                 nxt += found
             elif glob.has_magic(part):
-                seen: set = set()
-                dirs, files = _subdirs_and_files(d, problems, seen, exclude)
+                dirs, files = _subdirs_and_files(d, problems, set(), exclude, cache)
                 if last:
                     out += [
                         f
