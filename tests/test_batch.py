@@ -488,3 +488,27 @@ def test_zero_or_negative_workers_are_refused(tmp_path, capsys):
         err = capsys.readouterr().err.strip()
         assert code == 2 and len(err.splitlines()) == 1 and "--workers" in err, err
     assert not (tmp_path / "out").exists()
+
+
+def test_batch_never_overwrites_files_it_did_not_write(tmp_path, client):
+    d = tmp_path / "d"
+    (rec,) = _recordings(d, n=1)
+    tum = d / "walk.tum"
+    tum.write_bytes(rec.read_bytes())
+    user = d / "walk.csv"  # the user's own file, where the batch's output would go
+    user.write_text("the user's notes\n")
+    table = batch.run("sample", [str(d / "*.tum")], d, client=client, method="slerp", count=5)
+    (err,) = table["error"]
+    assert "walk.csv: exists and was not written by this batch" in err
+    assert user.read_text() == "the user's notes\n"
+    user.unlink()  # once moved away, the batch writes it, and may rewrite its own output
+    for count in (5, 6):
+        table = batch.run("sample", [str(d / "*.tum")], d, client=client, count=count)
+        assert list(table["status"]) == ["ok"] and len(qio.read(user)) == count
+    # summary files in a directory where no batch ran are a user's too
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "summary.md").write_text("# my summary\n")
+    with pytest.raises(ParameterError, match="summary.md: exists and was not written"):
+        batch.run("sample", [tum], out, client=client, count=5)
+    assert [p.name for p in out.iterdir()] == ["summary.md"]

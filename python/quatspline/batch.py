@@ -15,7 +15,9 @@ Behaviour at scale:
 - inputs are never written over: a batch whose output, bookkeeping record or summary would
   be one of its inputs (by path, symbolic or hard link; ``-o`` an input directory) is
   refused before anything is written, and every input gets an output of its own (see
-  :func:`plan`);
+  :func:`plan`); nor are files the batch did not write: an existing output without the
+  batch's record of it (in ``OUTDIR/.quatspline-batch``) is an error row, and summary files
+  in a directory where no batch ran refuse the batch;
 - directory searches and ``**`` visit each real directory once (symbolic-link loops are not
   followed again) and never read the output directory back as input;
 - every output is written atomically (temporary file, then rename); a re-run removes the
@@ -555,7 +557,7 @@ def run_one(operation: str, task: Task, options: dict, force: bool = False) -> d
         # The input's version before it is read; the record of an earlier result goes first,
         # so that a failure (or a change found below) leaves nothing that claims up to date.
         before = _fingerprint(task.input)
-        _forget_record(task.record)
+        _claim_output(task)
         limit = int(options.get("max_file_bytes") or _DEFAULT_MAX_FILE_BYTES)
         if before["size"] > limit:
             raise ValueError(
@@ -589,15 +591,23 @@ def run_one(operation: str, task: Task, options: dict, force: bool = False) -> d
     return row
 
 
-def _forget_record(record: Path) -> None:
-    """Removes a task's bookkeeping record (a regular file the batch wrote), if any."""
+def _claim_output(task: Task) -> None:
+    """Refuses to replace an existing output this batch did not write (no record of it in the
+    state directory: a user's file), then replaces the task's record by a claim that is
+    never up to date, so that a failure leaves no record of an earlier result but the output
+    stays the batch's own to replace on the next run."""
     try:
-        st = os.lstat(record)
+        has_record = stat.S_ISREG(os.lstat(task.record).st_mode)
     except OSError:
-        return
-    if stat.S_ISREG(st.st_mode):
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(record)
+        has_record = False
+    if os.path.lexists(task.output) and not has_record:
+        raise ValueError(
+            f"{task.output}: exists and was not written by this batch (no record of it in "
+            f"{task.record.parent}); refusing to overwrite it (move it away, or choose another "
+            "output directory)"
+        )
+    with atomic_write(task.record) as f:
+        json.dump({"output": str(task.output), "row": None}, f)
 
 
 def _jsonable(x):
@@ -844,8 +854,9 @@ def run(
         Unknown operation, no named input gave a file, ``out_dir`` is not a directory;
         :class:`quatspline.ops.ParameterError` (a ``ValueError``) for ``workers`` < 1 and
         when a file the batch would write is one of its inputs (``out_dir`` is an input
-        directory, or an output, record or summary is an input by path or link). Nothing is
-        written then.
+        directory, or an output, record or summary is an input by path or link), or when
+        ``out_dir`` holds a ``summary.csv``, ``summary.md``, ``summary.png`` or ``batch.log``
+        but no batch ran there. Nothing is written then.
     TypeError
         ``workers`` is not an integer.
     OSError
@@ -889,7 +900,14 @@ def run(
     if not inputs:
         raise ValueError("inputs: nothing to process: " + "; ".join(m for _, m in problems))
     tasks = plan(operation, inputs, out, options)
-    out.mkdir(parents=True, exist_ok=True)
+    if not (out / _STATE_DIR).is_dir():  # no batch ran here: a summary there is a user's
+        for n in _SUMMARY_FILES:
+            if os.path.lexists(out / n):
+                raise ParameterError(
+                    f"{out / n}: exists and was not written by a batch; refusing to overwrite "
+                    "it (choose another output directory)"
+                )
+    (out / _STATE_DIR).mkdir(parents=True, exist_ok=True)
     targets = [p for t in tasks for p in (t.output, t.record)]
     _remove_stale_temporaries(out, targets + [out / n for n in _SUMMARY_FILES])
     rows: list[dict] = [
