@@ -59,7 +59,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._atomic import atomic_write
+from ._atomic import _kind, atomic_write
 from ._core import __version__
 from .ops import ParameterError
 
@@ -83,18 +83,6 @@ def _need_dask():
 
 
 # ---- inputs -----------------------------------------------------------------------------------
-def _kind(mode: int) -> str:
-    if stat.S_ISDIR(mode):
-        return "a directory"
-    if stat.S_ISFIFO(mode):
-        return "a FIFO (named pipe)"
-    if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
-        return "a device"
-    if stat.S_ISSOCK(mode):
-        return "a socket"
-    return "not a regular file"
-
-
 def _identity(st: os.stat_result) -> tuple[int, int]:
     return (st.st_dev, st.st_ino)
 
@@ -247,7 +235,12 @@ def _expand(patterns, extensions=_TRAJ_EXT, out_dir=None):
     found: dict[str, Path] = {}
     problems: list[tuple[str, str]] = []
     for pat in patterns:
-        s = os.fspath(pat)
+        s = os.fspath(pat) if isinstance(pat, os.PathLike) else pat
+        if not isinstance(s, str):
+            raise TypeError(f"paths: expected file names, got {type(pat).__name__}")
+        if not s:
+            problems.append(("''", "'': an empty input name"))
+            continue
         p = Path(s)
         try:
             st = os.stat(s)
