@@ -851,7 +851,7 @@ def run(
         ``out_dir`` holds a ``summary.csv``, ``summary.md``, ``summary.png`` or ``batch.log``
         but no batch ran there. Nothing is written then.
     TypeError
-        ``workers`` is not an integer.
+        ``workers`` is not an integer, or ``paths`` holds something other than file names.
     OSError
         The scheduler cannot be reached within the timeout.
     ImportError
