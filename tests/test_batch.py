@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import fcntl
+import itertools
 import json
 import os
 import shutil
@@ -20,6 +22,7 @@ import quatspline.io as qio  # noqa: E402
 from dask.distributed import Client  # noqa: E402
 from quatspline import batch  # noqa: E402
 from quatspline.cli import main  # noqa: E402
+from quatspline.ops import ParameterError  # noqa: E402
 
 DATA = Path(__file__).resolve().parent.parent / "data"
 TUM = DATA / "tum_rgbd_fr1_xyz" / "freiburg1_xyz-groundtruth.txt"
@@ -261,3 +264,254 @@ def test_expand_inputs_globs_and_duplicates(tmp_path):
     paths = _recordings(tmp_path / "in", n=4)
     got = batch.expand_inputs([str(tmp_path / "in" / "**" / "*.txt"), paths[0], tmp_path / "in"])
     assert sorted(map(str, got)) == sorted(map(str, paths))
+
+
+# ---- inputs and outputs: never written over, never lost, never read back ----------------------
+def _tree(root: Path) -> dict:
+    return {p: p.read_bytes() for p in sorted(root.rglob("*")) if p.is_file()}
+
+
+def test_batch_refuses_to_overwrite_its_inputs(tmp_path, capsys):
+    d = tmp_path / "d"
+    (rec,) = _recordings(d, n=1)
+    qio.write(d / "keys.csv", qio.read(rec))
+    qio.write(d / "summary.csv", qio.read(rec))
+    before = _tree(d)
+    for argv in (
+        ["sample", str(d), "-o", str(d)],  # the output directory is the input directory
+        ["sample", str(d / "*.csv"), "-o", str(d)],  # d/keys.csv would be its own output
+        ["fit", str(d / "keys.csv"), "-o", str(d)],
+        ["sample", str(d / "summary.csv"), "-o", str(d)],  # the summary table over an input
+    ):
+        assert main(["batch", *argv, "--count", "5", "--workers", "1"]) == 2, argv
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and str(d) in err, err
+        assert _tree(d) == before  # nothing written, not even a summary
+
+
+@pytest.mark.parametrize("link", ["symbolic", "hard"])
+@pytest.mark.parametrize("operation", batch.OPERATIONS)
+def test_batch_refuses_outputs_that_are_an_input_through_a_link(tmp_path, operation, link):
+    src = tmp_path / "in" / "a.txt"
+    src.parent.mkdir()
+    src.write_bytes(b"precious\n")
+    out = tmp_path / "out"
+    opts = {"count": 5} if operation in ("sample", "fit") else {}
+    (task,) = batch.plan(operation, [src], out, opts)
+    task.output.parent.mkdir(parents=True)
+    (os.symlink if link == "symbolic" else os.link)(src, task.output)
+    with pytest.raises(ParameterError, match="refusing to overwrite the input file"):
+        batch.run(operation, [src], out, workers=1, **opts)
+    assert src.read_bytes() == b"precious\n"
+    assert sorted(p.name for p in out.iterdir()) == [task.output.name]
+
+
+#: Every extension a batch input may have (those a directory search keeps, and glTF).
+_INPUT_EXTENSIONS = (*batch._TRAJ_EXT, ".gltf", ".glb")
+
+
+@pytest.mark.parametrize("a, b", list(itertools.combinations(_INPUT_EXTENSIONS, 2)))
+def test_outputs_of_inputs_sharing_a_stem_do_not_collide(tmp_path, a, b):
+    inputs = [
+        tmp_path / "in" / f"x{a}",
+        tmp_path / "in" / f"X{b}",  # a case-insensitive file system would mix them too
+        tmp_path / "in" / "sub" / f"x{a}",
+        tmp_path / "other" / f"x{a}",  # same relative name, another directory
+        tmp_path / "other" / f"summary{b}",  # named like the batch's own summary
+    ]
+    for p in inputs:
+        p.parent.mkdir(parents=True, exist_ok=True)
+        p.write_text("")
+    cases = [("sample", {"count": 5}), ("fit", {"to": "tum"}), ("compare", {}), ("export", {})]
+    for operation, opts in cases:
+        tasks = batch.plan(operation, inputs, tmp_path / "out", opts)
+        written = [t.output for t in tasks] + [t.record for t in tasks]
+        written += [tmp_path / "out" / n for n in ("summary.csv", "summary.md", "batch.log")]
+        assert len({str(p).casefold() for p in written}) == len(written), written
+
+
+def test_both_results_are_kept_when_two_inputs_share_a_stem(tmp_path):
+    a, b = _recordings(tmp_path / "in", n=2)
+    (tmp_path / "in" / "x.tum").write_bytes(a.read_bytes())
+    (tmp_path / "in" / "x.txt").write_bytes(b.read_bytes())
+    inputs = [tmp_path / "in" / "x.tum", tmp_path / "in" / "x.txt"]
+    tasks = batch.plan("sample", inputs, tmp_path / "out", {"count": 7})
+    for t in tasks:
+        row = batch.run_one("sample", t, {"method": "slerp", "count": 7})
+        assert row["status"] == "ok", row["error"]
+    for t, src in zip(tasks, (a, b)):
+        single = tmp_path / "single" / (src.stem + ".csv")
+        assert (
+            main(["sample", str(src), "-o", str(single), "--method", "slerp", "--count", "7"]) == 0
+        )
+        assert t.output.read_bytes() == single.read_bytes()
+
+
+def test_input_rewritten_during_its_run_is_not_skipped_as_up_to_date(tmp_path, monkeypatch):
+    (src,) = _recordings(tmp_path / "in", n=1)
+    opts = {"method": "slerp", "count": 5}
+    (task,) = batch.plan("sample", [src], tmp_path / "out", opts)
+    real = batch._OPERATION_FUNCS["sample"]
+
+    def rewritten_meanwhile(task, options):
+        figures = real(task, options)
+        with open(task.input, "a") as f:
+            f.write("# a line added while the batch ran\n")
+        return figures
+
+    monkeypatch.setitem(batch._OPERATION_FUNCS, "sample", rewritten_meanwhile)
+    row = batch.run_one("sample", task, opts)
+    assert row["status"] == "error" and "changed while it was being processed" in row["error"]
+    monkeypatch.setitem(batch._OPERATION_FUNCS, "sample", real)
+    assert batch.run_one("sample", task, opts)["status"] == "ok"  # redone, not skipped
+    assert batch.run_one("sample", task, opts)["status"] == "skipped"
+
+
+def test_rerun_removes_its_own_stale_temporaries_and_nothing_else(tmp_path, client):
+    _recordings(tmp_path / "in", n=1)
+    out = tmp_path / "out"
+    args = ("sample", [tmp_path / "in"], out)
+    assert (batch.run(*args, client=client, method="slerp", count=5)["status"] == "ok").all()
+    (task,) = batch.plan("sample", [tmp_path / "in" / "rec0.txt"], out, {"count": 5})
+    state = task.record.parent
+    stale = [
+        out / ".rec0.csv.0123456789ab.tmp",
+        state / f".{task.record.name}.a1b2c3d4e5f6.tmp",
+        out / ".summary.csv.00112233aabb.tmp",
+    ]
+    kept = [
+        out / ".rec0.csv.notes.tmp",  # not the atomic writer's pattern
+        out / ".other.csv.0123456789ab.tmp",  # not a file this batch writes
+        out / "rec0.csv.0123456789ab.tmp",
+        state / ".rec0.csv.0123456789ab.tmp",  # rec0.csv is not written in the state dir
+    ]
+    live = out / ".rec0.csv.fedcba987654.tmp"  # a live writer holds a lock on its temporary
+    hour_ago = time.time() - 3600
+    for p in [*stale, *kept, live]:
+        p.write_text("partial")
+    for p in [*stale, *kept]:
+        os.utime(p, (hour_ago, hour_ago))
+    user = tmp_path / "mine.txt"
+    user.write_text("mine")
+    link = out / ".rec0.csv.abcdefabcdef.tmp"
+    os.symlink(user, link)
+    os.utime(link, (hour_ago, hour_ago), follow_symlinks=False)
+    with open(live, "rb") as held:
+        fcntl.flock(held.fileno(), fcntl.LOCK_EX)
+        again = batch.run(*args, client=client, method="slerp", count=5)
+    assert (again["status"] == "skipped").all()
+    assert [p for p in stale if os.path.lexists(p)] == []
+    assert all(p.exists() for p in [*kept, live])
+    assert link.is_symlink() and user.read_text() == "mine"
+
+
+def test_recursive_globs_and_walks_list_each_real_directory_once(tmp_path, monkeypatch):
+    d = tmp_path / "d"
+    (d / "a" / "b").mkdir(parents=True)
+    x = d / "a" / "b" / "x.csv"
+    x.write_text("")
+    os.symlink("../..", d / "a" / "b" / "up")  # loops back to d
+    listed = []
+    scandir = os.scandir
+
+    def counting_scandir(path="."):
+        listed.append(os.path.realpath(path))
+        return scandir(path)
+
+    monkeypatch.setattr(os, "scandir", counting_scandir)
+    patterns = (str(d / "**" / "*.csv"), str(d / "**"), str(d / "*" / "**" / "*.csv"), d)
+    for pattern in patterns:
+        listed.clear()
+        assert batch.expand_inputs([pattern]) == [x]
+        assert sorted(listed) == sorted(set(listed)), pattern
+    # more loops: a search following them would take 2**40 steps (the kernel's link limit)
+    os.symlink(".", d / "a" / "self")
+    os.symlink("..", d / "a" / "b" / "parent")
+    for pattern in patterns:
+        listed.clear()
+        assert batch.expand_inputs([pattern]) == [x]
+        assert sorted(listed) == sorted(set(listed)), pattern
+
+
+def test_named_inputs_that_give_nothing_are_error_rows(tmp_path, client, capsys):
+    (good,) = _recordings(tmp_path / "in", n=1)
+    os.mkfifo(tmp_path / "in" / "pipe.txt")  # found by the directory search
+    fifo = tmp_path / "fifo.csv"
+    os.mkfifo(fifo)
+    os.mkfifo(tmp_path / "glob.tum")
+    (tmp_path / "empty").mkdir()
+    named = {
+        "missing": tmp_path / "missing.csv",
+        "fifo": fifo,
+        "empty": tmp_path / "empty",
+        "pattern": tmp_path / "none*.tum",
+        "walked fifo": tmp_path / "in" / "pipe.txt",
+        "globbed fifo": tmp_path / "glob.tum",
+    }
+    paths = [tmp_path / "in", named["missing"], fifo, named["empty"], str(named["pattern"])]
+    paths.append(str(tmp_path / "g*.tum"))
+    table = batch.run("sample", paths, tmp_path / "out", client=client, method="slerp", count=5)
+    rows = table.set_index("file")
+    assert list(rows.loc[rows["status"] == "ok"].index) == [good.name]
+    for what, p in named.items():
+        err = rows.loc[str(p), "error"]
+        assert rows.loc[str(p), "status"] == "error" and str(p) in err, what
+        assert "\n" not in err
+    assert str(named["missing"]) in (tmp_path / "out" / "batch.log").read_text()
+    argv = [str(good), str(named["missing"]), str(fifo), str(named["empty"])]
+    code = main(["batch", "sample", *argv, "-o", str(tmp_path / "o2"), "--count", "5",
+                 "--workers", "1"])  # fmt: skip
+    assert code == 1
+    assert (tmp_path / "o2" / "rec0.csv").is_file()
+
+
+def test_output_directory_inside_the_input_directory_is_not_read_back(tmp_path, client):
+    _recordings(tmp_path / "in", n=2)
+    out = tmp_path / "in" / "out"
+    kw = dict(client=client, method="slerp", count=5)
+    first = batch.run("sample", [tmp_path / "in"], out, **kw)
+    assert sorted(first["status"]) == ["ok", "ok"]
+    for pattern in (
+        tmp_path / "in",
+        str(tmp_path / "in" / "**" / "*"),
+        str(tmp_path / "*" / "**" / "*.*"),
+    ):
+        again = batch.run("sample", [pattern], out, **kw)
+        assert sorted(again["file"]) == sorted(first["file"]), pattern
+        assert (again["status"] == "skipped").all()
+
+
+def test_zero_or_negative_workers_are_refused(tmp_path, capsys):
+    _recordings(tmp_path / "in", n=1)
+    for workers in (0, -2):
+        with pytest.raises(ParameterError, match="workers: expected at least 1"):
+            batch.run("sample", [tmp_path / "in"], tmp_path / "out", workers=workers, count=5)
+        code = main(["batch", "sample", str(tmp_path / "in"), "-o", str(tmp_path / "out"),
+                     "--count", "5", "--workers", str(workers)])  # fmt: skip
+        err = capsys.readouterr().err.strip()
+        assert code == 2 and len(err.splitlines()) == 1 and "--workers" in err, err
+    assert not (tmp_path / "out").exists()
+
+
+def test_batch_never_overwrites_files_it_did_not_write(tmp_path, client):
+    d = tmp_path / "d"
+    (rec,) = _recordings(d, n=1)
+    tum = d / "walk.tum"
+    tum.write_bytes(rec.read_bytes())
+    user = d / "walk.csv"  # the user's own file, where the batch's output would go
+    user.write_text("the user's notes\n")
+    table = batch.run("sample", [str(d / "*.tum")], d, client=client, method="slerp", count=5)
+    (err,) = table["error"]
+    assert "walk.csv: exists and was not written by this batch" in err
+    assert user.read_text() == "the user's notes\n"
+    user.unlink()  # once moved away, the batch writes it, and may rewrite its own output
+    for count in (5, 6):
+        table = batch.run("sample", [str(d / "*.tum")], d, client=client, count=count)
+        assert list(table["status"]) == ["ok"] and len(qio.read(user)) == count
+    # summary files in a directory where no batch ran are a user's too
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "summary.md").write_text("# my summary\n")
+    with pytest.raises(ParameterError, match="summary.md: exists and was not written"):
+        batch.run("sample", [tum], out, client=client, count=5)
+    assert [p.name for p in out.iterdir()] == ["summary.md"]

@@ -42,7 +42,8 @@ STALE_EMPTY_SECONDS = 10.0
 STALE_UNLOCKED_SECONDS = 24 * 3600.0
 
 
-def _kind(mode: int) -> str:
+def file_kind(mode: int) -> str:
+    """What a non-regular file is, for messages: 'a directory', 'a FIFO (named pipe)' …."""
     if stat.S_ISDIR(mode):
         return "a directory"
     if stat.S_ISFIFO(mode):
@@ -65,7 +66,7 @@ def resolve_output(path) -> tuple[Path, os.stat_result | None]:
         return target, None
     if not stat.S_ISREG(st.st_mode):
         raise ValueError(
-            f"{path}: is {_kind(st.st_mode)}; refusing to replace it (only regular files are "
+            f"{path}: is {file_kind(st.st_mode)}; refusing to replace it (only regular files are "
             "written)"
         )
     return target, st

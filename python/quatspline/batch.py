@@ -9,11 +9,25 @@ samples, error message, and the operation's own figures.
 Behaviour at scale:
 
 - one bad file fails alone: its error goes into the table and ``OUTDIR/batch.log``; the others
-  go on;
-- every output is written atomically (temporary file, then rename);
-- a re-run skips files whose output is up to date — same input file (size and modification
-  time), same options, same quatspline version — so an interrupted batch resumes where it
-  stopped (``force=True`` redoes everything);
+  go on; a named input that gives no file (missing, an empty directory, a pattern that
+  matches nothing) and a file that is not a regular file (FIFO, device, socket: never
+  opened) is an error row too;
+- inputs are never written over: a batch whose output, bookkeeping record or summary would
+  be one of its inputs (by path, symbolic or hard link; ``-o`` an input directory) is
+  refused before anything is written, and every input gets an output of its own (see
+  :func:`plan`); nor are files the batch did not write: an existing output without the
+  batch's record of it (in ``OUTDIR/.quatspline-batch``) is an error row, and summary files
+  in a directory where no batch ran refuse the batch;
+- directory searches and ``**`` visit each real directory once (symbolic-link loops are not
+  followed again) and never read the output directory back as input;
+- every output is written atomically (temporary file, then rename); a re-run removes the
+  temporaries that killed writes left beside its own outputs (only those, and only once
+  they have been left untouched for ten minutes);
+- a re-run skips files whose output is up to date — same input file (size, modification
+  and change times, inode), same options, same quatspline version — so an interrupted batch
+  resumes where it stopped (``force=True`` redoes everything); the input's version is taken
+  before it is read and checked after the work: a file rewritten meanwhile is an error row,
+  never recorded as up to date;
 - memory per task is bounded: files larger than ``max_file_bytes`` are refused with a message
   before they are read, and sampling is bounded by ``max_samples``;
 - each file goes through exactly the code of the single-file command (``quatspline sample`` …),
@@ -29,11 +43,14 @@ Dask is an optional dependency: ``pip install "quatspline[dask]"``.
 from __future__ import annotations
 
 import contextlib
+import fnmatch
 import glob
 import hashlib
 import json
 import math
+import numbers
 import os
+import stat
 import time
 import traceback
 from dataclasses import dataclass
@@ -41,8 +58,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ._atomic import atomic_write
+from ._atomic import atomic_write, file_kind, remove_stale_temporaries
 from ._core import __version__
+from .ops import ParameterError
 
 __all__ = ["OPERATIONS", "expand_inputs", "local_cluster", "plan", "run", "summarize"]
 
@@ -64,8 +82,207 @@ def _need_dask():
 
 
 # ---- inputs -----------------------------------------------------------------------------------
-def expand_inputs(patterns, extensions=_TRAJ_EXT) -> list[Path]:
+def _identity(st: os.stat_result) -> tuple[int, int]:
+    return (st.st_dev, st.st_ino)
+
+
+def _not_regular(path) -> str | None:
+    """Why ``path`` is not a regular file to read (symbolic links followed), or None. Only
+    ``stat`` is used: nothing is opened, so a FIFO or a device cannot block or flood."""
+    try:
+        st = os.stat(path)
+    except FileNotFoundError:
+        return "broken symbolic link" if os.path.islink(path) else "no such file"
+    except OSError as e:
+        return f"cannot read ({e.strerror or e})"
+    if not stat.S_ISREG(st.st_mode):
+        return f"is {file_kind(st.st_mode)}; only regular files are read"
+    return None
+
+
+def _subdirs_and_files(d: Path, problems: list, seen: set, exclude: set, cache=None):
+    """The entries of ``d``: subdirectories not yet seen (each real directory once, whatever
+    the symbolic links: no loop is followed twice) and the other names. ``cache`` (a dict)
+    keeps listings by real directory, so that a pattern's later parts, or a link back to a
+    directory already listed, do not list it again."""
+    dirs: list[Path] = []
+    files: list[Path] = []
+    key: object = str(d)
+    if cache is not None:
+        with contextlib.suppress(OSError):
+            key = _identity(d.stat())
+    if cache is not None and key in cache:
+        entries = cache[key]
+    else:
+        try:
+            with os.scandir(d) as it:
+                entries = sorted(it, key=lambda e: e.name)
+        except OSError as e:
+            problems.append((str(d), f"{d}: cannot list this directory ({e.strerror or e})"))
+            entries = []
+        if cache is not None:
+            cache[key] = entries
+    for e in entries:
+        try:
+            is_dir = e.is_dir()  # follows links: a linked directory is searched once
+        except OSError:
+            is_dir = False
+        if not is_dir:
+            files.append(Path(e.path))
+            continue
+        try:
+            ident = _identity(e.stat())
+        except OSError:
+            continue
+        if ident in seen or ident in exclude or e.name == _STATE_DIR:
+            continue
+        seen.add(ident)
+        dirs.append(Path(e.path))
+    return dirs, files
+
+
+def _walk(root: Path, problems: list, exclude: set) -> list[Path]:
+    """Every non-directory under ``root``, each real directory listed once."""
+    seen = {_identity(root.stat())}
+    out: list[Path] = []
+    stack = [root]
+    while stack:
+        dirs, files = _subdirs_and_files(stack.pop(), problems, seen, exclude)
+        out += files
+        stack += reversed(dirs)
+    return out
+
+
+def _hidden(name: str, part: str) -> bool:
+    return name.startswith(".") and not part.startswith(".")
+
+
+def _glob(pattern: str, problems: list, exclude: set) -> list[Path]:
+    """``glob.glob(pattern, recursive=True)`` without following a directory loop: ``**``
+    lists each real directory once, and the output directory is never searched. Like glob,
+    wildcards do not match hidden names (those starting with a dot) unless the part of the
+    pattern starts with a dot; directories are not returned."""
+    parts = Path(pattern).parts
+    i = next(k for k, part in enumerate(parts) if glob.has_magic(part))
+    base = Path(*parts[:i]) if i else Path(".")
+    try:
+        if not base.is_dir():
+            return []
+    except OSError:
+        return []
+    out: list[Path] = []
+    level = [base]
+    cache: dict = {}
+    for k in range(i, len(parts)):
+        part, last = parts[k], k == len(parts) - 1
+        nxt: list[Path] = []
+        for d in level:
+            if part == "**":
+                seen = {_identity(d.stat())}
+                stack, found = [d], [d]
+                while stack:
+                    dirs, files = _subdirs_and_files(stack.pop(), problems, seen, exclude, cache)
+                    dirs = [s for s in dirs if not s.name.startswith(".")]
+                    found += dirs
+                    stack += reversed(dirs)
+                    if last:
+                        out += [f for f in files if not f.name.startswith(".")]
+                nxt += found
+            elif glob.has_magic(part):
+                dirs, files = _subdirs_and_files(d, problems, set(), exclude, cache)
+                if last:
+                    out += [
+                        f
+                        for f in files
+                        if fnmatch.fnmatch(f.name, part) and not _hidden(f.name, part)
+                    ]
+                nxt += [
+                    s for s in dirs if fnmatch.fnmatch(s.name, part) and not _hidden(s.name, part)
+                ]
+            else:
+                p = d / part
+                if last:
+                    if os.path.lexists(p) and not p.is_dir():
+                        out.append(p)
+                elif p.is_dir():
+                    nxt.append(p)
+        level = []
+        idents: set = set()
+        for d in nxt:  # each real directory once
+            with contextlib.suppress(OSError):
+                ident = _identity(d.stat())
+                if ident not in idents:
+                    idents.add(ident)
+                    level.append(d)
+    return out
+
+
+def _expand(patterns, extensions=_TRAJ_EXT, out_dir=None):
+    """The regular files named by ``patterns`` and, for each named input that yields none or
+    names something that is not a regular file, ``(name, one-line message)``."""
+    if isinstance(patterns, (str, os.PathLike)):
+        patterns = [patterns]
+    exclude: set = set()
+    out_ident = None
+    if out_dir is not None:
+        for d in (Path(out_dir), Path(out_dir) / _STATE_DIR):
+            with contextlib.suppress(OSError):
+                if d.is_dir():
+                    exclude.add(_identity(d.stat()))
+        with contextlib.suppress(OSError):
+            out_ident = _identity(Path(out_dir).stat())
+    found: dict[str, Path] = {}
+    problems: list[tuple[str, str]] = []
+    for pat in patterns:
+        s = os.fspath(pat) if isinstance(pat, os.PathLike) else pat
+        if not isinstance(s, str):
+            raise TypeError(f"paths: expected file names, got {type(pat).__name__}")
+        if not s:
+            problems.append(("''", "'': an empty input name"))
+            continue
+        p = Path(s)
+        try:
+            st = os.stat(s)
+        except OSError:
+            st = None
+        if st is not None and stat.S_ISDIR(st.st_mode):
+            if out_ident is not None and _identity(st) == out_ident:
+                raise ParameterError(
+                    f"{s}: the output directory is this input directory; its outputs would "
+                    "be read back as inputs (use a separate or a sub-directory)"
+                )
+            walked = [f for f in _walk(p, problems, exclude) if f.suffix.lower() in extensions]
+            if not walked:
+                problems.append(
+                    (
+                        s,
+                        f"{s}: no trajectory files in this directory (searched for "
+                        f"{', '.join(extensions)})",
+                    )
+                )
+            hits = walked
+        elif st is not None or os.path.lexists(s) or not glob.has_magic(s):
+            hits = [p]
+        else:
+            hits = _glob(s, problems, exclude)
+            if not hits:
+                problems.append((s, f"no files matched {s!r}"))
+        for h in hits:
+            why = _not_regular(h)
+            if why is not None:
+                problems.append((str(h), f"{h}: {why}"))
+                continue
+            found.setdefault(str(h.resolve()), h)
+    unique = {name: msg for name, msg in problems}
+    return sorted(found.values(), key=str), sorted(unique.items())
+
+
+def expand_inputs(patterns, extensions=_TRAJ_EXT, *, out_dir=None) -> list[Path]:
     """The files named by ``patterns``, sorted, each once.
+
+    Directory searches and ``**`` list every real directory once (a symbolic link that
+    loops back is not followed again) and never enter ``out_dir`` or the batch's state
+    directory. Nothing is opened: every input is checked with ``stat`` to be a regular file.
 
     Parameters
     ----------
@@ -74,6 +291,9 @@ def expand_inputs(patterns, extensions=_TRAJ_EXT) -> list[Path]:
         ``extensions``) and glob patterns (``*``, ``?``, ``[…]``, ``**`` for any depth).
     extensions : tuple of str
         Extensions (lower case, with the dot) a directory search keeps.
+    out_dir : str or pathlib.Path, optional
+        The batch's output directory: not searched (a named directory that is ``out_dir``
+        is refused).
 
     Returns
     -------
@@ -83,8 +303,9 @@ def expand_inputs(patterns, extensions=_TRAJ_EXT) -> list[Path]:
     Raises
     ------
     ValueError
-        When nothing matched (the message names the patterns), or a pattern names something
-        that is neither a file, a directory nor a glob.
+        When a named input yields no file (a missing file, an empty directory, a pattern
+        that matches nothing) or a file found is not a regular file (a FIFO, a device, a
+        socket, a broken link); the one-line message names each.
 
     Examples
     --------
@@ -96,28 +317,10 @@ def expand_inputs(patterns, extensions=_TRAJ_EXT) -> list[Path]:
     >>> [p.name for p in expand_inputs([d])]
     ['a.csv', 'b.tum']
     """
-    if isinstance(patterns, (str, os.PathLike)):
-        patterns = [patterns]
-    found: dict[str, Path] = {}
-    unmatched = []
-    for pat in patterns:
-        s = os.fspath(pat)
-        p = Path(s)
-        hits: list[Path] = []
-        if p.is_dir():
-            hits = [f for f in p.rglob("*") if f.is_file() and f.suffix.lower() in extensions]
-            hits = [f for f in hits if _STATE_DIR not in f.parts]
-        elif p.is_file():
-            hits = [p]
-        elif glob.has_magic(s):
-            hits = [Path(h) for h in glob.glob(s, recursive=True) if Path(h).is_file()]
-        if not hits:
-            unmatched.append(s)
-        for h in hits:
-            found.setdefault(str(h.resolve()), h)
-    if not found:
-        raise ValueError(f"inputs: no files matched {', '.join(map(repr, unmatched))}")
-    return sorted(found.values(), key=lambda f: str(f))
+    files, problems = _expand(patterns, extensions, out_dir)
+    if problems:
+        raise ValueError("inputs: " + "; ".join(msg for _, msg in problems))
+    return files
 
 
 @dataclass(frozen=True)
@@ -160,6 +363,13 @@ def plan(operation: str, inputs: list[Path], out_dir, options: dict | None = Non
     the same name in different folders do not collide: ``data/a/x.tum`` and ``data/b/x.tum``
     become ``OUTDIR/a/x.csv`` and ``OUTDIR/b/x.csv``.
 
+    Output names are unique, so that no result is lost: an output is named after its input's
+    stem (``x.tum`` gives ``x.csv``), except when two inputs of one directory share a stem
+    (``x.tum`` and ``x.txt``; names compared ignoring case, as on case-insensitive file
+    systems) or the name is one the batch itself writes (``summary.csv``, ``batch.log``):
+    each of those keeps its source extension (``x.tum.csv``, ``x.txt.csv``), and should that
+    still collide, ``~2``, ``~3``, … is added (``x.tum~2.csv``) in the order of the inputs.
+
     Parameters
     ----------
     operation : {"sample", "fit", "compare", "export"}
@@ -174,6 +384,13 @@ def plan(operation: str, inputs: list[Path], out_dir, options: dict | None = Non
     -------
     list of Task
 
+    Raises
+    ------
+    ValueError
+        (:class:`quatspline.ops.ParameterError`) When a file the batch would write (an
+        output, a bookkeeping record, the summary) is one of the inputs — the same path, or
+        the same file through a symbolic or hard link. Nothing is written.
+
     Examples
     --------
     >>> from pathlib import Path
@@ -181,31 +398,102 @@ def plan(operation: str, inputs: list[Path], out_dir, options: dict | None = Non
     >>> tasks = plan("sample", [Path("data/a/x.tum"), Path("data/b/x.tum")], "out")
     >>> [str(t.output) for t in tasks]
     ['out/a/x.csv', 'out/b/x.csv']
+    >>> tasks = plan("sample", [Path("data/x.tum"), Path("data/x.txt")], "out")
+    >>> [str(t.output) for t in tasks]
+    ['out/x.tum.csv', 'out/x.txt.csv']
     """
     options = options or {}
     out = Path(out_dir)
     ext = _output_ext(operation, options)
-    resolved = [p.resolve() for p in inputs]
-    root = Path(os.path.commonpath([str(p.parent) for p in resolved])) if resolved else out
-    tasks = []
-    for src, res in zip(inputs, resolved):
-        rel = res.relative_to(root)
-        stem = rel.with_suffix("")
-        tasks.append(
-            Task(
-                input=src,
-                output=out / stem.parent / (stem.name + ext),
-                record=out / _STATE_DIR / stem.parent / (stem.name + ".json"),
-                name=str(rel),
-            )
+    absolute = [Path(os.path.abspath(p)) for p in inputs]
+    root = Path(os.path.commonpath([str(p.parent) for p in absolute])) if absolute else out
+    rels = [p.relative_to(root) for p in absolute]
+    names = _output_names(rels, ext)
+    tasks = [
+        Task(
+            input=src,
+            output=out / rel.parent / name,
+            record=out / _STATE_DIR / rel.parent / (name + ".json"),
+            name=str(rel),
         )
+        for src, rel, name in zip(inputs, rels, names)
+    ]
+    _refuse_overwriting_inputs(tasks, out)
     return tasks
+
+
+#: Files a batch writes at the top of its output directory besides the per-file outputs.
+_SUMMARY_FILES = ("summary.csv", "summary.md", "summary.png", "batch.log")
+
+
+def _output_names(rels: list[Path], ext: str) -> list[str]:
+    """Unique output file names for inputs at relative paths ``rels`` (see :func:`plan`)."""
+
+    def key(parent: Path, name: str) -> tuple[str, str]:
+        return (str(parent).casefold(), name.casefold())
+
+    taken = {key(Path("."), n) for n in (*_SUMMARY_FILES, _STATE_DIR)}
+    for rel in rels:  # the directories deeper outputs go into
+        for a in list(rel.parents)[:-1]:
+            taken.add(key(a.parent, a.name))
+    first = [rel.stem + ext for rel in rels]
+    counts: dict = {}
+    for rel, name in zip(rels, first):
+        k = key(rel.parent, name)
+        counts[k] = counts.get(k, 0) + 1
+    names: list = [None] * len(rels)
+    for i, (rel, name) in enumerate(zip(rels, first)):
+        k = key(rel.parent, name)
+        if counts[k] == 1 and k not in taken:
+            names[i] = name
+    taken |= {key(rel.parent, n) for rel, n in zip(rels, names) if n is not None}
+    for i in sorted((i for i, n in enumerate(names) if n is None), key=lambda i: str(rels[i])):
+        rel = rels[i]
+        name, n = rel.name + ext, 2
+        while key(rel.parent, name) in taken:
+            name, n = f"{rel.name}~{n}{ext}", n + 1
+        taken.add(key(rel.parent, name))
+        names[i] = name
+    return names
+
+
+def _refuse_overwriting_inputs(tasks: list[Task], out: Path) -> None:
+    """A ParameterError if any file the batch would write is one of its inputs: the same
+    real path, or the same file (device and inode: a hard link)."""
+    by_id: dict = {}
+    by_path: dict = {}
+    for t in tasks:
+        with contextlib.suppress(OSError):
+            by_id[_identity(os.stat(t.input))] = t.input
+        by_path[os.path.realpath(t.input)] = t.input
+    writes = [(t.output, f"the output of {t.input}") for t in tasks]
+    writes += [(t.record, f"the record of {t.input}") for t in tasks]
+    writes += [(out / n, "the batch's summary") for n in _SUMMARY_FILES]
+    for path, what in writes:
+        hit = by_path.get(os.path.realpath(path))
+        if hit is None:
+            with contextlib.suppress(OSError):
+                hit = by_id.get(_identity(os.stat(path)))
+        if hit is not None:
+            raise ParameterError(
+                f"{path}: refusing to overwrite the input file {hit} ({what}); choose an "
+                "output directory that holds no inputs"
+            )
 
 
 # ---- one file ---------------------------------------------------------------------------------
 def _fingerprint(path: Path) -> dict:
-    st = path.stat()
-    return {"size": st.st_size, "mtime_ns": st.st_mtime_ns}
+    """The input's identity and version, from ``stat`` (nothing is opened): taken before it
+    is read and compared after the work, so a file rewritten meanwhile is noticed."""
+    st = os.stat(path)
+    if not stat.S_ISREG(st.st_mode):
+        raise ValueError(f"{path}: is {file_kind(st.st_mode)}; only regular files are read")
+    return {
+        "size": st.st_size,
+        "mtime_ns": st.st_mtime_ns,
+        "ctime_ns": st.st_ctime_ns,
+        "inode": st.st_ino,
+    }
 
 
 def _options_key(operation: str, options: dict) -> str:
@@ -224,7 +512,7 @@ def _up_to_date(task: Task, key: str) -> dict | None:
     try:
         if rec.get("input") != _fingerprint(task.input):
             return None
-    except OSError:
+    except (OSError, ValueError):
         return None
     row = rec.get("row")
     return row if isinstance(row, dict) and row.get("status") == "ok" else None
@@ -239,7 +527,9 @@ def run_one(operation: str, task: Task, options: dict, force: bool = False) -> d
     """Runs ``operation`` on one file; never raises for a bad file (the row says what failed).
 
     This is the function each Dask task executes; it is also the plain-loop path used to
-    measure Dask's overhead.
+    measure Dask's overhead. The input's version (``stat``: size, times, inode) is taken
+    before it is read and compared after the work: if it changed, the row is an error and
+    no up-to-date record is kept.
 
     Returns
     -------
@@ -254,15 +544,28 @@ def run_one(operation: str, task: Task, options: dict, force: bool = False) -> d
             return {**row, "status": "skipped", "duration_s": 0.0}
     t0 = time.perf_counter()
     row: dict = {"file": task.name, "output": str(task.output), "error": ""}
+    before = None
     try:
-        size = task.input.stat().st_size
+        # The input's version before it is read; the record of an earlier result goes first,
+        # so that a failure (or a change found below) leaves nothing that claims up to date.
+        before = _fingerprint(task.input)
+        _claim_output(task)
         limit = int(options.get("max_file_bytes") or _DEFAULT_MAX_FILE_BYTES)
-        if size > limit:
+        if before["size"] > limit:
             raise ValueError(
-                f"{task.input}: {size} bytes is over the per-task limit of {limit} bytes "
-                "(raise --max-file-size, or split the recording)"
+                f"{task.input}: {before['size']} bytes is over the per-task limit of {limit} "
+                "bytes (raise --max-file-size, or split the recording)"
             )
         figures = _OPERATION_FUNCS[operation](task, options)
+        try:
+            after = _fingerprint(task.input)
+        except (OSError, ValueError):
+            after = None
+        if after != before:
+            raise ValueError(
+                f"{task.input}: changed while it was being processed, so its output may mix "
+                "old and new content; run the batch again"
+            )
         row.update(status="ok", **figures)
     except Exception as e:  # one bad file fails alone, whatever went wrong
         msg = str(e).splitlines()[0] if str(e) else type(e).__name__
@@ -271,13 +574,32 @@ def run_one(operation: str, task: Task, options: dict, force: bool = False) -> d
     row["duration_s"] = time.perf_counter() - t0
     if row["status"] == "ok":
         rec = {
-            "input": _fingerprint(task.input),
+            "input": before,
             "options_key": key,
             "row": {k: v for k, v in row.items() if not k.startswith("_")},
         }
         with atomic_write(task.record) as f:
             json.dump(rec, f, default=_jsonable)
     return row
+
+
+def _claim_output(task: Task) -> None:
+    """Refuses to replace an existing output this batch did not write (no record of it in the
+    state directory: a user's file), then replaces the task's record by a claim that is
+    never up to date, so that a failure leaves no record of an earlier result but the output
+    stays the batch's own to replace on the next run."""
+    try:
+        has_record = stat.S_ISREG(os.lstat(task.record).st_mode)
+    except OSError:
+        has_record = False
+    if os.path.lexists(task.output) and not has_record:
+        raise ValueError(
+            f"{task.output}: exists and was not written by this batch (no record of it in "
+            f"{task.record.parent}); refusing to overwrite it (move it away, or choose another "
+            "output directory)"
+        )
+    with atomic_write(task.record) as f:
+        json.dump({"output": str(task.output), "row": None}, f)
 
 
 def _jsonable(x):
@@ -448,7 +770,8 @@ def local_cluster(workers: int | None = None):
     dd = _need_dask()
     import dask
 
-    n = int(workers) if workers else min(os.cpu_count() or 1, 4)
+    _check_workers(workers)
+    n = int(workers) if workers is not None else min(os.cpu_count() or 1, 4)
     if n < 1:
         raise ValueError(f"workers: expected at least 1, got {workers}")
     env = dict(dask.config.get("distributed.nanny.pre-spawn-environ", default={}) or {})
@@ -494,7 +817,8 @@ def run(
     scheduler : str, optional
         Scheduler address or scheduler-file path.
     workers : int, optional
-        Worker processes of the local cluster (default: the number of cores, at most 4).
+        Worker processes of the local cluster, at least 1 (default: the number of cores, at
+        most 4).
     force : bool
         Redo files whose outputs are up to date.
     progress : bool, optional
@@ -509,14 +833,24 @@ def run(
     Returns
     -------
     pandas.DataFrame
-        One row per file, sorted by file: ``file``, ``status``, ``duration_s``,
-        ``samples``, ``error``, ``output`` and the operation's figures. Also written to
+        One row per file, sorted by file, and an error row for each named input that gave no
+        file (missing, an empty directory, a pattern that matched nothing) and for each file
+        found that is not a regular file (a FIFO, a device, a socket: never opened). Columns:
+        ``file``, ``status``, ``duration_s``, ``samples``, ``error``, ``output`` and the
+        operation's figures. Also written to
         ``OUTDIR/summary.csv`` with ``summary.md`` and, with matplotlib, ``summary.png``.
 
     Raises
     ------
     ValueError
-        Unknown operation, no input matched, ``out_dir`` is not a directory.
+        Unknown operation, no named input gave a file, ``out_dir`` is not a directory;
+        :class:`quatspline.ops.ParameterError` (a ``ValueError``) for ``workers`` < 1 and
+        when a file the batch would write is one of its inputs (``out_dir`` is an input
+        directory, or an output, record or summary is an input by path or link), or when
+        ``out_dir`` holds a ``summary.csv``, ``summary.md``, ``summary.png`` or ``batch.log``
+        but no batch ran there. Nothing is written then.
+    TypeError
+        ``workers`` is not an integer, or ``paths`` holds something other than file names.
     OSError
         The scheduler cannot be reached within the timeout.
     ImportError
@@ -553,10 +887,33 @@ def run(
         and options.get("count") is None
     ):
         raise ValueError(f"{operation}: give rate= (samples per time unit) or count=")
-    inputs = expand_inputs(paths)
+    _check_workers(workers)
+    inputs, problems = _expand(paths, out_dir=out)
+    if not inputs:
+        raise ValueError("inputs: nothing to process: " + "; ".join(m for _, m in problems))
     tasks = plan(operation, inputs, out, options)
-    out.mkdir(parents=True, exist_ok=True)
-    rows: list[dict] = []
+    if not (out / _STATE_DIR).is_dir():  # no batch ran here: a summary there is a user's
+        for n in _SUMMARY_FILES:
+            if os.path.lexists(out / n):
+                raise ParameterError(
+                    f"{out / n}: exists and was not written by a batch; refusing to overwrite "
+                    "it (choose another output directory)"
+                )
+    (out / _STATE_DIR).mkdir(parents=True, exist_ok=True)
+    targets = [p for t in tasks for p in (t.output, t.record)]
+    for target in [*targets, *(out / n for n in _SUMMARY_FILES)]:
+        remove_stale_temporaries(target)
+    rows: list[dict] = [
+        {
+            "file": name,
+            "status": "error",
+            "samples": 0,
+            "duration_s": float("nan"),
+            "output": "",
+            "error": f"ValueError: {msg}",
+        }
+        for name, msg in problems
+    ]
     with _client(client, scheduler, workers) as c:
         futures = c.map(
             run_one,
@@ -592,6 +949,15 @@ def run(
     table = pd.DataFrame(rows).sort_values("file", kind="stable").reset_index(drop=True)
     summarize(table, out, operation)
     return table
+
+
+def _check_workers(workers) -> None:
+    if workers is None:
+        return
+    if isinstance(workers, bool) or not isinstance(workers, numbers.Integral):
+        raise TypeError(f"workers: expected an integer, got {type(workers).__name__}")
+    if workers < 1:
+        raise ParameterError(f"workers: expected at least 1 worker process, got {workers}")
 
 
 def _log_errors(out: Path, rows: list[dict]) -> None:

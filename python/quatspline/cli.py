@@ -545,6 +545,7 @@ _CLI_NAMES = {
     "times": "--at",
     "holdout": "--holdout",
     "max_samples": "--max-samples",
+    "workers": "--workers",
 }
 
 

@@ -8,6 +8,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._atomic import file_kind
+
 #: Longest first line read while guessing a format.
 MAX_SNIFF_LINE = 1 << 16
 
@@ -197,21 +199,9 @@ def finish(
     return Trajectory(times, quats, pos, name=name, stamps_ns=ns)
 
 
-def _kind(mode: int) -> str:
-    if stat.S_ISDIR(mode):
-        return "a directory"
-    if stat.S_ISFIFO(mode):
-        return "a FIFO (named pipe)"
-    if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
-        return "a device"
-    if stat.S_ISSOCK(mode):
-        return "a socket"
-    return "not a regular file"
-
-
 def _require_regular(path, mode: int) -> None:
     if not stat.S_ISREG(mode):
-        raise TrajectoryError(f"{path}: is {_kind(mode)}; only regular files are read")
+        raise TrajectoryError(f"{path}: is {file_kind(mode)}; only regular files are read")
 
 
 def check_regular_input(path) -> None:
