@@ -21,8 +21,8 @@ Behaviour at scale:
 - directory searches and ``**`` visit each real directory once (symbolic-link loops are not
   followed again) and never read the output directory back as input;
 - every output is written atomically (temporary file, then rename); a re-run removes the
-  temporaries that killed writes left beside its own outputs (only those, and only once
-  they have been left untouched for ten minutes);
+  temporaries that killed writes left beside its own outputs (only those, and only when no
+  live writer holds their lock);
 - a re-run skips files whose output is up to date — same input file (size, modification
   and change times, inode), same options, same quatspline version — so an interrupted batch
   resumes where it stopped (``force=True`` redoes everything); the input's version is taken
