@@ -76,14 +76,12 @@ pytest.importorskip("uvicorn", reason="the viewer extra is not installed")
 class Server:
     def __init__(self, path=None, token="test-token"):
         import uvicorn
-        from quatspline.viewer.server import _free_port, create_app
+        from quatspline.viewer.server import _free_port, create_app, server_config
 
         self.port = _free_port("127.0.0.1")
         self.token = token
-        app = create_app(path, token, self.port)
-        self.server = uvicorn.Server(
-            uvicorn.Config(app, host="127.0.0.1", port=self.port, log_level="warning")
-        )
+        self.app = create_app(path, token, self.port)
+        self.server = uvicorn.Server(server_config(self.app, host="127.0.0.1", port=self.port))
         self.thread = threading.Thread(target=self.server.run, daemon=True)
 
     def __enter__(self):
