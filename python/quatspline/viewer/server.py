@@ -104,7 +104,12 @@ class WorkerPool:
             raise _Refused(503, "server busy: too many computations waiting; try again")
         fut = asyncio.get_running_loop().create_future()
         self._waiting.append(fut)
-        await fut  # the slot is handed over by _release (running stays counted)
+        try:
+            await fut  # the slot is handed over by _release (running stays counted)
+        except asyncio.CancelledError:
+            if fut.done() and not fut.cancelled():
+                self._release()  # handed over just as the client left: pass it on
+            raise
 
     def _release(self) -> None:
         while self._waiting:
@@ -142,7 +147,14 @@ class WorkerPool:
         task.add_done_callback(self._reaping.discard)
 
     async def _job(self, kind: str, body: bytes):
-        proc = self._idle.pop() if self._idle else await self._spawn()
+        proc = None
+        while self._idle and proc is None:
+            proc = self._idle.pop()
+            if proc.returncode is not None:  # ended since its last job
+                self._kill(proc)
+                proc = None
+        if proc is None:
+            proc = await self._spawn()
         try:
             payload = pickle.dumps((kind, body), protocol=pickle.HIGHEST_PROTOCOL)
             proc.stdin.write(_HEADER.pack(len(payload)) + payload)
@@ -163,7 +175,6 @@ class WorkerPool:
         is full or the job runs too long, ``ConnectionAbortedError`` when the client left.
         """
         watch = asyncio.ensure_future(disconnected) if disconnected is not None else None
-        job = None
         try:
             slot = asyncio.ensure_future(self._slot())
             try:
@@ -189,10 +200,10 @@ class WorkerPool:
                     "use fewer keys or samples, or the Python API",
                 )
             finally:
+                if not job.done():
+                    job.cancel()  # ends its worker process
                 self._release()
         finally:
-            if job is not None and not job.done():
-                job.cancel()  # ends the worker process
             if watch is not None and not watch.done():
                 watch.cancel()
 
@@ -316,6 +327,15 @@ def open_files_limit() -> int:
     return soft if soft != resource.RLIM_INFINITY else 1 << 20
 
 
+def _soft_files_limit() -> int:
+    try:
+        import resource
+    except ImportError:  # not on Windows
+        return 512
+    soft = resource.getrlimit(resource.RLIMIT_NOFILE)[0]
+    return soft if soft != resource.RLIM_INFINITY else 1 << 20
+
+
 def connection_limit(open_files: int) -> int:
     """Connections the server keeps open at most when the process may open ``open_files``
     files: :data:`MAX_CONNECTIONS`, less when needed to leave room for an accept burst, the
@@ -324,10 +344,14 @@ def connection_limit(open_files: int) -> int:
 
 
 def server_config(app, *, host: str = "127.0.0.1", port: int = 0, open_files: int | None = None):
-    """The uvicorn configuration the viewer runs with (limits as described in the module)."""
+    """The uvicorn configuration the viewer runs with: the connection limits of
+    :func:`_protocol_class` for a process that may open ``open_files`` files (default: its
+    current soft limit), and a bounded wait for running requests at shutdown."""
     import uvicorn
 
-    limit = connection_limit(open_files if open_files is not None else open_files_limit())
+    if open_files is None:
+        open_files = _soft_files_limit()
+    limit = connection_limit(open_files)
     return uvicorn.Config(
         app,
         host=host,
