@@ -680,6 +680,17 @@ def test_oversize_bodies_are_refused_before_they_are_read(server):
     )
 
 
+def test_a_body_sent_too_slowly_is_refused_with_408(server):
+    c = _raw(server.port)
+    c.sendall(
+        f"POST /api/evaluate HTTP/1.1\r\nHost: 127.0.0.1:{server.port}\r\n"
+        f"X-Quatspline-Token: {server.token}\r\nContent-Length: 100\r\n\r\n{{".encode()
+    )
+    assert _status_line(c) == b"HTTP/1.1 408 Request Timeout"
+    assert _closed_by_server(c)
+    c.close()
+
+
 def test_export_refuses_keywords_it_does_not_know_naming_them(server):
     tok = {"X-Quatspline-Token": server.token, "Content-Type": "application/json"}
     keys = {"quats": [[1, 0, 0, 0], [0, 0, 0, 1]], "times": [0, 1], "format": "glb"}

@@ -10,6 +10,7 @@ a pickle. A job is ``(kind, body)``; the answer is ``(status, media_type, conten
 
 from __future__ import annotations
 
+import ctypes
 import json
 import os
 import pickle
@@ -107,9 +108,26 @@ def _read_exact(fd: int, n: int) -> bytes | None:
     return b"".join(chunks)
 
 
-def main() -> None:
-    """The worker loop: jobs from stdin, answers to stdout, until stdin closes."""
+def _end_with_parent(parent: int) -> None:
+    """On Linux, the kernel ends this worker when the server process dies, even mid-job."""
+    if not sys.platform.startswith("linux"):
+        return
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(1, signal.SIGKILL, 0, 0, 0)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        return
+    if os.getppid() != parent:  # the server died before prctl took effect
+        os._exit(0)
+
+
+def main(parent: int) -> None:
+    """The worker loop: jobs from stdin, answers to stdout, until stdin closes.
+
+    ``parent`` is the server's process id.
+    """
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the server's to handle
+    _end_with_parent(parent)
     out = os.dup(1)
     os.dup2(2, 1)  # stray prints must not corrupt the answers
     sys.stdout = sys.stderr
@@ -132,4 +150,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    main(os.getppid())

@@ -5,6 +5,7 @@ from __future__ import annotations
 import asyncio
 import collections
 import contextlib
+import os
 import pickle
 import secrets
 import socket
@@ -39,11 +40,12 @@ MAX_BODY = 8 << 20
 #: or after its previous response, is closed (idle keep-alive and slow-header clients).
 HEADER_TIMEOUT = 5.0
 #: A request body must arrive within this many seconds (408 otherwise).
-BODY_TIMEOUT = 30.0
+BODY_TIMEOUT = 10.0
 #: A client that reads none of a pending response for this many seconds is disconnected.
 WRITE_TIMEOUT = 30.0
 #: Open connections at most (lower when the process may open few files); beyond it the
-#: longest-idle connection is closed to make room, or the new one is refused with a 503.
+#: longest-idle connection (else the oldest one stalled on its client) is closed to make
+#: room, or the new one is refused with a 503.
 MAX_CONNECTIONS = 256
 #: Worker processes computing designs and exports, and requests that may wait for one.
 WORKERS = 2
@@ -57,7 +59,7 @@ _HEADER = struct.Struct(">Q")
 #: Started in each worker process (the package root comes first on its path).
 _WORKER_CODE = (
     "import sys; sys.path.insert(0, sys.argv[1]); "
-    "from quatspline.viewer._worker import main; main()"
+    "from quatspline.viewer._worker import main; main(int(sys.argv[2]))"
 )
 
 
@@ -126,6 +128,7 @@ class WorkerPool:
             "-c",
             _WORKER_CODE,
             root,
+            str(os.getpid()),
             stdin=asyncio.subprocess.PIPE,
             stdout=asyncio.subprocess.PIPE,
         )
@@ -228,7 +231,8 @@ def _protocol_class(max_connections: int, header_timeout: float, write_timeout: 
     - a connection must send a complete request head within ``header_timeout`` seconds of
       opening or of its previous response (slow or idle clients are closed);
     - at most ``max_connections`` are open: a new one closes the longest-idle connection
-      (one not in the middle of a request), or is refused with a 503 when none is idle;
+      (one not in the middle of a request), else the oldest whose request waits on its
+      client (a body still arriving, a response unread), else it is refused with a 503;
     - a client that leaves a response unread for ``write_timeout`` seconds is disconnected;
     - a request body the application did not read ends the connection after the response
       (it is not read and discarded).
@@ -243,19 +247,30 @@ def _protocol_class(max_connections: int, header_timeout: float, write_timeout: 
             self._write_deadline = None
             self._dropped = False
             self._idle_since = self.loop.time()
+            self._opened = self._idle_since
             live = [c for c in self.connections if c is not self and not c._dropped]
             if len(live) >= max_connections:
                 idle = [c for c in live if c._is_idle()]
-                if not idle:
+                stalled = [c for c in live if c._waits_for_client()]
+                if idle:
+                    min(idle, key=lambda c: c._idle_since)._drop()
+                elif stalled:
+                    min(stalled, key=lambda c: c._opened)._drop()
+                else:
                     self._dropped = True
                     transport.write(_BUSY)
                     transport.close()
                     return
-                min(idle, key=lambda c: c._idle_since)._drop()
             self._arm()
 
         def _is_idle(self) -> bool:
+            """No request running: before the first, between requests, or a head incomplete."""
             return self.cycle is None or self.cycle.response_complete
+
+        def _waits_for_client(self) -> bool:
+            """A request stalled on its client: its body still arriving, or its response
+            unread."""
+            return self.conn.their_state is h11.SEND_BODY or self.flow.write_paused
 
         def _drop(self) -> None:
             self._dropped = True
