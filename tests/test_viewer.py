@@ -550,6 +550,21 @@ def test_a_flood_of_idle_and_slow_connections_does_not_wedge_the_viewer(many_fil
         assert proc.poll() is None
 
 
+def test_the_viewer_raises_its_open_files_limit_to_the_hard_limit():
+    def limit():
+        resource.setrlimit(resource.RLIMIT_NOFILE, (256, 2048))
+
+    code = (
+        "import resource; from quatspline.viewer.server import open_files_limit, "
+        "connection_limit; n = open_files_limit(); "
+        "print(n, resource.getrlimit(resource.RLIMIT_NOFILE)[0], connection_limit(n))"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, preexec_fn=limit, check=True
+    ).stdout.split()
+    assert out == ["2048", "2048", "256"]
+
+
 def test_the_viewer_stops_on_sigterm_under_a_connection_flood(many_files):
     with _viewer_process(1024) as (proc, port, token):
         assert _get_page(port, token)[0] == 200

@@ -487,8 +487,11 @@ def create_app(path: Path | None = None, token: str | None = None, port: int = 0
         return b"".join(chunks)
 
     async def _disconnected(receive) -> None:
-        while (await receive())["type"] != "http.disconnect":
-            pass
+        try:
+            while (await receive())["type"] != "http.disconnect":
+                pass
+        except Exception:  # a broken connection is a gone client too
+            return
 
     async def _compute(request: Request, kind: str) -> Response:
         try:
@@ -501,6 +504,8 @@ def create_app(path: Path | None = None, token: str | None = None, port: int = 0
             return JSONResponse({"error": str(e)}, status_code=e.status, headers=headers)
         except (ClientDisconnect, ConnectionAbortedError):
             return Response(status_code=499)  # nobody reads it
+        except asyncio.CancelledError:  # the server is stopping; its worker has been ended
+            return JSONResponse({"error": "server stopping"}, status_code=503)
         except (asyncio.IncompleteReadError, OSError) as e:
             return JSONResponse(
                 {"error": f"viewer worker stopped unexpectedly ({type(e).__name__})"},
