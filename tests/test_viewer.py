@@ -727,6 +727,17 @@ def test_export_refuses_keywords_it_does_not_know_naming_them(server):
     assert status == 200 and blob[:4] == b"glTF"
 
 
+def test_a_design_refuses_a_fit_knot_spacing_that_multiplies_its_work():
+    rng = np.random.default_rng(0)
+    q = qs.normalize(np.cumsum(rng.normal(size=(50, 4)) * 0.1, axis=0) + [3, 0, 0, 0])
+    t = np.arange(50.0)
+    with pytest.raises(ValueError, match="knots: spacing 0.005 gives 9800 knot intervals"):
+        design.evaluate("fit", q, t, {"knots": 0.005}, samples=10)
+    with pytest.raises(ValueError, match="knots: spacing"):
+        design.export_bytes("csv", "fit", q, t, {"knots": 0.005}, samples=10)
+    assert len(design.evaluate("fit", q, t, {"knots": 2.0}, samples=10)["t"]) == 10
+
+
 def test_export_bytes_passes_no_foreign_keywords_to_gltf():
     k = [[1, 0, 0, 0], [0, 0, 0, 1]]
     with pytest.raises(ValueError, match="max_error"):

@@ -147,6 +147,22 @@ def _check_params(method, params) -> dict:
     return dict(params)
 
 
+def _check_work(method: str, params: dict, t: np.ndarray) -> None:
+    """Refuses parameters that would make one design much larger than its keys: a ``fit``
+    knot spacing giving more than :data:`MAX_DESIGN_KEYS` knot intervals."""
+    spacing = params.get("knots")
+    if method != "fit" or spacing is None or isinstance(spacing, (bool, str)):
+        return  # anything else is the registry's to check (and refuse)
+    if not isinstance(spacing, (int, float, np.integer, np.floating)):
+        return
+    span = float(t[-1] - t[0])
+    if spacing > 0 and math.isfinite(spacing) and span / spacing > MAX_DESIGN_KEYS:
+        raise ValueError(
+            f"knots: spacing {float(spacing):g} gives {span / spacing:.4g} knot intervals; a "
+            f"design has at most {MAX_DESIGN_KEYS} (quatspline.fit has no such limit)"
+        )
+
+
 def _check_samples(samples) -> int:
     if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)):
         raise TypeError(f"samples: expected an integer, got {type(samples).__name__}")
@@ -287,6 +303,7 @@ def evaluate(
     q, t = _check_keys(quats, times)
     samples = _check_samples(samples)
     params = _check_params(method, params)
+    _check_work(method, params, t)
     s = spline(method, q, t, **params)
     a, b = s.domain
     ts = np.linspace(a, b, int(samples))
@@ -380,6 +397,7 @@ def export_bytes(
         raise ValueError(f"format: expected csv, json, glb or keys, got {fmt!r}")
     q, t = _check_keys(quats, times)
     params = _check_params(method, params)
+    _check_work(method, params, t)
     samples = _check_samples(samples)
     if options is not None and fmt != "glb":
         raise ValueError(f"options: glTF options apply to format glb only, not {fmt}")
