@@ -1,4 +1,9 @@
-"""The viewer's HTTP server: a token-protected Starlette app on 127.0.0.1."""
+"""The viewer's HTTP server: a token-protected Starlette app on 127.0.0.1.
+
+The module's constants are its limits: request bodies (:data:`MAX_BODY`, :data:`BODY_TIMEOUT`),
+connections (:data:`HEADER_TIMEOUT`, :data:`MAX_CONNECTIONS`, :data:`WRITE_TIMEOUT`) and
+computations (:data:`WORKERS`, :data:`MAX_QUEUED`, :data:`JOB_TIMEOUT`).
+"""
 
 from __future__ import annotations
 
