@@ -669,6 +669,41 @@ def test_a_computation_past_its_deadline_is_stopped_with_503():
         assert status == 200
 
 
+def test_a_client_that_does_not_read_its_response_is_disconnected(monkeypatch):
+    from quatspline.viewer import server as viewer_server
+
+    monkeypatch.setattr(viewer_server, "WRITE_TIMEOUT", 1.0)
+    with Server() as s:
+        rng = np.random.default_rng(2)
+        q = qs.normalize(rng.normal(size=(200, 4)))
+        body = json.dumps(
+            {"format": "csv", "quats": q.tolist(), "times": list(range(200)), "samples": 20000}
+        ).encode()
+        c = socket.socket()
+        c.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+        c.settimeout(30)
+        c.connect(("127.0.0.1", s.port))
+        c.sendall(
+            f"POST /api/export HTTP/1.1\r\nHost: 127.0.0.1:{s.port}\r\n"
+            f"X-Quatspline-Token: {s.token}\r\nContent-Length: {len(body)}\r\n\r\n".encode()
+            + body
+        )
+        time.sleep(5.0)  # reads nothing while the server's buffers fill
+        data = b""
+        with contextlib.suppress(ConnectionResetError):
+            while chunk := c.recv(1 << 16):
+                data += chunk
+        c.close()
+        head, _, payload = data.partition(b"\r\n\r\n")
+        assert head.startswith(b"HTTP/1.1 200"), head[:80]
+        length = int(
+            next(h for h in head.split(b"\r\n") if h.lower().startswith(b"content-length")).split(
+                b":"
+            )[1]
+        )
+        assert len(payload) < length, "the stalled response was kept for ever"
+
+
 def test_oversize_bodies_are_refused_before_they_are_read(server):
     from quatspline.viewer.server import MAX_BODY
 
