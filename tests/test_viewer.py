@@ -2,10 +2,17 @@
 
 from __future__ import annotations
 
+import contextlib
 import http.client
 import json
 import os
+import resource
+import select
 import shutil
+import signal
+import socket
+import subprocess
+import sys
 import threading
 import time
 from pathlib import Path
@@ -76,14 +83,12 @@ pytest.importorskip("uvicorn", reason="the viewer extra is not installed")
 class Server:
     def __init__(self, path=None, token="test-token"):
         import uvicorn
-        from quatspline.viewer.server import _free_port, create_app
+        from quatspline.viewer.server import _free_port, create_app, server_config
 
         self.port = _free_port("127.0.0.1")
         self.token = token
-        app = create_app(path, token, self.port)
-        self.server = uvicorn.Server(
-            uvicorn.Config(app, host="127.0.0.1", port=self.port, log_level="warning")
-        )
+        self.app = create_app(path, token, self.port)
+        self.server = uvicorn.Server(server_config(self.app, host="127.0.0.1", port=self.port))
         self.thread = threading.Thread(target=self.server.run, daemon=True)
 
     def __enter__(self):
@@ -345,9 +350,6 @@ def test_latency_for_100_keys_and_2000_samples_on_a_real_recording(browser, tmp_
 
 
 def test_cli_view_prints_the_url_and_serves_with_the_token(tmp_path):
-    import subprocess
-    import sys
-
     from quatspline.viewer.server import _free_port
 
     port = _free_port("127.0.0.1")
@@ -374,3 +376,409 @@ def test_cli_view_prints_the_url_and_serves_with_the_token(tmp_path):
         finally:
             proc.terminate()
             proc.wait(timeout=20)
+
+
+# ---- connections: floods, slow clients, shutdown ------------------------------------------------
+def _raw(port: int, timeout: float = 30.0) -> socket.socket:
+    s = socket.create_connection(("127.0.0.1", port), timeout=timeout)
+    s.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+    return s
+
+
+def _closed_by_server(s: socket.socket) -> bool:
+    """Reads until the server closes the connection (True) or the socket's timeout (False)."""
+    try:
+        while True:
+            if not s.recv(65536):
+                return True
+    except ConnectionResetError:
+        return True
+    except socket.timeout:
+        return False
+
+
+def _status_line(s: socket.socket) -> bytes:
+    data = b""
+    while b"\r\n" not in data:
+        chunk = s.recv(4096)
+        if not chunk:
+            break
+        data += chunk
+    return data.split(b"\r\n", 1)[0]
+
+
+def test_idle_and_slow_header_clients_are_dropped(server):
+    idle = _raw(server.port)
+    assert _closed_by_server(idle), "a connection that never sends a request stays open"
+    idle.close()
+    # a request head trickled a byte at a time never completes: the deadline still applies
+    slow = _raw(server.port)
+    slow.sendall(b"GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n")
+    slow.settimeout(0.5)
+    dropped = False
+    for _ in range(120):
+        try:
+            slow.sendall(b"X")
+            if slow.recv(1) == b"":
+                dropped = True
+                break
+        except socket.timeout:
+            continue
+        except (BrokenPipeError, ConnectionResetError):
+            dropped = True
+            break
+    slow.close()
+    assert dropped, "a client sending its request head slowly is never dropped"
+    # a kept-alive connection that goes quiet after its response is closed too
+    c = _raw(server.port)
+    c.sendall(
+        f"GET /api/state HTTP/1.1\r\nHost: 127.0.0.1:{server.port}\r\n"
+        f"X-Quatspline-Token: {server.token}\r\n\r\n".encode()
+    )
+    assert _status_line(c) == b"HTTP/1.1 200 OK"
+    assert _closed_by_server(c)
+    c.close()
+
+
+def _nonblocking_connect(port: int) -> socket.socket:
+    s = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+    s.setblocking(False)
+    s.connect_ex(("127.0.0.1", port))
+    return s
+
+
+class _Flood:
+    """``idle`` connections that send nothing and ``slow`` ones that trickle a request head."""
+
+    def __init__(self, port: int, idle: int, slow: int):
+        self.socks = [_nonblocking_connect(port) for _ in range(idle)]
+        self.slow = [_nonblocking_connect(port) for _ in range(slow)]
+        self.stop = threading.Event()
+        self._wait_connected()
+        self.thread = threading.Thread(target=self._trickle, daemon=True)
+        self.thread.start()
+
+    def _wait_connected(self, patience: float = 30.0):
+        """Until every connection is established (the kernel retries a refused SYN after
+        1 s, 3 s, …), or has failed; a server that accepts nothing more leaves them queued."""
+        poller = select.poll()
+        pending = {s.fileno(): s for s in self.socks + self.slow}
+        for fd in pending:
+            poller.register(fd, select.POLLOUT)
+        deadline = time.monotonic() + patience
+        while pending and time.monotonic() < deadline:
+            for fd, _ in poller.poll(500):
+                poller.unregister(fd)
+                pending.pop(fd, None)
+
+    def _trickle(self):
+        head = b"GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Padding: "
+        sent = [0] * len(self.slow)
+        while not self.stop.wait(0.2):
+            for i, s in enumerate(self.slow):
+                with contextlib.suppress(OSError):
+                    s.send(head[sent[i] : sent[i] + 1] if sent[i] < len(head) else b"a")
+                    sent[i] += 1
+
+    def close(self):
+        self.stop.set()
+        self.thread.join(timeout=10)
+        for s in self.socks + self.slow:
+            s.close()
+
+
+def _get_page(port: int, token: str) -> tuple[int, bytes]:
+    c = http.client.HTTPConnection("127.0.0.1", port, timeout=30)
+    try:
+        c.request("GET", f"/?token={token}")
+        r = c.getresponse()
+        return r.status, r.read()
+    finally:
+        c.close()
+
+
+@contextlib.contextmanager
+def _viewer_process(max_files: int):
+    """``quatspline view`` in a subprocess that may open ``max_files`` files (soft = hard)."""
+    from quatspline.viewer.server import _free_port
+
+    port = _free_port("127.0.0.1")
+    exe = Path(sys.executable).parent / "quatspline"
+
+    def limit():
+        resource.setrlimit(resource.RLIMIT_NOFILE, (max_files, max_files))
+
+    proc = subprocess.Popen(
+        [str(exe), "view", "--no-browser", "--port", str(port)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+        text=True,
+        preexec_fn=limit,
+    )
+    try:
+        line = proc.stdout.readline()
+        assert line.startswith(f"quatspline view: http://127.0.0.1:{port}/?token="), line
+        yield proc, port, line.split("token=", 1)[1].split()[0]
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        proc.wait(timeout=30)
+        proc.stdout.close()
+
+
+@pytest.fixture
+def many_files():
+    """This test process may open enough sockets to flood a server limited to 1,024 files."""
+    soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+    want = 4096 if hard == resource.RLIM_INFINITY else min(hard, 4096)
+    resource.setrlimit(resource.RLIMIT_NOFILE, (max(soft, want), hard))
+    assert resource.getrlimit(resource.RLIMIT_NOFILE)[0] >= 1600, "RLIMIT_NOFILE hard < 1600"
+    yield
+    resource.setrlimit(resource.RLIMIT_NOFILE, (soft, hard))
+
+
+def test_a_flood_of_idle_and_slow_connections_does_not_wedge_the_viewer(many_files):
+    with _viewer_process(1024) as (proc, port, token):
+        flood = _Flood(port, idle=1200, slow=60)
+        try:
+            status, page = _get_page(port, token)
+            assert status == 200 and b"quatspline view" in page
+        finally:
+            flood.close()
+        status, page = _get_page(port, token)
+        assert status == 200 and b"quatspline view" in page
+        assert proc.poll() is None
+
+
+def test_the_viewer_raises_its_open_files_limit_to_the_hard_limit():
+    def limit():
+        resource.setrlimit(resource.RLIMIT_NOFILE, (256, 2048))
+
+    code = (
+        "import resource; from quatspline.viewer.server import open_files_limit, "
+        "connection_limit; n = open_files_limit(); "
+        "print(n, resource.getrlimit(resource.RLIMIT_NOFILE)[0], connection_limit(n))"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, preexec_fn=limit, check=True
+    ).stdout.split()
+    assert out == ["2048", "2048", "256"]
+
+
+def test_the_viewer_stops_on_sigterm_under_a_connection_flood(many_files):
+    with _viewer_process(1024) as (proc, port, token):
+        assert _get_page(port, token)[0] == 200
+        # a request in the middle of its body: shutdown does not wait for it forever
+        body = _raw(port)
+        body.sendall(
+            f"POST /api/evaluate HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\n"
+            f"Content-Length: 1000\r\nX-Quatspline-Token: {token}\r\n\r\n{{".encode()
+        )
+        flood = _Flood(port, idle=1200, slow=60)
+        try:
+            proc.send_signal(signal.SIGTERM)
+            proc.wait(timeout=30)
+        finally:
+            flood.close()
+            body.close()
+        assert proc.returncode is not None
+
+
+# ---- heavy requests and bodies ------------------------------------------------------------------
+def _heavy_body() -> bytes:
+    """min_energy through 5,000 random keys at 20,000 samples: a minute of work."""
+    rng = np.random.default_rng(1)
+    q = qs.normalize(rng.normal(size=(5000, 4)))
+    return json.dumps(
+        {"method": "min_energy", "quats": q.tolist(), "times": list(range(5000)), "samples": 20000}
+    ).encode()
+
+
+def _post(port: int, path: str, body: bytes, token: str) -> socket.socket:
+    s = _raw(port, timeout=60)
+    s.sendall(
+        f"POST {path} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nX-Quatspline-Token: {token}\r\n"
+        f"Content-Type: application/json\r\nContent-Length: {len(body)}\r\n\r\n".encode()
+        + body
+    )
+    return s
+
+
+LIGHT = json.dumps({"quats": [[1, 0, 0, 0], [0, 0, 0, 1]], "times": [0, 1], "samples": 3}).encode()
+
+
+def _wait_for(predicate, what: str):
+    for _ in range(600):
+        if predicate():
+            return
+        time.sleep(0.05)
+    raise AssertionError(f"never happened: {what}")
+
+
+def test_a_heavy_request_does_not_block_the_page_or_light_requests():
+    with Server() as s:
+        heavy = _post(s.port, "/api/evaluate", _heavy_body(), s.token)
+        answer: list = []
+        reader = threading.Thread(target=lambda: answer.append(_status_line(heavy)), daemon=True)
+        reader.start()
+        time.sleep(1.0)  # the heavy request has arrived and is being computed
+        status, page = _get_page(s.port, s.token)
+        assert status == 200 and b"quatspline view" in page
+        tok = {"X-Quatspline-Token": s.token}
+        status, data = s.request("POST", "/api/evaluate", LIGHT, headers=tok)
+        assert status == 200 and len(json.loads(data)["t"]) == 3
+        assert reader.is_alive() and not answer, "the heavy request was not running"
+        heavy.shutdown(socket.SHUT_RDWR)  # abandoned: its computation is stopped
+        reader.join(timeout=60)
+        heavy.close()
+
+
+def test_abandoned_computations_are_stopped_and_a_full_queue_is_503():
+    with Server() as s:
+        pool = s.app.state.pool
+        body = _heavy_body()
+        clients = [_post(s.port, "/api/evaluate", body, s.token) for _ in range(pool.workers)]
+        _wait_for(lambda: pool.running == pool.workers, "every worker busy")
+        waiting = [_post(s.port, "/api/evaluate", body, s.token) for _ in range(pool.max_queued)]
+        _wait_for(lambda: pool.queued == pool.max_queued, "the queue full")
+        one_more = _post(s.port, "/api/evaluate", LIGHT, s.token)
+        assert _status_line(one_more) == b"HTTP/1.1 503 Service Unavailable"
+        one_more.close()
+        for c in waiting:  # their clients leave before their turn: they never start
+            c.close()
+        _wait_for(lambda: pool.queued == 0, "the queue emptied by disconnects")
+        started = pool.started
+        for c in clients:  # the running ones are stopped when their clients leave
+            c.close()
+        status, data = s.request(
+            "POST", "/api/evaluate", LIGHT, headers={"X-Quatspline-Token": s.token}
+        )
+        assert status == 200 and len(json.loads(data)["t"]) == 3
+        assert pool.started == started + 1  # one new worker; no abandoned job ran
+
+
+def test_a_computation_past_its_deadline_is_stopped_with_503():
+    with Server() as s:
+        s.app.state.pool.timeout = 1.0
+        c = _post(s.port, "/api/evaluate", _heavy_body(), s.token)
+        assert _status_line(c) == b"HTTP/1.1 503 Service Unavailable"
+        c.close()
+        status, _ = s.request(
+            "POST", "/api/evaluate", LIGHT, headers={"X-Quatspline-Token": s.token}
+        )
+        assert status == 200
+
+
+def test_a_client_that_does_not_read_its_response_is_disconnected(monkeypatch):
+    from quatspline.viewer import server as viewer_server
+
+    monkeypatch.setattr(viewer_server, "WRITE_TIMEOUT", 1.0)
+    with Server() as s:
+        rng = np.random.default_rng(2)
+        q = qs.normalize(rng.normal(size=(200, 4)))
+        body = json.dumps(
+            {"format": "csv", "quats": q.tolist(), "times": list(range(200)), "samples": 20000}
+        ).encode()
+        c = socket.socket()
+        c.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+        c.settimeout(30)
+        c.connect(("127.0.0.1", s.port))
+        c.sendall(
+            f"POST /api/export HTTP/1.1\r\nHost: 127.0.0.1:{s.port}\r\n"
+            f"X-Quatspline-Token: {s.token}\r\nContent-Length: {len(body)}\r\n\r\n".encode()
+            + body
+        )
+        time.sleep(5.0)  # reads nothing while the server's buffers fill
+        data = b""
+        with contextlib.suppress(ConnectionResetError):
+            while chunk := c.recv(1 << 16):
+                data += chunk
+        c.close()
+        head, _, payload = data.partition(b"\r\n\r\n")
+        assert head.startswith(b"HTTP/1.1 200"), head[:80]
+        length = int(
+            next(h for h in head.split(b"\r\n") if h.lower().startswith(b"content-length")).split(
+                b":"
+            )[1]
+        )
+        assert len(payload) < length, "the stalled response was kept for ever"
+
+
+def test_oversize_bodies_are_refused_before_they_are_read(server):
+    from quatspline.viewer.server import MAX_BODY
+
+    head = (
+        f"POST /api/evaluate HTTP/1.1\r\nHost: 127.0.0.1:{server.port}\r\n"
+        f"X-Quatspline-Token: {server.token}\r\n"
+    )
+    # declared: refused from the header, after 1 KiB of the 400 MB
+    c = _raw(server.port)
+    c.sendall((head + "Content-Length: 400000000\r\n\r\n").encode() + b"[" * 1024)
+    assert _status_line(c) == b"HTTP/1.1 413 Request Entity Too Large"
+    c.close()
+    # not declared (chunked): refused as soon as the count passes the limit, without the end
+    c = _raw(server.port)
+    c.sendall((head + "Transfer-Encoding: chunked\r\n\r\n").encode())
+    chunk = b"[" * (1 << 20)
+    for _ in range(MAX_BODY // len(chunk)):
+        c.sendall(b"%x\r\n%s\r\n" % (len(chunk), chunk))
+    c.sendall(b"1\r\n[\r\n")  # one byte over; the body never ends
+    assert _status_line(c) == b"HTTP/1.1 413 Request Entity Too Large"
+    c.close()
+    assert (
+        server.request("GET", "/api/state", headers={"X-Quatspline-Token": server.token})[0] == 200
+    )
+
+
+def test_a_body_sent_too_slowly_is_refused_with_408(server):
+    c = _raw(server.port)
+    c.sendall(
+        f"POST /api/evaluate HTTP/1.1\r\nHost: 127.0.0.1:{server.port}\r\n"
+        f"X-Quatspline-Token: {server.token}\r\nContent-Length: 100\r\n\r\n{{".encode()
+    )
+    assert _status_line(c) == b"HTTP/1.1 408 Request Timeout"
+    assert _closed_by_server(c)
+    c.close()
+
+
+def test_export_refuses_keywords_it_does_not_know_naming_them(server):
+    tok = {"X-Quatspline-Token": server.token, "Content-Type": "application/json"}
+    keys = {"quats": [[1, 0, 0, 0], [0, 0, 0, 1]], "times": [0, 1], "format": "glb"}
+    for extra, name in [
+        ({"max_error": 0.5}, "max_error"),
+        ({"params": {"samples": 5_000_000}}, "samples"),
+        ({"params": {"uniform": True}}, "uniform"),
+        ({"options": {"samples": 5_000_000}}, "samples"),
+        ({"options": {"max_error": 1e-9}}, "max_error"),
+        ({"options": {"interpolation": "step"}}, "interpolation"),
+    ]:
+        status, data = server.request(
+            "POST", "/api/export", json.dumps({**keys, **extra}).encode(), headers=tok
+        )
+        assert status == 400, extra
+        assert name in json.loads(data)["error"], (extra, data)
+    good = {**keys, "options": {"max_error": 0.5, "interpolation": "cubicspline"}}
+    status, blob = server.request("POST", "/api/export", json.dumps(good).encode(), headers=tok)
+    assert status == 200 and blob[:4] == b"glTF"
+
+
+def test_a_design_refuses_a_fit_knot_spacing_that_multiplies_its_work():
+    rng = np.random.default_rng(0)
+    q = qs.normalize(np.cumsum(rng.normal(size=(50, 4)) * 0.1, axis=0) + [3, 0, 0, 0])
+    t = np.arange(50.0)
+    with pytest.raises(ValueError, match="knots: spacing 0.005 gives 9800 knot intervals"):
+        design.evaluate("fit", q, t, {"knots": 0.005}, samples=10)
+    with pytest.raises(ValueError, match="knots: spacing"):
+        design.export_bytes("csv", "fit", q, t, {"knots": 0.005}, samples=10)
+    assert len(design.evaluate("fit", q, t, {"knots": 2.0}, samples=10)["t"]) == 10
+
+
+def test_export_bytes_passes_no_foreign_keywords_to_gltf():
+    k = [[1, 0, 0, 0], [0, 0, 0, 1]]
+    with pytest.raises(ValueError, match="max_error"):
+        design.export_bytes("glb", "c3", k, [0, 1], {"max_error": 0.5})
+    with pytest.raises(ValueError, match="samples"):
+        design.export_bytes("glb", "c3", k, [0, 1], {"samples": 5_000_000})
+    with pytest.raises(ValueError, match="options"):
+        design.export_bytes("csv", "c3", k, [0, 1], options={"max_error": 0.5})
+    assert design.export_bytes("glb", "c3", k, [0, 1], options={"max_error": 0.5})[:4] == b"glTF"

@@ -11,13 +11,18 @@ from __future__ import annotations
 
 import math
 import re
+import tempfile
+from pathlib import Path
 
 import numpy as np
 
+from . import io as qio
 from .continuity import continuity
+from .export import to_gltf
 from .registry import METHODS, spline
 
 __all__ = [
+    "EXPORT_OPTIONS",
     "MAX_DESIGN_KEYS",
     "MAX_DESIGN_SAMPLES",
     "evaluate",
@@ -30,6 +35,15 @@ __all__ = [
 #: Limits of one design evaluation (the viewer refuses larger requests before any work).
 MAX_DESIGN_KEYS = 5_000
 MAX_DESIGN_SAMPLES = 20_000
+#: The glTF options an export may set, each with its range or choices; nothing else reaches
+#: :func:`quatspline.export.to_gltf`. ``max_error`` is in degrees, ``size`` in metres.
+EXPORT_OPTIONS: dict[str, tuple] = {
+    "max_error": (1e-3, 10.0),
+    "size": (1e-3, 1e3),
+    "interpolation": ("linear", "cubicspline"),
+    "mesh": ("axes", None),
+    "node": (1, 64),
+}
 
 
 def _choices(help_text: str) -> list[str] | None:
@@ -111,6 +125,83 @@ def _check_keys(quats, times) -> tuple[np.ndarray, np.ndarray]:
             f"times[{k}]: key times must increase ({t[k]:g} is not after {t[k - 1]:g})"
         )
     return q, t
+
+
+def _check_params(method, params) -> dict:
+    """``params`` as a dict of the method's own parameters (a ValueError names any other)."""
+    if not isinstance(method, str):
+        raise TypeError(f"method: expected a string, got {type(method).__name__}")
+    if method not in METHODS:
+        raise ValueError(f"method: unknown method {method!r}; valid: {', '.join(METHODS)}")
+    if params is None:
+        return {}
+    if not isinstance(params, dict):
+        raise TypeError(f"params: expected a dict, got {type(params).__name__}")
+    valid = METHODS[method].params
+    unknown = sorted(str(k) for k in params if k not in valid)
+    if unknown:
+        raise ValueError(
+            f"params: unknown parameter{'s' if len(unknown) > 1 else ''} of {method}: "
+            f"{', '.join(unknown)}; valid: {', '.join(valid) or 'none'}"
+        )
+    return dict(params)
+
+
+def _check_work(method: str, params: dict, t: np.ndarray) -> None:
+    """Refuses parameters that would make one design much larger than its keys: a ``fit``
+    knot spacing giving more than :data:`MAX_DESIGN_KEYS` knot intervals."""
+    spacing = params.get("knots")
+    if method != "fit" or spacing is None or isinstance(spacing, (bool, str)):
+        return  # anything else is the registry's to check (and refuse)
+    if not isinstance(spacing, (int, float, np.integer, np.floating)):
+        return
+    span = float(t[-1] - t[0])
+    if spacing > 0 and math.isfinite(spacing) and span / spacing > MAX_DESIGN_KEYS:
+        raise ValueError(
+            f"knots: spacing {float(spacing):g} gives {span / spacing:.4g} knot intervals; a "
+            f"design has at most {MAX_DESIGN_KEYS} (quatspline.fit has no such limit)"
+        )
+
+
+def _check_samples(samples) -> int:
+    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)):
+        raise TypeError(f"samples: expected an integer, got {type(samples).__name__}")
+    if not 2 <= samples <= MAX_DESIGN_SAMPLES:
+        raise ValueError(f"samples: expected 2 … {MAX_DESIGN_SAMPLES}, got {samples}")
+    return int(samples)
+
+
+def _check_options(options) -> dict:
+    """The glTF options of an export, each checked against :data:`EXPORT_OPTIONS`."""
+    if options is None:
+        return {}
+    if not isinstance(options, dict):
+        raise TypeError(f"options: expected a dict, got {type(options).__name__}")
+    unknown = sorted(str(k) for k in options if k not in EXPORT_OPTIONS)
+    if unknown:
+        raise ValueError(
+            f"options: unknown glTF option{'s' if len(unknown) > 1 else ''} "
+            f"{', '.join(unknown)}; valid: {', '.join(EXPORT_OPTIONS)}"
+        )
+    out = {}
+    for name, v in options.items():
+        rule = EXPORT_OPTIONS[name]
+        if name == "node":
+            if not isinstance(v, str):
+                raise TypeError(f"options.node: expected a string, got {type(v).__name__}")
+            if not rule[0] <= len(v) <= rule[1]:
+                raise ValueError(f"options.node: expected {rule[0]} … {rule[1]} characters")
+        elif isinstance(rule[0], float):
+            if isinstance(v, bool) or not isinstance(v, (int, float)):
+                raise TypeError(f"options.{name}: expected a number, got {type(v).__name__}")
+            if not rule[0] <= v <= rule[1]:
+                raise ValueError(f"options.{name}: expected {rule[0]:g} … {rule[1]:g}, got {v!r}")
+            v = float(v)
+        elif v not in rule:
+            choices = ", ".join("null" if c is None else c for c in rule)
+            raise ValueError(f"options.{name}: expected one of {choices}, got {v!r}")
+        out[name] = v
+    return out
 
 
 def _fmt(x) -> str:
@@ -210,11 +301,9 @@ def evaluate(
     ([0.0, 0.5, 1.0, 1.5, 2.0], [3])
     """
     q, t = _check_keys(quats, times)
-    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)):
-        raise TypeError(f"samples: expected an integer, got {type(samples).__name__}")
-    if not 2 <= samples <= MAX_DESIGN_SAMPLES:
-        raise ValueError(f"samples: expected 2 … {MAX_DESIGN_SAMPLES}, got {samples}")
-    params = dict(params or {})
+    samples = _check_samples(samples)
+    params = _check_params(method, params)
+    _check_work(method, params, t)
     s = spline(method, q, t, **params)
     a, b = s.domain
     ts = np.linspace(a, b, int(samples))
@@ -271,7 +360,15 @@ def to_json(d: dict) -> dict:
     return conv(d)
 
 
-def export_bytes(fmt: str, method: str, quats, times, params: dict | None = None, samples=2000):
+def export_bytes(
+    fmt: str,
+    method: str,
+    quats,
+    times,
+    params: dict | None = None,
+    samples=2000,
+    options: dict | None = None,
+):
     """One design as the bytes of a file: ``"csv"`` or ``"json"`` (the sampled motion, with
     ω, α and jerk columns), ``"glb"`` (a glTF 2.0 animation within 0.01° of the curve) or
     ``"keys"`` (the keys themselves as a JSON trajectory, to open again).
@@ -280,7 +377,10 @@ def export_bytes(fmt: str, method: str, quats, times, params: dict | None = None
     ----------
     fmt : {"csv", "json", "glb", "keys"}
     method, quats, times, params, samples
-        As for :func:`evaluate`.
+        As for :func:`evaluate`; ``params`` are the method's own parameters only.
+    options : dict, optional
+        glTF options (``fmt="glb"`` only): the names and ranges of :data:`EXPORT_OPTIONS`;
+        any other name is a ``ValueError`` naming it.
 
     Returns
     -------
@@ -293,29 +393,24 @@ def export_bytes(fmt: str, method: str, quats, times, params: dict | None = None
     >>> blob.decode().splitlines()[0].split(",")[:5]
     ['t', 'qw', 'qx', 'qy', 'qz']
     """
-    import tempfile
-    from pathlib import Path
-
-    from . import io as qio
-
-    q, t = _check_keys(quats, times)
     if fmt not in ("csv", "json", "glb", "keys"):
         raise ValueError(f"format: expected csv, json, glb or keys, got {fmt!r}")
+    q, t = _check_keys(quats, times)
+    params = _check_params(method, params)
+    _check_work(method, params, t)
+    samples = _check_samples(samples)
+    if options is not None and fmt != "glb":
+        raise ValueError(f"options: glTF options apply to format glb only, not {fmt}")
+    options = _check_options(options)
     with tempfile.TemporaryDirectory() as d:
         path = Path(d) / ("keys.json" if fmt == "keys" else f"design.{fmt}")
         if fmt == "keys":
             qio.write(path, qio.Trajectory(t, q))
         elif fmt == "glb":
-            from .export import to_gltf
-
-            to_gltf(qio.Trajectory(t, q), path, method=method, progress=False, **(params or {}))
+            to_gltf(qio.Trajectory(t, q), path, method=method, progress=False, **options, **params)
         else:
-            s = spline(method, q, t, **(params or {}))
-            if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)):
-                raise TypeError(f"samples: expected an integer, got {type(samples).__name__}")
-            if not 2 <= samples <= MAX_DESIGN_SAMPLES:
-                raise ValueError(f"samples: expected 2 … {MAX_DESIGN_SAMPLES}, got {samples}")
-            ts = np.linspace(*s.domain, int(samples))
+            s = spline(method, q, t, **params)
+            ts = np.linspace(*s.domain, samples)
             extra = {
                 "omega": s.angular_velocity(ts),
                 "alpha": s.angular_acceleration(ts),

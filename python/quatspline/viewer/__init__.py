@@ -10,6 +10,9 @@ reproduces the design.
 Security: the server binds to 127.0.0.1, every request must carry the random token of the
 printed URL (as Jupyter does), requests from other origins or with a foreign ``Host`` header
 are refused, and only the page's own assets and the file named on the command line are served.
+Designs and exports are computed in worker processes with a bounded queue and a time limit,
+request bodies and every request's work are bounded, and idle, slow or excess connections are
+closed, so no client can wedge the server (limits: :mod:`quatspline.viewer.server`).
 
 The page's JavaScript (three.js, uPlot) is installed from npm when the package is built and
 ships inside it; nothing is fetched from the internet at run time. Needs the ``viewer``
