@@ -3,16 +3,26 @@ playback error, and BVH.
 
 ``to_gltf(motion, path, max_error="0.01deg", max_position_error="0.1mm",
 interpolation="linear")`` writes one animated node (a small axes mesh, or an empty node)
-whose playback in any glTF player — slerp between keys for ``LINEAR``, the glTF
-specification's normalised component-wise cubic Hermite for ``CUBICSPLINE`` — stays within
-``max_error`` of the spline's orientation and within ``max_position_error`` of its position,
-checked on a dense grid with the keys exactly as stored (float32 times and values).
+whose playback in a glTF player stays within ``max_error`` of the spline's orientation and
+within ``max_position_error`` of its position. The check computes as players do: the keys
+exactly as stored (float32 times and values); ``LINEAR`` rotations both as slerp (the
+specification, three.js) and as component-wise interpolation normalised (nlerp, as Blender
+plays quaternion curves), the worse of the two; ``CUBICSPLINE`` as the specification's
+normalised component-wise cubic Hermite; the error between check points estimated by the
+parabola through each sampled peak; and eight float32 units of roundoff added for the
+players' own arithmetic (so a bound below about 5e-7 rad, or 5e-7 of the largest |position|,
+is refused).
 
 Key reduction is adaptive, as animation compressors do: from each key the next one is placed
 as far ahead as the bound allows (exponential then binary search over a dense grid of
 candidate times that includes every spline joint); the bound is then verified on a grid four
-times denser, splitting any interval that fails. The report gives the keys used and the
-number a uniform resampling needs for the same bound.
+times denser, splitting any interval that fails. Where two adjacent candidates still fail,
+new candidates (and check points) are placed between them, so a tight bound gets more keys
+instead of an error; only a bound that keys at float32 time resolution cannot meet is refused,
+naming the channel's bound (``max_error`` or ``max_position_error``) and the best achievable
+error. The report gives the keys used and the number a uniform resampling needs for the same
+bound. Memory is bounded: ``samples`` is at most :data:`MAX_SAMPLES` and the verification runs
+in chunks.
 """
 
 from __future__ import annotations
@@ -567,8 +577,9 @@ def to_gltf(
     mesh : {"axes", None}
         A small red/green/blue axes mesh of length ``size`` (metres), or an empty node.
     samples : int, optional
-        Candidate key times (default: 16 per spline segment, at least 2000, at most 200000);
-        the bound is verified on a grid four times denser.
+        Candidate key times (default: 16 per spline segment, at least 2000, at most 200000;
+        at most :data:`MAX_SAMPLES` = 1,000,000); the bound is verified on a grid four times
+        denser, and candidates are added where adjacent ones cannot meet it.
     uniform : bool
         Also find how many evenly spaced keys the same bound needs (for the report).
 
@@ -580,7 +591,9 @@ def to_gltf(
     Raises
     ------
     ValueError
-        A bound that is not positive or cannot be parsed, an unknown interpolation.
+        A bound that is not positive or cannot be parsed, an unknown interpolation,
+        ``samples`` outside [2, MAX_SAMPLES], a bound no keys can meet (the message names
+        ``max_error`` or ``max_position_error`` and the best achievable error).
     TypeError
         A motion of the wrong kind.
 
