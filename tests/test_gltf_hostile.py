@@ -268,6 +268,7 @@ def test_gltf_negative_or_unordered_key_times_are_refused(tmp_path):
 # ---- the property: every field of valid files mutated in turn ------------------------------
 HOSTILE = [-5, -1, 0, 1, 2, 3, 1.5, 2**31, 10**12, 2**64, "x", "", True, None, [], {}, [1]]
 HOSTILE += [1e308, float("nan"), "data:,", "../x.bin", "/etc/passwd", "VEC4", "CUBICSPLINE"]
+FEW = [-1, 1e308, float("nan"), "x", None, []]
 
 
 def _leaves(obj, prefix=()):
@@ -308,19 +309,20 @@ def _read_or_refused(path):
 @pytest.mark.parametrize("interpolation", ["linear", "cubicspline"])
 def test_gltf_hostile_mutation_of_every_field_raises_only_trajectory_error(tmp_path, interpolation):
     doc, blob = split_gltf(exported(tmp_path, interpolation))
-    target = tmp_path / "m.gltf"
     n = 0
     for where in _leaves(doc):
         if where[:2] == ("buffers", 0) and where[-1] == "uri":
             values = [v for v in HOSTILE if isinstance(v, str)] + [None, 3]
+        elif isinstance(where[-1], int) and where[-2] in ("min", "max", "translation"):
+            values = FEW  # numbers the reader does not use (static TRS, bounds)
         else:
             values = HOSTILE
-        for value in values:
-            write_gltf(target, _set(doc, where, value, delete=False))
+        for value in [*values, "<deleted>"]:
+            target = tmp_path / f"m{n}.gltf"  # a new file: truncating one is slower
+            write_gltf(target, _set(doc, where, value, delete=value == "<deleted>"))
             _read_or_refused(target)
+            target.unlink()
             n += 1
-        write_gltf(target, _set(doc, where, None, delete=True))
-        _read_or_refused(target)
     assert n > 500
 
 
