@@ -168,8 +168,8 @@ def _sign_continuous(q: np.ndarray) -> np.ndarray:
 _ROUNDOFF = 8 * 2.0**-24
 #: Check points evaluated at once (bounds the memory of the verification).
 _CHUNK = 1 << 18
-#: The largest ``samples``: the candidates' values and tangents and the check grid then
-#: take about 0.5 GB (refinement may double the candidates).
+#: The largest ``samples``: a CUBICSPLINE pose export then peaks at about 0.8 GB (measured;
+#: the candidates' values and tangents, the check grid, chunks of it being verified).
 MAX_SAMPLES = 1_000_000
 
 
@@ -658,7 +658,10 @@ def to_gltf(
             if uniform:
                 nu = _uniform_keys(ch, tol, check_t, len(keys))
                 pb.update(1)
-            results[name] = (ch, keys, err, nu, tol, len(check_t))
+            idx = np.array(keys)  # keep the keys only: the candidates' memory is released
+            kept = (rot, ch.t[idx], ch.v[idx], ch.a[idx], ch.b[idx])
+            results[name] = (kept, keys, err, nu, tol, len(check_t))
+            del ch, check_t, v, a, b
 
     b = _Builder()
     doc: dict = {
@@ -681,17 +684,15 @@ def to_gltf(
         doc["meshes"] = [{"name": "axes", "primitives": prims}]
         doc["nodes"][0]["mesh"] = 0
     channels, samplers = [], []
-    for name, (ch, keys, *_) in results.items():
-        idx = np.array(keys)
-        kt, kv, ka, kb = ch.t[idx], ch.v[idx], ch.a[idx], ch.b[idx]
-        if ch.rot:
+    for name, ((rot, kt, kv, ka, kb), *_) in results.items():
+        if rot:
             kv, ka, kb = kv[:, [1, 2, 3, 0]], ka[:, [1, 2, 3, 0]], kb[:, [1, 2, 3, 0]]
         if cubic:
             out = np.stack([ka, kv, kb], axis=1).reshape(-1, kv.shape[1])
         else:
             out = kv
         ia = b.add(kt.astype(np.float32), "SCALAR", minmax=True)
-        oa = b.add(out.astype(np.float32), "VEC4" if ch.rot else "VEC3")
+        oa = b.add(out.astype(np.float32), "VEC4" if rot else "VEC3")
         samplers.append({"input": ia, "output": oa, "interpolation": interpolation.upper()})
         channels.append({"sampler": len(samplers) - 1, "target": {"node": 0, "path": name}})
         first = kv[0].astype(np.float32).astype(float).tolist()
