@@ -113,3 +113,19 @@ def test_io_write_passes_the_export_options_to_gltf(tmp_path):
     assert "meshes" not in doc
     back = qio.read(tmp_path / "w.gltf")
     assert back.times[0] == 0.0 and back.times[-1] == 2.0
+
+
+def test_export_meets_a_bound_near_float32_resolution_with_more_keys(tmp_path):
+    """1e-4° (1.7e-6 rad, a few float32 units) is met by adding keys; 3e-5° is not, and the
+    refusal gives the best achievable error, just above the bound (not the candidates')."""
+    pose = wavy_pose(n=5)
+    path = tmp_path / "t.glb"
+    rep = to_gltf(pose, path, max_error="1e-4deg", uniform=False, progress=False)
+    kind, kt, kv = load_channels(path)["rotation"]
+    t = np.linspace(kt[0], kt[-1], 100_001)
+    e = rotation_error(_play(kind, kt, kv, t, "slerp"), pose.rotation(pose.domain[0] + t))
+    assert e.max() <= rep.rotation_bound
+    with pytest.raises(ValueError, match=r"^max_error: .*best achievable error") as err:
+        to_gltf(pose, tmp_path / "u.glb", max_error="3e-5deg", uniform=False, progress=False)
+    best = float(str(err.value).split("best achievable error ")[1].split("°")[0])
+    assert 3e-5 < best < 6e-5

@@ -326,7 +326,7 @@ def _dense(t: np.ndarray, factor: int = 4) -> np.ndarray:
 def _peaks(t: np.ndarray, e: np.ndarray) -> np.ndarray:
     """The error between check points: at each sampled local maximum, the vertex of the
     parabola through it and its two neighbours (exact for the quadratic bump of an
-    interpolation error; never below the sample)."""
+    interpolation error; never below the sample, capped as said below)."""
     out = e.copy()
     if len(e) < 3:
         return out
@@ -338,6 +338,10 @@ def _peaks(t: np.ndarray, e: np.ndarray) -> np.ndarray:
         slope = d0 + c * h0  # the derivative at the middle point
         top = e1 - slope * slope / (4 * c)
     peak = (e1 >= e0) & (e1 >= e2) & (c < 0) & np.isfinite(top)
+    # An exact parabola sampled evenly overshoots its middle sample by at most a quarter of
+    # the rise from the lower neighbour; half of it caps wild fits through uneven spacing
+    # or roundoff noise.
+    top = np.minimum(top, e1 + 0.5 * (e1 - np.minimum(e0, e2)))
     out[1:-1] = np.where(peak, np.maximum(e1, top), e1)
     return out
 
@@ -357,12 +361,11 @@ def _check(ch: _Channel, keys, check_t) -> np.ndarray:
     return out
 
 
-def _refuse(name: str, tol: float, best: float, n: int):
+def _refuse(name: str, tol: float, best: float, why: str):
     unit, scale = ("°", 180 / np.pi) if name == "max_error" else (" m", 1.0)
     raise ValueError(
-        f"{name}: the bound {tol * scale:.3g}{unit} cannot be met even with a key at every "
-        f"candidate time ({n} candidates; best achievable error {best * scale:.3g}{unit} "
-        "where it fails); use a larger bound"
+        f"{name}: the bound {tol * scale:.3g}{unit} cannot be met {why} (best achievable "
+        f"error {best * scale:.3g}{unit} where it fails); use a larger bound"
     )
 
 
@@ -392,7 +395,12 @@ def _fit(ch: _Channel, tol: float, check_t, name: str, max_candidates: int):
             mid = _f32((lo + hi) / 2)
             ok = (mid > lo) & (mid < hi)
             if not ok.all() or len(ch.t) + len(mid) > max_candidates:
-                _refuse(name, tol, float(e[np.isin(seg, refine)].max()), len(ch.t))
+                why = (
+                    "even with keys at float32 time resolution"
+                    if not ok.all()
+                    else f"with {max_candidates} candidate key times"
+                )
+                _refuse(name, tol, float(e[np.isin(seg, refine)].max()), why)
             old = ch.insert(mid)
             added = np.flatnonzero(np.isin(ch.t, mid))
             keys = sorted({int(old[k]) for k in new} | {int(k) for k in added})
@@ -400,7 +408,7 @@ def _fit(ch: _Channel, tol: float, check_t, name: str, max_candidates: int):
             check_t = np.union1d(check_t, _dense(around, 4))
         else:
             keys = sorted(new)
-    raise AssertionError("key reduction did not converge")  # pragma: no cover
+    _refuse(name, tol, float(e.max()), "after 200 rounds of adding keys")
 
 
 def _uniform_keys(ch: _Channel, tol: float, check_t, start: int) -> int:
@@ -651,7 +659,7 @@ def to_gltf(
                 ch.roundoff = _ROUNDOFF * float(np.abs(v).max(initial=0.0)) * np.sqrt(3)
             ch.v, ch.a, ch.b = v, a, b
             if ch.roundoff >= tol:
-                _refuse(bound, tol, ch.roundoff, len(t))
+                _refuse(bound, tol, ch.roundoff, "by float32 keys (players' roundoff)")
             keys, err, check_t = _fit(ch, tol, _dense(ch.t), bound, 2 * MAX_SAMPLES)
             pb.update(1)
             nu = 0
