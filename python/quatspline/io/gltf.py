@@ -136,7 +136,8 @@ class _Doc:
             return None
         n = len(self.array(self.json, top, ""))
         if not _is_int(v) or not 0 <= v < n:
-            self.fail(f"{where}.{key}", f"{_show(v)} is not an index into {top} (0..{n - 1})")
+            valid = f"0..{n - 1}" if n else f"the file has no {top}"
+            self.fail(f"{where}.{key}", f"{_show(v)} is not an index into {top} ({valid})")
         return v
 
     def integer(self, obj: dict, key: str, where: str, lo: int, default=None) -> int:
