@@ -17,10 +17,10 @@ every distinct finding.
 
 from __future__ import annotations
 
-import atexit
 import hashlib
 import os
 import shutil
+import subprocess
 import sys
 import tempfile
 import traceback
@@ -32,8 +32,10 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 with atheris.instrument_imports():
     import readers_check
 
-DIR = tempfile.mkdtemp(prefix="qs-fuzz-")
-atexit.register(shutil.rmtree, DIR, True)
+#: The scratch directory the inputs are written to. libFuzzer ends the process from C, so no
+#: Python clean-up runs in it: a parent process makes the directory, runs the fuzzer in a
+#: child and removes the directory when the child ends (however it ends).
+DIR = os.environ.get("QS_FUZZ_SCRATCH", "")
 
 
 FINDINGS = os.environ.get("QS_FUZZ_FINDINGS")
@@ -65,6 +67,17 @@ def one_input(data: bytes) -> None:
                 f.write(f"{name}\t{sig}\t{str(e)[:300]!r}\n")
 
 
+def _parent() -> int:
+    scratch = tempfile.mkdtemp(prefix="qs-fuzz-")
+    try:
+        env = {**os.environ, "QS_FUZZ_SCRATCH": scratch}
+        return subprocess.run([sys.executable, *sys.argv], env=env).returncode
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
+
+
 if __name__ == "__main__":
+    if not DIR:
+        sys.exit(_parent())
     atheris.Setup(sys.argv, one_input)
     atheris.Fuzz()
