@@ -241,7 +241,13 @@ def _mutations():
         "two channels for one target": dup_channel,
         "animated node with a matrix": matrix,
         "glTF 1.0": version,
+        "animated node named by a number": lambda d: _node_name(d),
     }
+
+
+def _node_name(doc):
+    doc["nodes"][0]["name"] = 7
+    return "nodes[0].name"
 
 
 MUTATIONS = _mutations()

@@ -481,6 +481,7 @@ def read(
             )
     nw = f"nodes[{ni}]"
     nd = d.item("nodes", ni)
+    d.string(nd, "name", nw)
     if "matrix" in nd:
         d.fail(f"{nw}.matrix", "an animated node must not have a matrix (only TRS)")
     ai, chans = next(iter(animated[ni].items()))
