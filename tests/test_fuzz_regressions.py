@@ -12,18 +12,41 @@ import importlib.util
 import pathlib
 
 import pytest
+import quatspline.io as qio
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 FINDINGS = sorted((ROOT / "fuzz" / "regressions" / "readers").glob("*"))
 
 
-def _check():
+def _module():
     spec = importlib.util.spec_from_file_location(
         "readers_check", ROOT / "fuzz" / "readers_check.py"
     )
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
-    return mod.check_one
+    return mod
+
+
+def _check():
+    return _module().check_one
+
+
+def test_readers_fuzzer_reaches_every_format_the_library_reads(tmp_path):
+    """The fuzzer's formats are the readers' formats, and the corpus holds a valid seed of
+    every entry (file names, bag directories) that reads back as a trajectory."""
+    mod = _module()
+    assert set(mod.FORMATS) == set(qio.FORMATS)
+    fuzz_source = (ROOT / "fuzz" / "readers_fuzz.py").read_text()
+    assert "readers_check.check_one" in fuzz_source and "NAMES" not in fuzz_source
+    seeds = sorted((ROOT / "fuzz" / "corpus" / "readers").glob("seed-*"))
+    reached = set()
+    for seed in seeds:
+        data = seed.read_bytes()
+        got = mod.check_one(data, str(tmp_path))
+        assert isinstance(got, qio.Trajectory), (seed.name, got)
+        reached.add(data[0] % len(mod.ENTRIES))
+    assert reached == set(range(len(mod.ENTRIES)))
+    assert {mod.ENTRIES[k][1] for k in reached} >= set(qio.FORMATS)
 
 
 def test_the_two_root_crash_files_are_kept_as_regressions():

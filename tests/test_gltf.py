@@ -170,14 +170,15 @@ def test_cubicspline_needs_fewer_keys_than_linear(tmp_path):
 
 
 def test_slerp_spline_exports_with_joint_keys(tmp_path):
-    """A C⁰ spline: LINEAR playback reproduces it with keys at the joints only."""
+    """A C⁰ spline: every joint is a LINEAR key (slerp reproduces the spline between joints;
+    the keys between them are for players that interpolate component-wise, as Blender does)."""
     q = random_walk(6, 4, step=0.7)
     s = qs.PiecewiseSlerp(q, np.arange(6.0))
     rep = to_gltf(s, tmp_path / "s.glb", max_error="0.001deg")
-    assert rep.rotation_keys == 6
     e_rot, _, ch = measured_errors(tmp_path / "s.glb", s, 0.0)
-    np.testing.assert_allclose(ch["rotation"][1], np.arange(6.0))
-    assert e_rot.max() < 1e-6
+    assert set(np.arange(6.0)) <= set(ch["rotation"][1])
+    assert rep.rotation_keys == len(ch["rotation"][1])
+    assert e_rot.max() <= rep.rotation_bound
 
 
 def test_round_trip_through_reader(tmp_path):

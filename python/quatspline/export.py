@@ -3,16 +3,26 @@ playback error, and BVH.
 
 ``to_gltf(motion, path, max_error="0.01deg", max_position_error="0.1mm",
 interpolation="linear")`` writes one animated node (a small axes mesh, or an empty node)
-whose playback in any glTF player — slerp between keys for ``LINEAR``, the glTF
-specification's normalised component-wise cubic Hermite for ``CUBICSPLINE`` — stays within
-``max_error`` of the spline's orientation and within ``max_position_error`` of its position,
-checked on a dense grid with the keys exactly as stored (float32 times and values).
+whose playback in a glTF player stays within ``max_error`` of the spline's orientation and
+within ``max_position_error`` of its position. The check computes as players do: the keys
+exactly as stored (float32 times and values); ``LINEAR`` rotations both as slerp (the
+specification, three.js) and as component-wise interpolation normalised (nlerp, as Blender
+plays quaternion curves), the worse of the two; ``CUBICSPLINE`` as the specification's
+normalised component-wise cubic Hermite; the error between check points estimated by the
+parabola through each sampled peak; and eight float32 units of roundoff added for the
+players' own arithmetic (so a bound below about 5e-7 rad, or 5e-7 of the largest |position|,
+is refused).
 
 Key reduction is adaptive, as animation compressors do: from each key the next one is placed
 as far ahead as the bound allows (exponential then binary search over a dense grid of
 candidate times that includes every spline joint); the bound is then verified on a grid four
-times denser, splitting any interval that fails. The report gives the keys used and the
-number a uniform resampling needs for the same bound.
+times denser, splitting any interval that fails. Where two adjacent candidates still fail,
+new candidates (and check points) are placed between them, so a tight bound gets more keys
+instead of an error; only a bound that keys at float32 time resolution cannot meet is refused,
+naming the channel's bound (``max_error`` or ``max_position_error``) and the best achievable
+error. The report gives the keys used and the number a uniform resampling needs for the same
+bound. Memory is bounded: ``samples`` is at most :data:`MAX_SAMPLES` and the verification runs
+in chunks.
 """
 
 from __future__ import annotations
@@ -152,8 +162,26 @@ def _sign_continuous(q: np.ndarray) -> np.ndarray:
 
 
 # ---- playback (the glTF 2.0 specification, Appendix C) ---------------------------------------
-def _play(rot: bool, cubic: bool, kt, kv, ka, kb, t) -> np.ndarray:
-    """Playback at times t of keys (kt, kv) with in/out tangents (ka, kb) for CUBICSPLINE."""
+#: Players interpolate in their own arithmetic (three.js in float64 with float32 results,
+#: Blender in float32): every measured error gets this many float32 units of roundoff on top
+#: (radians for rotations, times the largest |position| for translations).
+_ROUNDOFF = 8 * 2.0**-24
+#: Check points evaluated at once (bounds the memory of the verification).
+_CHUNK = 1 << 18
+#: The largest ``samples``: a CUBICSPLINE pose export then peaks at about 0.8 GB (measured;
+#: the candidates' values and tangents, the check grid, chunks of it being verified).
+MAX_SAMPLES = 1_000_000
+
+
+def _nlerp(a, b, u):
+    h = a + u[:, None] * (b - a)
+    return h / np.linalg.norm(h, axis=1)[:, None]
+
+
+def _play(rot: bool, cubic: bool, kt, kv, ka, kb, t, variant: str = "slerp") -> np.ndarray:
+    """Playback at times t of keys (kt, kv) with in/out tangents (ka, kb) for CUBICSPLINE;
+    LINEAR rotations as ``variant``: "slerp" (the specification, three.js) or "nlerp"
+    (component-wise keys normalised, as Blender plays them)."""
     k = np.clip(np.searchsorted(kt, t, side="right") - 1, 0, len(kt) - 2)
     td = kt[k + 1] - kt[k]
     u = np.clip((t - kt[k]) / td, 0.0, 1.0)
@@ -167,7 +195,7 @@ def _play(rot: bool, cubic: bool, kt, kv, ka, kb, t) -> np.ndarray:
         )
         return h / np.linalg.norm(h, axis=1)[:, None] if rot else h
     if rot:
-        return slerp(kv[k], kv[k + 1], u)
+        return _nlerp(kv[k], kv[k + 1], u) if variant == "nlerp" else slerp(kv[k], kv[k + 1], u)
     return kv[k] + u[:, None] * (kv[k + 1] - kv[k])
 
 
@@ -179,23 +207,58 @@ class _Channel:
     v: np.ndarray  # target values there (exact), stored as float32 when keys
     a: np.ndarray  # in-tangents (d/dt from the left)
     b: np.ndarray  # out-tangents (d/dt from the right)
+    f: object = None  # the motion (values at times)
+    fd: object = None  # its derivative
+    span: float = 0.0
+    roundoff: float = 0.0  # added to every measured error (players' float32 arithmetic)
 
     def err(self, keys_t, keys_v, keys_a, keys_b, t, target) -> np.ndarray:
-        got = _play(self.rot, self.cubic, keys_t, keys_v, keys_a, keys_b, t)
-        if self.rot:
-            return angle(got, target)
-        return np.linalg.norm(got - target, axis=1)
+        """Playback error at t, the worst of the players' interpolations, plus roundoff."""
+        variants = ("slerp", "nlerp") if self.rot and not self.cubic else ("slerp",)
+        worst = np.zeros(len(t))
+        for var in variants:
+            got = _play(self.rot, self.cubic, keys_t, keys_v, keys_a, keys_b, t, var)
+            if self.rot:
+                e = angle(got, target)
+            else:
+                e = np.linalg.norm(got - target, axis=1)
+            worst = np.maximum(worst, e)
+        return worst + self.roundoff
 
     def keys(self, idx):
         return self.t[idx], _f32(self.v[idx]), _f32(self.a[idx]), _f32(self.b[idx])
 
     def interval_error(self, i: int, j: int) -> float:
-        idx = np.array([i, j])
-        kt, kv, ka, kb = self.keys(idx)
         if j - i < 2:
             return 0.0
+        kt, kv, ka, kb = self.keys(np.array([i, j]))
         t = self.t[i + 1 : j]
         return float(self.err(kt, kv, ka, kb, t, self.v[i + 1 : j]).max())
+
+    def values(self, t):
+        """Values and one-sided tangents at times t, sign-continuous with the neighbours
+        given by ``ref`` (rotations) — see :meth:`insert`."""
+        v = self.f(t)
+        a, b = _tangents(self.fd, t, self.span) if self.cubic else (v, v)
+        return v, a, b
+
+    def insert(self, new_t: np.ndarray) -> np.ndarray:
+        """Adds candidate times (float32 values strictly between existing ones); returns the
+        old indices' new positions."""
+        v, a, b = self.values(new_t)
+        pos = np.searchsorted(self.t, new_t)
+        if self.rot:  # the sign of the candidate before each new time
+            sgn = np.where(np.sum(v * self.v[pos - 1], axis=1) < 0, -1.0, 1.0)[:, None]
+            v, a, b = v * sgn, a * sgn, b * sgn
+        old = np.arange(len(self.t)) + np.searchsorted(new_t, self.t, side="right")
+        self.t = np.insert(self.t, pos, new_t)
+        self.v = np.insert(self.v, pos, v, axis=0)
+        if self.cubic:
+            self.a = np.insert(self.a, pos, a, axis=0)
+            self.b = np.insert(self.b, pos, b, axis=0)
+        else:
+            self.a = self.b = self.v
+        return old
 
 
 def _greedy(ch: _Channel, tol: float) -> list[int]:
@@ -254,48 +317,112 @@ def _f32_floor(x: float) -> float:
 
 
 def _dense(t: np.ndarray, factor: int = 4) -> np.ndarray:
-    """``factor`` − 1 extra points inside every candidate interval."""
+    """``factor`` − 1 extra points inside every interval of t."""
     f = np.arange(1, factor) / factor
     inner = (t[:-1, None] + np.diff(t)[:, None] * f[None, :]).ravel()
     return np.sort(np.concatenate([t, inner]))
 
 
-def _fit(ch: _Channel, tol: float, check_t, check_v) -> tuple[list[int], float]:
+def _peaks(t: np.ndarray, e: np.ndarray) -> np.ndarray:
+    """The error between check points: at each sampled local maximum, the vertex of the
+    parabola through it and its two neighbours (exact for the quadratic bump of an
+    interpolation error; never below the sample, capped as said below)."""
+    out = e.copy()
+    if len(e) < 3:
+        return out
+    e0, e1, e2 = e[:-2], e[1:-1], e[2:]
+    h0, h1 = t[1:-1] - t[:-2], t[2:] - t[1:-1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d0, d1 = (e1 - e0) / h0, (e2 - e1) / h1
+        c = (d1 - d0) / (h0 + h1)  # half the second derivative
+        slope = d0 + c * h0  # the derivative at the middle point
+        top = e1 - slope * slope / (4 * c)
+    peak = (e1 >= e0) & (e1 >= e2) & (c < 0) & np.isfinite(top)
+    # An exact parabola sampled evenly overshoots its middle sample by at most a quarter of
+    # the rise from the lower neighbour; half of it caps wild fits through uneven spacing
+    # or roundoff noise.
+    top = np.minimum(top, e1 + 0.5 * (e1 - np.minimum(e0, e2)))
+    out[1:-1] = np.where(peak, np.maximum(e1, top), e1)
+    return out
+
+
+def _check(ch: _Channel, keys, check_t) -> np.ndarray:
+    """Estimated continuous-time error at the check points, in chunks of :data:`_CHUNK`
+    points so that memory does not grow with the grid."""
+    kt, kv, ka, kb = ch.keys(np.array(keys))
+    n = len(check_t)
+    out = np.empty(n)
+    for s in range(0, n, _CHUNK):
+        m = min(_CHUNK, n - s)
+        lo, hi = max(s - 1, 0), min(s + m + 1, n)  # a neighbour each side for the parabola
+        tt = check_t[lo:hi]
+        e = _peaks(tt, ch.err(kt, kv, ka, kb, tt, ch.f(tt)))
+        out[s : s + m] = e[s - lo : s - lo + m]
+    return out
+
+
+def _refuse(name: str, tol: float, best: float, why: str):
+    unit, scale = ("°", 180 / np.pi) if name == "max_error" else (" m", 1.0)
+    raise ValueError(
+        f"{name}: the bound {tol * scale:.3g}{unit} cannot be met {why} (best achievable "
+        f"error {best * scale:.3g}{unit} where it fails); use a larger bound"
+    )
+
+
+def _fit(ch: _Channel, tol: float, check_t, name: str, max_candidates: int):
+    """Keys meeting the bound on the check grid: the greedy placement, then every failing key
+    interval split at its middle candidate; an interval between adjacent candidates that
+    still fails gets new candidates (and check points) inside it, up to ``max_candidates``.
+    Returns (keys, measured error, check points)."""
     keys = _greedy(ch, tol)
-    for _ in range(60):
-        kt, kv, ka, kb = ch.keys(np.array(keys))
-        e = ch.err(kt, kv, ka, kb, check_t, check_v)
-        if e.max() <= tol:
-            return keys, float(e.max())
-        # split every failing key interval at its middle candidate
-        seg = np.clip(np.searchsorted(kt, check_t[e > tol], side="right") - 1, 0, len(kt) - 2)
-        new = set(keys)
-        for s in np.unique(seg):
+    for _ in range(200):
+        kt = ch.t[np.array(keys)]
+        e = _check(ch, keys, check_t)
+        seg = np.clip(np.searchsorted(kt, check_t, side="right") - 1, 0, len(kt) - 2)
+        fail = np.unique(seg[e > tol])
+        if len(fail) == 0:
+            return keys, float(e.max()), check_t
+        new, refine = set(keys), []
+        for s in fail:
             a, b = keys[s], keys[s + 1]
-            if b - a < 2:
-                raise ValueError(
-                    "max_error: the bound cannot be met between adjacent candidate times "
-                    f"(error {e.max():.3g}); use a larger bound or more samples"
+            if b - a >= 2:
+                new.add((a + b) // 2)
+            else:
+                refine.append(s)
+        if refine:
+            lo = ch.t[[keys[s] for s in refine]]
+            hi = ch.t[[keys[s + 1] for s in refine]]
+            mid = _f32((lo + hi) / 2)
+            ok = (mid > lo) & (mid < hi)
+            if not ok.all() or len(ch.t) + len(mid) > max_candidates:
+                why = (
+                    "even with keys at float32 time resolution"
+                    if not ok.all()
+                    else f"with {max_candidates} candidate key times"
                 )
-            new.add((a + b) // 2)
-        keys = sorted(new)
-    raise AssertionError("key reduction did not converge")  # pragma: no cover
+                _refuse(name, tol, float(e[np.isin(seg, refine)].max()), why)
+            old = ch.insert(mid)
+            added = np.flatnonzero(np.isin(ch.t, mid))
+            keys = sorted({int(old[k]) for k in new} | {int(k) for k in added})
+            around = np.sort(np.concatenate([lo, mid, hi]))
+            check_t = np.union1d(check_t, _dense(around, 4))
+        else:
+            keys = sorted(new)
+    _refuse(name, tol, float(e.max()), "after 200 rounds of adding keys")
 
 
-def _uniform_keys(m: _Motion, ch: _Channel, f, fd, tol, check_t, check_v, start: int) -> int:
+def _uniform_keys(ch: _Channel, tol: float, check_t, start: int) -> int:
     """The smallest number of evenly spaced keys meeting the same bound (doubling, then
     bisection), capped at 8× the adaptive count."""
-    span = m.t1 - m.t0
 
     def ok(n):
-        kt = np.unique(np.minimum(_f32(np.linspace(0, span, n)), _f32_floor(span)))
-        v = f(kt)
-        a, b = _tangents(fd, kt, span) if ch.cubic else (v, v)
+        kt = np.unique(np.minimum(_f32(np.linspace(0, ch.span, n)), _f32_floor(ch.span)))
+        v, a, b = ch.values(kt)
         if ch.rot:
             sgn = np.sign(np.sum(_sign_continuous(v) * v, axis=1))[:, None]
             v, a, b = v * sgn, a * sgn, b * sgn
-        e = ch.err(kt, _f32(v), _f32(a), _f32(b), check_t, check_v)
-        return e.max() <= tol
+        u = _Channel(ch.rot, ch.cubic, kt, v, a, b, ch.f, ch.fd, ch.span, ch.roundoff)
+        return _check(u, np.arange(len(kt)), check_t).max() <= tol
 
     lo, hi = 1, max(2, start // 2)
     cap = 8 * start + 16
@@ -458,8 +585,9 @@ def to_gltf(
     mesh : {"axes", None}
         A small red/green/blue axes mesh of length ``size`` (metres), or an empty node.
     samples : int, optional
-        Candidate key times (default: 16 per spline segment, at least 2000, at most 200000);
-        the bound is verified on a grid four times denser.
+        Candidate key times (default: 16 per spline segment, at least 2000, at most 200000;
+        at most :data:`MAX_SAMPLES` = 1,000,000); the bound is verified on a grid four times
+        denser, and candidates are added where adjacent ones cannot meet it.
     uniform : bool
         Also find how many evenly spaced keys the same bound needs (for the report).
 
@@ -471,7 +599,9 @@ def to_gltf(
     Raises
     ------
     ValueError
-        A bound that is not positive or cannot be parsed, an unknown interpolation.
+        A bound that is not positive or cannot be parsed, an unknown interpolation,
+        ``samples`` outside [2, MAX_SAMPLES], a bound no keys can meet (the message names
+        ``max_error`` or ``max_position_error`` and the best achievable error).
     TypeError
         A motion of the wrong kind.
 
@@ -503,33 +633,43 @@ def to_gltf(
     span = m.t1 - m.t0
     if samples is None:
         samples = int(min(max(16 * (len(m.joints) - 1), 2000), 200_000))
-    if not (isinstance(samples, (int, np.integer)) and 2 <= samples <= 5_000_000):
-        raise ValueError(f"samples: expected an integer in [2, 5000000], got {samples!r}")
+    if not (
+        isinstance(samples, (int, np.integer))
+        and not isinstance(samples, bool)
+        and 2 <= samples <= MAX_SAMPLES
+    ):
+        raise ValueError(f"samples: expected an integer in [2, {MAX_SAMPLES}], got {samples!r}")
 
     from ._progress import progress as bar
 
-    chans = [("rotation", m.q, m.dq, tol_r, True)]
+    chans = [("rotation", "max_error", m.q, m.dq, tol_r, True)]
     if m.pos is not None:
-        chans.append(("translation", m.p, m.dp, tol_p, False))
+        chans.append(("translation", "max_position_error", m.p, m.dp, tol_p, False))
     t = _candidate_times(m, samples)
-    check_t = _dense(t)
     results = {}
     with bar(total=len(chans) * (2 if uniform else 1), desc="export glTF", enabled=progress) as pb:
-        for name, f, fd, tol, rot in chans:
-            v = f(t)
-            a, b = _tangents(fd, t, span)
+        for name, bound, f, fd, tol, rot in chans:
+            ch = _Channel(rot, cubic, t, None, None, None, f, fd, span)
+            v, a, b = ch.values(t)
             if rot:
                 sgn = np.sign(np.sum(_sign_continuous(v) * v, axis=1))[:, None]
                 v, a, b = v * sgn, a * sgn, b * sgn
-            ch = _Channel(rot, cubic, t, v, a, b)
-            check_v = f(check_t)
-            keys, err = _fit(ch, tol, check_t, check_v)
+                ch.roundoff = _ROUNDOFF
+            else:
+                ch.roundoff = _ROUNDOFF * float(np.abs(v).max(initial=0.0)) * np.sqrt(3)
+            ch.v, ch.a, ch.b = v, a, b
+            if ch.roundoff >= tol:
+                _refuse(bound, tol, ch.roundoff, "by float32 keys (players' roundoff)")
+            keys, err, check_t = _fit(ch, tol, _dense(ch.t), bound, 2 * MAX_SAMPLES)
             pb.update(1)
             nu = 0
             if uniform:
-                nu = _uniform_keys(m, ch, f, fd, tol, check_t, check_v, len(keys))
+                nu = _uniform_keys(ch, tol, check_t, len(keys))
                 pb.update(1)
-            results[name] = (ch, keys, err, nu, tol)
+            idx = np.array(keys)  # keep the keys only: the candidates' memory is released
+            kept = (rot, ch.t[idx], ch.v[idx], ch.a[idx], ch.b[idx])
+            results[name] = (kept, keys, err, nu, tol, len(check_t))
+            del ch, check_t, v, a, b
 
     b = _Builder()
     doc: dict = {
@@ -552,17 +692,15 @@ def to_gltf(
         doc["meshes"] = [{"name": "axes", "primitives": prims}]
         doc["nodes"][0]["mesh"] = 0
     channels, samplers = [], []
-    for name, (ch, keys, _, _, _) in results.items():
-        idx = np.array(keys)
-        kt, kv, ka, kb = ch.t[idx], ch.v[idx], ch.a[idx], ch.b[idx]
-        if ch.rot:
+    for name, ((rot, kt, kv, ka, kb), *_) in results.items():
+        if rot:
             kv, ka, kb = kv[:, [1, 2, 3, 0]], ka[:, [1, 2, 3, 0]], kb[:, [1, 2, 3, 0]]
         if cubic:
             out = np.stack([ka, kv, kb], axis=1).reshape(-1, kv.shape[1])
         else:
             out = kv
         ia = b.add(kt.astype(np.float32), "SCALAR", minmax=True)
-        oa = b.add(out.astype(np.float32), "VEC4" if ch.rot else "VEC3")
+        oa = b.add(out.astype(np.float32), "VEC4" if rot else "VEC3")
         samplers.append({"input": ia, "output": oa, "interpolation": interpolation.upper()})
         channels.append({"sampler": len(samplers) - 1, "target": {"node": 0, "path": name}})
         first = kv[0].astype(np.float32).astype(float).tolist()
@@ -579,7 +717,7 @@ def to_gltf(
         r[3],
         r[2],
         r[4],
-        check_points=len(check_t),
+        check_points=max(r[5] for r in results.values()),
     )
     if "translation" in results:
         p = results["translation"]

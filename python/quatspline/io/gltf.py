@@ -1,6 +1,5 @@
 """glTF 2.0 animations (``.gltf`` with embedded or external buffers, ``.glb``): the rotation
-and translation channels of one node, parsed with ``pygltflib``
-(``pip install 'quatspline[gltf]'``).
+and translation channels of one node.
 
 The trajectory's times are the rotation channel's key times (seconds) and its quaternions the
 keys (glTF stores (x, y, z, w); CUBICSPLINE keys are the values between the tangents). A
@@ -8,115 +7,337 @@ translation channel with the same key times gives the positions; with other key 
 played back (LINEAR, STEP or CUBICSPLINE as the file says) at the rotation's times. A node
 with only a translation channel keeps its static rotation. Writing goes through
 :func:`quatspline.export.to_gltf` (an error-bounded export of a spline through the keys).
+
+The reader checks every field it uses against the glTF 2.0 specification and refuses a file
+that breaks it with one ``ValueError`` naming the file and the field
+(``accessors[3].byteOffset``). Nothing is allocated from what a file declares before the
+declaration is checked against the bytes the file actually holds, and only the byte ranges
+the animation uses are read (from the GLB binary chunk or an external buffer, by seeking).
+A ``bufferView.byteStride`` (4 to 252, a multiple of 4, at least the element size) is
+honoured on animation data too, and sparse accessors are applied.
 """
 
 from __future__ import annotations
 
 import base64
-import warnings
+import binascii
+import json
+import math
+import os
+import re
+import struct
 from pathlib import Path
+from urllib.parse import unquote
 
 import numpy as np
 
-from ._common import Trajectory, TrajectoryError, finish
+from ._common import Trajectory, TrajectoryError, check_regular_input, finish
 
-HINT = "glTF files need pygltflib: pip install 'quatspline[gltf]'"
-_COMP = {5120: np.int8, 5121: np.uint8, 5122: np.int16, 5123: np.uint16, 5125: np.uint32}
-_WIDTH = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}
-MAX_BYTES = 1 << 31
-
-
-def _load(path):
-    try:
-        from pygltflib import GLTF2
-    except ImportError as e:
-        raise ImportError(HINT) from e
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # pygltflib warns about unknown chunks
-            return GLTF2().load(str(path))
-    except Exception as e:  # pygltflib raises assorted errors for damaged files
-        raise TrajectoryError(
-            f"{path}: not a readable glTF/GLB file ({type(e).__name__}: {e})"
-        ) from None
+#: component type → numpy dtype (little-endian, as the specification stores them)
+_COMP = {
+    5120: np.dtype("<i1"),
+    5121: np.dtype("<u1"),
+    5122: np.dtype("<i2"),
+    5123: np.dtype("<u2"),
+    5125: np.dtype("<u4"),
+    5126: np.dtype("<f4"),
+}
+_WIDTH = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4, "MAT2": 4, "MAT3": 9, "MAT4": 16}
+_GLB_MAGIC, _JSON_CHUNK, _BIN_CHUNK = 0x46546C67, 0x4E4F534A, 0x004E4942
+_DATA_URI = re.compile(r"data:[^,]*;base64,", re.IGNORECASE)
+#: output component types allowed per path (glTF 2.0 §3.11; KHR_mesh_quantization widens
+#: translation); values: (component type, normalized)
+_ROTATION_TYPES = {(5126, False), (5120, True), (5121, True), (5122, True), (5123, True)}
+_QUANTIZED_TRANSLATION = {(c, n) for c in (5120, 5121, 5122, 5123) for n in (False, True)}
 
 
-def _buffer(path: Path, g, k: int, cache: dict) -> bytes:
-    if k in cache:
-        return cache[k]
-    if not (0 <= k < len(g.buffers)):
-        raise TrajectoryError(f"{path}: buffer {k} does not exist")
-    buf = g.buffers[k]
-    uri = buf.uri
-    if uri is None:
-        data = g.binary_blob()
-        if data is None:
-            raise TrajectoryError(f"{path}: buffer {k} has no data (no GLB BIN chunk)")
-    elif uri.startswith("data:"):
+class _Doc:
+    """The JSON document and where its bytes come from, with the checks that name the file
+    and the field."""
+
+    def __init__(self, path: Path):
+        self.path = path
+        self.size = os.stat(path).st_size
+        self.bin = None  # (offset, length) of the GLB BIN chunk
+        #: buffer index → (byteLength, ("file", Path, offset) or ("mem", bytes))
+        self.buffers: dict[int, tuple] = {}
+        with open(path, "rb") as f:
+            head = f.read(12)
+            if len(head) == 12 and struct.unpack("<I", head[:4])[0] == _GLB_MAGIC:
+                self.json = self._glb(f, head)
+            else:
+                f.seek(0)
+                self.json = self._parse(f.read(), "the file")
+
+    def bad(self, why: str):
+        raise TrajectoryError(f"{self.path}: not a readable glTF/GLB file ({why})")
+
+    def fail(self, where: str, what: str):
+        raise TrajectoryError(f"{self.path}: {where}: {what}" if where else f"{self.path}: {what}")
+
+    def _parse(self, raw: bytes, what: str):
         try:
-            data = base64.b64decode(uri.split(",", 1)[1], validate=False)
-        except (ValueError, IndexError):
-            raise TrajectoryError(f"{path}: buffer {k}: bad data URI") from None
-    else:
-        ext = (path.parent / uri).resolve()
-        if path.parent.resolve() not in ext.parents or not ext.is_file():
-            raise TrajectoryError(f"{path}: buffer {k}: {uri!r} is not a file beside the glTF file")
-        if ext.stat().st_size > MAX_BYTES:
-            raise TrajectoryError(f"{path}: buffer {k}: {uri!r} larger than {MAX_BYTES} bytes")
-        data = ext.read_bytes()
-    if len(data) < (buf.byteLength or 0):
-        raise TrajectoryError(
-            f"{path}: buffer {k} has {len(data)} bytes, fewer than its byteLength {buf.byteLength}"
-        )
-    cache[k] = data
-    return data
+            doc = json.loads(raw.decode("utf-8-sig"))
+        except UnicodeDecodeError as e:
+            self.bad(f"{what} is not UTF-8 JSON (byte {e.start}) nor GLB")
+        except (ValueError, RecursionError) as e:
+            detail = e.msg if isinstance(e, json.JSONDecodeError) else type(e).__name__
+            self.bad(f"{what} is not valid JSON: {detail}")
+        if not isinstance(doc, dict):
+            self.bad("the glTF JSON is not an object")
+        return doc
+
+    def _glb(self, f, head: bytes):
+        _, version, length = struct.unpack("<III", head)
+        if version != 2:
+            self.bad(f"GLB version {version}; only glTF 2 is read")
+        if length > self.size or length < 20:
+            self.bad(f"the GLB header declares {length} bytes; the file has {self.size}")
+        chunk = f.read(8)
+        if len(chunk) < 8:
+            self.bad("GLB without a JSON chunk")
+        n, kind = struct.unpack("<II", chunk)
+        if kind != _JSON_CHUNK:
+            self.bad("the first GLB chunk is not JSON")
+        if 20 + n > length:
+            self.bad(f"the GLB JSON chunk's {n} bytes do not fit in the file's {length}")
+        doc = self._parse(f.read(n), "the JSON chunk")
+        pos = 20 + n + (-n % 4)
+        if pos + 8 <= length:
+            f.seek(pos)
+            m, kind = struct.unpack("<II", f.read(8))
+            if kind == _BIN_CHUNK:
+                if pos + 8 + m > length:
+                    self.bad(f"the GLB BIN chunk's {m} bytes do not fit in the file's {length}")
+                self.bin = (pos + 8, m)
+        return doc
+
+    # ---- typed fields ----------------------------------------------------------------------
+    def array(self, obj: dict, key: str, where: str, required=False) -> list:
+        v = obj.get(key)
+        if v is None:
+            if required:
+                self.fail(f"{where}.{key}" if where else key, "missing")
+            return []
+        if not isinstance(v, list):
+            self.fail(f"{where}.{key}" if where else key, "must be an array")
+        return v
+
+    def item(self, top: str, k) -> dict:
+        """The object ``top[k]``, k checked as an index."""
+        arr = self.array(self.json, top, "")
+        if not isinstance(arr[k] if 0 <= k < len(arr) else None, dict):
+            self.fail(f"{top}[{k}]", "is not an object")
+        return arr[k]
+
+    def index(self, obj: dict, key: str, where: str, top: str, required=True) -> int | None:
+        v = obj.get(key)
+        if v is None and not required:
+            return None
+        n = len(self.array(self.json, top, ""))
+        if not _is_int(v) or not 0 <= v < n:
+            valid = f"0..{n - 1}" if n else f"the file has no {top}"
+            self.fail(f"{where}.{key}", f"{_show(v)} is not an index into {top} ({valid})")
+        return v
+
+    def integer(self, obj: dict, key: str, where: str, lo: int, default=None) -> int:
+        v = obj.get(key, default)
+        if v is None:
+            self.fail(f"{where}.{key}", "missing")
+        if not _is_int(v) or v < lo:
+            self.fail(f"{where}.{key}", f"{_show(v)} is not an integer ≥ {lo}")
+        return v
+
+    def string(self, obj: dict, key: str, where: str, default=None) -> str | None:
+        v = obj.get(key, default)
+        if v is not None and not isinstance(v, str):
+            self.fail(f"{where}.{key}", f"{_show(v)} is not a string")
+        return v
+
+    # ---- bytes -----------------------------------------------------------------------------
+    def buffer(self, k: int) -> tuple[int, tuple]:
+        """(byteLength, source) of buffer k, the declared length checked against the bytes
+        its source holds; external files are opened later, only for the ranges used."""
+        if k in self.buffers:
+            return self.buffers[k]
+        where = f"buffers[{k}]"
+        buf = self.item("buffers", k)
+        length = self.integer(buf, "byteLength", where, 1)
+        uri = self.string(buf, "uri", where)
+        if uri is None:
+            if k != 0 or self.bin is None:
+                self.fail(where, "has no uri and is not the GLB binary chunk")
+            have, source = self.bin[1], ("file", self.path, self.bin[0])
+        elif uri[:5].lower() == "data:":
+            m = _DATA_URI.match(uri)
+            if not m:
+                self.fail(f"{where}.uri", "a data URI that is not base64")
+            body = uri[m.end() :]
+            if len(body) // 4 * 3 < length - 2:  # cheap bound before decoding
+                self.fail(f"{where}.uri", f"holds fewer than byteLength {length} bytes")
+            try:
+                data = base64.b64decode(body, validate=True)
+            except (binascii.Error, ValueError):
+                self.fail(f"{where}.uri", "invalid base64 data")
+            have, source = len(data), ("mem", data)
+        else:
+            file = self._external(uri, f"{where}.uri")
+            have, source = os.stat(file).st_size, ("file", file, 0)
+        if have < length:
+            self.fail(where, f"byteLength {length} but the data holds {have} bytes")
+        self.buffers[k] = (length, source)
+        return self.buffers[k]
+
+    def _external(self, uri: str, where: str) -> Path:
+        rel = unquote(uri)
+        if "\0" in rel:
+            self.fail(where, "a file name with a NUL byte")
+        if re.match(r"^[A-Za-z][A-Za-z0-9+.-]*:", rel) or rel.startswith(("/", "\\")) or not rel:
+            self.fail(where, f"{uri!r} is not a relative file name")
+        base = self.path.parent.resolve()
+        file = (base / rel).resolve()
+        if base not in file.parents:
+            self.fail(where, f"{uri!r} is not a file beside the glTF file")
+        try:
+            check_regular_input(file)
+        except ValueError as e:
+            self.fail(where, f"{uri!r}: {str(e).split(': ', 1)[-1]}")
+        return file
+
+    def read(self, source: tuple, start: int, n: int, where: str) -> bytes:
+        if source[0] == "mem":
+            return source[1][start : start + n]
+        _, file, base = source
+        with open(file, "rb") as f:
+            f.seek(base + start)
+            data = f.read(n)
+        if len(data) != n:
+            self.fail(where, f"{file.name} ended early (it changed while being read?)")
+        return data
 
 
-def _accessor(path: Path, g, k: int, cache: dict) -> np.ndarray:
-    """Accessor k as a float64 array (count, width), normalised integers scaled as the
-    specification says (§3.11)."""
-    if not (isinstance(k, int) and 0 <= k < len(g.accessors)):
-        raise TrajectoryError(f"{path}: accessor {k} does not exist")
-    acc = g.accessors[k]
-    where = f"{path}: accessor {k}"
-    if acc.sparse is not None:
-        raise TrajectoryError(f"{where}: sparse accessors are not supported")
-    if acc.type not in _WIDTH:
-        raise TrajectoryError(f"{where}: type {acc.type!r} is not an animation type")
-    width, count = _WIDTH[acc.type], int(acc.count or 0)
-    dtype = np.dtype(np.float32) if acc.componentType == 5126 else None
-    if dtype is None:
-        if acc.componentType not in _COMP:
-            raise TrajectoryError(f"{where}: component type {acc.componentType} unknown")
-        dtype = np.dtype(_COMP[acc.componentType])
-    if acc.bufferView is None:
-        return np.zeros((count, width))
-    if not (0 <= acc.bufferView < len(g.bufferViews)):
-        raise TrajectoryError(f"{where}: bufferView {acc.bufferView} does not exist")
-    view = g.bufferViews[acc.bufferView]
-    data = _buffer(path, g, view.buffer, cache)
-    start = (view.byteOffset or 0) + (acc.byteOffset or 0)
-    elem = dtype.itemsize * width
-    stride = view.byteStride or elem
-    need = start + (stride * (count - 1) + elem if count else 0)
-    end = (view.byteOffset or 0) + view.byteLength
-    if count < 0 or need > end or end > len(data):
-        raise TrajectoryError(
-            f"{where}: {count} elements do not fit in bufferView {acc.bufferView}"
-        )
-    raw = np.ndarray(
-        shape=(count, width),
-        dtype=dtype,
-        buffer=data,
-        offset=start,
-        strides=(stride, dtype.itemsize),
+def _is_int(v) -> bool:
+    return isinstance(v, int) and not isinstance(v, bool)
+
+
+def _show(v) -> str:
+    s = json.dumps(v) if isinstance(v, (int, float, str, bool, type(None))) else type(v).__name__
+    return s if len(s) <= 40 else s[:37] + "..."
+
+
+def _view_data(d: _Doc, vi: int, start: int, count: int, elem: int, comp: int, where: str):
+    """``count`` elements of ``elem`` bytes at ``start`` in bufferView ``vi``: (bytes, stride),
+    every bound checked before anything is read."""
+    vw = f"bufferViews[{vi}]"
+    view = d.item("bufferViews", vi)
+    bi = d.index(view, "buffer", vw, "buffers")
+    voff = d.integer(view, "byteOffset", vw, 0, default=0)
+    vlen = d.integer(view, "byteLength", vw, 1)
+    stride = view.get("byteStride")
+    if stride is not None and not (_is_int(stride) and 4 <= stride <= 252 and stride % 4 == 0):
+        d.fail(f"{vw}.byteStride", f"{_show(stride)} is not a multiple of 4 in [4, 252]")
+    if stride is not None and stride < elem:
+        d.fail(f"{vw}.byteStride", f"{stride} is less than the element size {elem} ({where})")
+    exts = view.get("extensions")
+    if isinstance(exts, dict) and any("meshopt" in k for k in exts):
+        d.fail(vw, "compressed (meshopt), which this reader does not decode")
+    blen, source = d.buffer(bi)
+    if voff + vlen > blen:
+        d.fail(vw, f"byteOffset {voff} + byteLength {vlen} exceed buffers[{bi}].byteLength {blen}")
+    if (voff + start) % comp:
+        d.fail(where, f"data at byte {voff + start} of the buffer is not aligned to {comp} bytes")
+    step = stride or elem
+    need = start + step * (count - 1) + elem
+    if need > vlen:
+        d.fail(where, f"{count} elements need {need} bytes of {vw}, which has {vlen}")
+    return d.read(source, voff + start, need - start if count else 0, where), step
+
+
+def _elements(raw: bytes, dtype, count: int, width: int, step: int) -> np.ndarray:
+    return np.ndarray(
+        shape=(count, width), dtype=dtype, buffer=raw, offset=0, strides=(step, dtype.itemsize)
     )
-    with np.errstate(invalid="ignore", over="ignore"):
-        out = raw.astype(np.float64)  # NaN / inf rows are refused by finish(), naming the key
-    if acc.componentType != 5126 and acc.normalized:
+
+
+def _accessor(d: _Doc, k: int, expect: str, types: set, what: str, times=False) -> np.ndarray:
+    """Accessor k as float64 (count, width), after checking it against the specification:
+    its type is ``expect`` and (componentType, normalized) one of ``types``."""
+    where = f"accessors[{k}]"
+    acc = d.item("accessors", k)
+    comp = acc.get("componentType")
+    if not _is_int(comp) or comp not in _COMP:
+        d.fail(f"{where}.componentType", f"{_show(comp)} is not a glTF component type")
+    norm = acc.get("normalized", False)
+    if not isinstance(norm, bool):
+        d.fail(f"{where}.normalized", f"{_show(norm)} is not a boolean")
+    if norm and comp in (5125, 5126):
+        d.fail(f"{where}.normalized", "only byte and short components can be normalized")
+    kind = acc.get("type")
+    if not isinstance(kind, str) or kind not in _WIDTH:
+        d.fail(f"{where}.type", f"{_show(kind)} is not an accessor type")
+    if kind != expect or (comp, norm) not in types:
+        names = {5120: "BYTE", 5121: "UNSIGNED_BYTE", 5122: "SHORT", 5123: "UNSIGNED_SHORT"}
+        names.update({5125: "UNSIGNED_INT", 5126: "FLOAT"})
+        got = f"{kind} {'normalized ' if norm else ''}{names[comp]}"
+        d.fail(where, f"{got} cannot hold {what}")
+    count = d.integer(acc, "count", where, 1)
+    offset = d.integer(acc, "byteOffset", where, 0, default=0)
+    dtype, width = _COMP[comp], _WIDTH[kind]
+    elem = dtype.itemsize * width
+    if offset % dtype.itemsize:
+        d.fail(f"{where}.byteOffset", f"{offset} is not a multiple of {dtype.itemsize}")
+    vi = d.index(acc, "bufferView", where, "bufferViews", required=False)
+    sparse = acc.get("sparse")
+    if vi is None:
+        if offset:
+            d.fail(f"{where}.byteOffset", "given without a bufferView")
+        # Without data the values are zeros (with the sparse values on top). Increasing key
+        # times allow one zero besides the sparse values; an output accessor's count was
+        # checked against its key times before this point.
+        n = sparse.get("count") if isinstance(sparse, dict) else 0
+        if times and count > 1 + (n if _is_int(n) else 0):
+            d.fail(where, f"{count} key times without data (zeros, not increasing)")
+        out = np.zeros((count, width))
+    else:
+        raw, step = _view_data(d, vi, offset, count, elem, dtype.itemsize, where)
+        with np.errstate(invalid="ignore", over="ignore"):  # NaN rows: refused later
+            out = _elements(raw, dtype, count, width, step).astype(np.float64)
+    if sparse is not None:
+        _sparse(d, where, sparse, out, count, dtype, width)
+    if norm:
         info = np.iinfo(dtype)
         out = np.maximum(out / info.max, -1.0) if info.min < 0 else out / info.max
     return out
+
+
+def _sparse(d: _Doc, where: str, sparse, out: np.ndarray, count: int, dtype, width: int):
+    sw = f"{where}.sparse"
+    if not isinstance(sparse, dict):
+        d.fail(sw, "is not an object")
+    n = d.integer(sparse, "count", sw, 1)
+    if n > count:
+        d.fail(f"{sw}.count", f"{n} exceeds the accessor's count {count}")
+    parts = {}
+    for key in ("indices", "values"):
+        part = sparse.get(key)
+        pw = f"{sw}.{key}"
+        if not isinstance(part, dict):
+            d.fail(pw, "missing or not an object")
+        vi = d.index(part, "bufferView", pw, "bufferViews")
+        off = d.integer(part, "byteOffset", pw, 0, default=0)
+        if key == "indices":
+            ct = part.get("componentType")
+            if ct not in (5121, 5123, 5125) or not _is_int(ct):
+                d.fail(f"{pw}.componentType", f"{_show(ct)} is not an unsigned integer type")
+            dt, w = _COMP[ct], 1
+        else:
+            dt, w = dtype, width
+        raw, step = _view_data(d, vi, off, n, dt.itemsize * w, dt.itemsize, pw)
+        parts[key] = _elements(raw, dt, n, w, step)
+    idx = parts["indices"][:, 0].astype(np.int64)
+    if np.any(idx >= count) or np.any(np.diff(idx) <= 0):
+        d.fail(f"{sw}.indices", f"must be strictly increasing and below the count {count}")
+    out[idx] = parts["values"].astype(np.float64)
 
 
 def _play_channel(kind: str, kt, kv, t, rot: bool) -> np.ndarray:
@@ -171,124 +392,195 @@ def read(
     -------
     Trajectory
         Rotation keys (w, x, y, z) at their times, positions when the node is translated.
+
+    Raises
+    ------
+    ValueError
+        A file that breaks the glTF 2.0 specification in a field the reader uses (the
+        message names the file and the field, e.g. ``accessors[3].byteOffset``), a missing
+        node or animation, key times that are not increasing.
     """
-    try:
-        return _read(path, node, animation, sort, dedupe)
-    except TrajectoryError:
-        raise
-    except (TypeError, AttributeError, IndexError, KeyError, ValueError, OverflowError) as e:
-        # a document whose fields have the wrong types or point nowhere
-        raise TrajectoryError(
-            f"{path}: malformed glTF document ({type(e).__name__}: {e})"
-        ) from None
-
-
-def _read(path, node, animation, sort, dedupe) -> Trajectory:
     path = Path(path)
-    path = Path(path)
-    g = _load(path)
-    anims = g.animations or []
+    check_regular_input(path)
+    d = _Doc(path)
+    asset = d.json.get("asset")
+    version = asset.get("version") if isinstance(asset, dict) else None
+    if not isinstance(version, str) or not re.match(r"2\.\d+$", version):
+        d.fail("asset.version", f"{_show(version)}; only glTF 2.x files are read")
+    anims = d.array(d.json, "animations", "")
     if not anims:
-        raise TrajectoryError(f"{path}: no animations in this file")
-    nodes = g.nodes or []
+        d.fail("", "no animations in this file")
+    nodes = d.array(d.json, "nodes", "")
 
     def nname(i):
-        return nodes[i].name if 0 <= i < len(nodes) and nodes[i].name else f"#{i}"
+        nd = nodes[i] if 0 <= i < len(nodes) else None
+        name = nd.get("name") if isinstance(nd, dict) else None
+        return name if isinstance(name, str) and name else f"#{i}"
 
+    for i, a in enumerate(anims):
+        if not isinstance(a, dict):
+            d.fail(f"animations[{i}]", "is not an object")
+        d.string(a, "name", f"animations[{i}]")
     if animation is not None:
         idx = [
             i
             for i, a in enumerate(anims)
-            if (isinstance(animation, int) and i == animation) or a.name == animation
+            if (_is_int(animation) and i == animation) or a.get("name") == animation
         ]
         if not idx:
-            names = ", ".join(a.name or f"#{i}" for i, a in enumerate(anims))
-            raise TrajectoryError(f"{path}: no animation {animation!r}; animations: {names}")
-        anims_sel = [(idx[0], anims[idx[0]])]
+            names = ", ".join(a.get("name") or f"#{i}" for i, a in enumerate(anims))
+            d.fail("", f"no animation {animation!r}; animations: {names}")
+        anims_sel = [idx[0]]
     else:
-        anims_sel = list(enumerate(anims))
-    animated = {}
-    for ai, a in anims_sel:
-        for ch in a.channels or []:
-            tgt = ch.target
-            if tgt is not None and tgt.node is not None and tgt.path in ("rotation", "translation"):
-                animated.setdefault(tgt.node, {}).setdefault(ai, {})[tgt.path] = ch.sampler
+        anims_sel = range(len(anims))
+    animated: dict = {}
+    for ai in anims_sel:
+        aw = f"animations[{ai}]"
+        a = anims[ai]
+        samplers = d.array(a, "samplers", aw, required=True)
+        for ci, ch in enumerate(d.array(a, "channels", aw, required=True)):
+            cw = f"{aw}.channels[{ci}]"
+            if not isinstance(ch, dict) or not isinstance(ch.get("target"), dict):
+                d.fail(cw, "is not an object with a target")
+            tgt = ch["target"]
+            tpath = d.string(tgt, "path", f"{cw}.target")
+            if tpath is None:
+                d.fail(f"{cw}.target.path", "missing")
+            si = ch.get("sampler")
+            if not _is_int(si) or not 0 <= si < len(samplers):
+                d.fail(f"{cw}.sampler", f"{_show(si)} is not an index into {aw}.samplers")
+            ni = d.index(tgt, "node", f"{cw}.target", "nodes", required=False)
+            if ni is None or tpath not in ("rotation", "translation"):
+                continue
+            slot = animated.setdefault(ni, {}).setdefault(ai, {})
+            if tpath in slot:
+                d.fail(cw, f"a second channel for node {ni}'s {tpath} in one animation")
+            slot[tpath] = si
     if node is None:
         if len(animated) != 1:
-            raise TrajectoryError(
-                f"{path}: {len(animated)} animated nodes; choose one with node= (--node): "
-                + ", ".join(nname(i) for i in sorted(animated))
+            d.fail(
+                "",
+                f"{len(animated)} animated nodes; choose one with node= (--node): "
+                + ", ".join(nname(i) for i in sorted(animated)),
             )
         ni = next(iter(animated))
     else:
-        match = [i for i in range(len(nodes)) if nodes[i].name == node or str(i) == str(node)]
+        match = [i for i in range(len(nodes)) if nname(i) == node or str(i) == str(node)]
         if not match:
-            raise TrajectoryError(
-                f"{path}: no node {node!r}; animated nodes: "
-                + (", ".join(nname(i) for i in sorted(animated)) or "none")
+            d.fail(
+                "",
+                f"no node {node!r}; animated nodes: "
+                + (", ".join(nname(i) for i in sorted(animated)) or "none"),
             )
         ni = match[0]
         if ni not in animated:
-            raise TrajectoryError(
-                f"{path}: node {node!r} has no rotation or translation animation; animated "
-                "nodes: " + (", ".join(nname(i) for i in sorted(animated)) or "none")
+            d.fail(
+                "",
+                f"node {node!r} has no rotation or translation animation; animated "
+                "nodes: " + (", ".join(nname(i) for i in sorted(animated)) or "none"),
             )
+    nw = f"nodes[{ni}]"
+    nd = d.item("nodes", ni)
+    d.string(nd, "name", nw)
+    if "matrix" in nd:
+        d.fail(f"{nw}.matrix", "an animated node must not have a matrix (only TRS)")
     ai, chans = next(iter(animated[ni].items()))
-    samplers = anims[ai].samplers or []
-    cache: dict = {}
+    samplers = anims[ai]["samplers"]
+    ext = d.array(d.json, "extensionsUsed", "")
+    quantized = "KHR_mesh_quantization" in ext
 
-    def sampler(k):
-        if not (isinstance(k, int) and 0 <= k < len(samplers)):
-            raise TrajectoryError(f"{path}: animation {ai}: sampler {k} does not exist")
+    def sampler(k, what):
+        sw = f"animations[{ai}].samplers[{k}]"
         s = samplers[k]
-        kind = s.interpolation or "LINEAR"
+        if not isinstance(s, dict):
+            d.fail(sw, "is not an object")
+        kind = d.string(s, "interpolation", sw, default="LINEAR")
         if kind not in ("LINEAR", "STEP", "CUBICSPLINE"):
-            raise TrajectoryError(f"{path}: sampler {k}: unknown interpolation {kind!r}")
-        kt = _accessor(path, g, s.input, cache)[:, 0]
-        kv = _accessor(path, g, s.output, cache)
+            d.fail(f"{sw}.interpolation", f"unknown interpolation {kind!r}")
+        ki = d.index(s, "input", sw, "accessors")
+        oi = d.index(s, "output", sw, "accessors")
+        kt = _accessor(d, ki, "SCALAR", {(5126, False)}, "key times (SCALAR FLOAT)", True)[:, 0]
         bad = ~np.isfinite(kt)
-        with np.errstate(invalid="ignore"):
-            bad[1:] |= ~(np.diff(kt) > 0)
-        if np.any(bad):
-            i = int(np.argmax(bad))
-            raise TrajectoryError(
-                f"{path}: sampler {k}: key times must be finite and strictly increasing "
-                f"(key {i}: {float(kt[i])!r})"
+        bad[1:] |= ~(kt[1:] > kt[:-1])
+        if np.any(bad) or kt[0] < 0:
+            i = int(np.argmax(bad)) if np.any(bad) else 0
+            d.fail(
+                f"accessors[{ki}]",
+                "key times must be finite, non-negative and strictly increasing "
+                f"(key {i}: {float(kt[i])!r})",
             )
-        if len(kv) != len(kt) * (3 if kind == "CUBICSPLINE" else 1) or len(kt) == 0:
-            raise TrajectoryError(
-                f"{path}: sampler {k}: {len(kt)} key times but {len(kv)} output values for {kind}"
+        per = 3 if kind == "CUBICSPLINE" else 1
+        if kind == "CUBICSPLINE" and len(kt) < 2:
+            d.fail(sw, "CUBICSPLINE needs at least two keys")
+        ocount = d.item("accessors", oi).get("count")
+        if not _is_int(ocount) or ocount != len(kt) * per:
+            d.fail(
+                f"accessors[{oi}].count",
+                f"{_show(ocount)} output values for {len(kt)} key times ({kind} needs "
+                f"{len(kt) * per})",
             )
+        if what == "rotation":
+            kv = _accessor(d, oi, "VEC4", _ROTATION_TYPES, "rotations")
+        else:
+            types = {(5126, False)} | (_QUANTIZED_TRANSLATION if quantized else set())
+            kv = _accessor(d, oi, "VEC3", types, "translations")
         return kind, kt, kv
 
     pos = None
     if "rotation" in chans:
-        kind, kt, kv = sampler(chans["rotation"])
-        if kv.shape[1] != 4:
-            raise TrajectoryError(f"{path}: rotation output is not VEC4")
+        kind, kt, kv = sampler(chans["rotation"], "rotation")
         times = kt
         quats = (kv[1::3] if kind == "CUBICSPLINE" else kv)[:, [3, 0, 1, 2]]
         if "translation" in chans:
-            pk, pt, pv = sampler(chans["translation"])
-            if pv.shape[1] != 3:
-                raise TrajectoryError(f"{path}: translation output is not VEC3")
+            pk, pt, pv = sampler(chans["translation"], "translation")
             if len(pt) == len(kt) and np.array_equal(pt, kt):
                 pos = pv[1::3] if pk == "CUBICSPLINE" else pv
             else:
                 pos = _play_channel(pk, pt, pv, kt, rot=False)
     else:
-        pk, times, pv = sampler(chans["translation"])
+        pk, times, pv = sampler(chans["translation"], "translation")
         pos = pv[1::3] if pk == "CUBICSPLINE" else pv
-        r = nodes[ni].rotation or [0.0, 0.0, 0.0, 1.0]
+        r = nd.get("rotation", [0.0, 0.0, 0.0, 1.0])
+        ok = isinstance(r, list) and len(r) == 4
+        ok = ok and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in r)
+        if not ok or not all(math.isfinite(x) for x in r) or abs(math.hypot(*r) - 1) > 1e-3:
+            d.fail(f"{nw}.rotation", "is not a unit quaternion of four numbers")
         quats = np.tile(np.array(r, dtype=float)[[3, 0, 1, 2]], (len(times), 1))
-    return finish(
-        path, times, quats, pos, np.arange(1, len(times) + 1), sort, dedupe, name=nname(ni)
-    )
+    with np.errstate(invalid="ignore", over="ignore"):
+        return finish(
+            path, times, quats, pos, np.arange(1, len(times) + 1), sort, dedupe, name=nname(ni)
+        )
 
 
-def write(path, traj: Trajectory, **options) -> None:
-    """An error-bounded export of the trajectory (see :func:`quatspline.export.to_gltf`)."""
+def write(
+    path,
+    traj: Trajectory,
+    max_error="0.01deg",
+    max_position_error="0.1mm",
+    interpolation: str = "linear",
+    node: str = "body",
+    mesh: str | None = "axes",
+    size: float = 0.1,
+    samples: int | None = None,
+    method: str = "c3",
+    uniform: bool = True,
+    progress: bool = False,
+) -> None:
+    """An error-bounded export of the trajectory (see :func:`quatspline.export.to_gltf`,
+    whose options these are)."""
     from ..export import to_gltf
 
-    options.setdefault("progress", False)
-    to_gltf(traj, path, **options)
+    to_gltf(
+        traj,
+        path,
+        max_error=max_error,
+        max_position_error=max_position_error,
+        interpolation=interpolation,
+        node=node,
+        mesh=mesh,
+        size=size,
+        samples=samples,
+        method=method,
+        uniform=uniform,
+        progress=progress,
+    )
