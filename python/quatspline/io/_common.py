@@ -3,12 +3,16 @@
 from __future__ import annotations
 
 import os
+import re
 import stat
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .._atomic import file_kind
+
+#: A line break and the blanks around it (messages are one line).
+_LINE_BREAKS = re.compile(r"\s*[\r\n\v\f\x1c-\x1e\x85\u2028\u2029]+\s*")
 
 #: Longest first line read while guessing a format.
 MAX_SNIFF_LINE = 1 << 16
@@ -31,6 +35,10 @@ class TrajectoryError(ValueError):
     ...     print(str(e).split("bad.csv:")[1])
     2: column 5 ('qz'): not a number: 'zero'
     """
+
+    def __init__(self, message: object = "", *args: object) -> None:
+        # One line whatever it quotes (a parser's multi-line message, a cell with a newline).
+        super().__init__(_LINE_BREAKS.sub(" ", str(message)), *args)
 
 
 @dataclass
