@@ -329,7 +329,7 @@ def fit(
     robust: str | None = None,
     robust_scale: float | None = None,
     order: int | None = None,
-    max_iter: int = 100,
+    max_iter: int = 1000,
     tol: float = 1e-10,
     progress=None,
     extrapolate: str = "raise",

@@ -181,7 +181,7 @@ impl Default for FitOptions {
             knots: Knots::Default,
             robust: Robust::None,
             robust_scale: None,
-            max_iter: 100,
+            max_iter: 1000,
             tol: 1e-10,
         }
     }
@@ -947,7 +947,9 @@ fn select_lambda(
                 |h, &x| gcv_at(lin, x.exp(), h).map(|r| r.0).unwrap_or(f64::INFINITY),
             )
             .collect();
-        let ib = (0..grid).min_by(|&i, &j| vals[i].total_cmp(&vals[j])).unwrap_or(0);
+        // Ties (a flat GCV: residuals that vanish for every λ) go to the largest λ, the
+        // smoothest curve that fits as well.
+        let ib = (0..grid).rev().min_by(|&i, &j| vals[i].total_cmp(&vals[j])).unwrap_or(0);
         // Brent between the grid neighbours of the best point.
         let (a, b) = (xs[ib.saturating_sub(1)], xs[(ib + 1).min(grid - 1)]);
         let mut f = |x: f64| gcv_at(lin, x.exp(), h).map(|r| r.0).unwrap_or(f64::INFINITY);
@@ -1223,6 +1225,8 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
     let mut lam_frozen = !auto;
     // Whether the grid search for λ has run (auto).
     let mut searched = false;
+    // The last change of ln λ between linearisations (after the search).
+    let mut lam_move = 0.0f64;
     let mut offs = vec![[0.0; 3]; n];
     let mut w = data.w.clone();
     let mut robust_on = false;
@@ -1296,7 +1300,19 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
                     hbuf = Band::zeros(0, 0);
                     spare_model = None;
                 }
-                let (l_new, _) = select_lambda(&lin, lo, hi, 13, prev, &mut hbuf)?;
+                let (mut l_new, _) = select_lambda(&lin, lo, hi, 13, prev, &mut hbuf)?;
+                if searched {
+                    // A move back against the last one is at most half as long: where the
+                    // GCV minima of two curves point at each other (two basins of GCV), λ
+                    // alternated between them for ever (measured: 4.9 ↔ 92 on random samples);
+                    // halving brackets the λ where the choice turns.
+                    let mut dl = (l_new / lam).ln();
+                    if dl * lam_move < 0.0 {
+                        dl = dl.signum() * dl.abs().min(0.5 * lam_move.abs());
+                        l_new = lam * dl.exp();
+                    }
+                    lam_move = dl;
+                }
                 lam_changed = !searched || (l_new / lam).ln().abs() > 0.01;
                 if searched && !lam_changed {
                     lam_frozen = true;
@@ -1353,6 +1369,27 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
             let td = data_half(&trial, data, &w, &offs, gs);
             let c1 = td.sum + lam * tp.sum;
             if c1 <= c0 * (1.0 + 1e-12) + 1e-300 {
+                let (mut trial, mut smax, mut tp, mut td) = (trial, smax, tp, td);
+                // Gauss–Newton converges only linearly where the residuals are large (far
+                // samples, fast motion under a small λ): the neglected curvature of the model
+                // makes its steps overshoot or fall short along the step. The cost along the
+                // step is a parabola through c0 (slope 2gᵀd) and c1; a minimum well off α = 1
+                // is tried and kept when it is lower (measured on 234 random 30-sample fits:
+                // 22 ran out of 100 iterations, 248 at most; with this, 81 at most).
+                let slope = -2.0 * dotv(&d, &rhs);
+                let curv = c1 - c0 - slope;
+                if slope < 0.0 && curv > 0.0 {
+                    let alpha = -slope / (2.0 * curv);
+                    if !(0.8..=1.25).contains(&alpha) && alpha.is_finite() {
+                        let da: Vec<f64> = d.iter().map(|v| v * alpha).collect();
+                        let t2 = model.retracted(&da, None);
+                        let tp2 = pen_half(&t2, pen, &nodes, Band::zeros(0, 0));
+                        let td2 = data_half(&t2, data, &w, &offs, Band::zeros(0, 0));
+                        if td2.sum + lam * tp2.sum < c1 {
+                            (trial, smax, tp, td) = (t2, smax * alpha, tp2, td2);
+                        }
+                    }
+                }
                 accepted = Some((trial, smax));
                 pen_cache = Some(tp);
                 data_cache = Some(td);
@@ -1398,6 +1435,14 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
             && !robust_on
             && !interpolate
             && step <= opts.tol.sqrt().max(opts.tol);
+        // A step below the tolerance at the λ that GCV chose at this linearisation is a fixed
+        // point of the curve and λ together, whatever λ moved: the curve no longer depends on
+        // it (samples at rest, noise-free motion: the residuals vanish for every λ and GCV is
+        // flat, so λ wandered while every step was 0).
+        if step <= opts.tol && searched && !lam_frozen {
+            lam_frozen = true;
+            lam_changed = false;
+        }
         if (step > opts.tol && !pilot_done) || lam_changed {
             continue;
         }
