@@ -218,6 +218,22 @@ pub struct FitResult {
 /// Progress callback: (stage, iteration, last step). Returning false cancels the fit.
 pub type Progress<'a> = &'a mut dyn FnMut(&str, usize, f64) -> bool;
 
+/// A number as messages print it: as written between 1e-4 and 1e15 (Rust's shortest
+/// round-trip digits), in scientific notation beyond (a weight of 1e308 is "1e308", not
+/// 309 digits).
+pub(crate) struct Short(pub f64);
+
+impl std::fmt::Display for Short {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let v = self.0;
+        if v == 0.0 || !v.is_finite() || (1e-4..1e15).contains(&v.abs()) {
+            write!(f, "{v}")
+        } else {
+            write!(f, "{v:e}")
+        }
+    }
+}
+
 /// The data of a fit after validation.
 struct Data {
     t: Vec<f64>,
@@ -244,12 +260,12 @@ fn validate(times: &[f64], quats: &[Quat], weights: Option<&[f64]>, min: usize, 
         }
         if i > 0 {
             if v == times[i - 1] {
-                return Err(Error::invalid("times", format!("duplicate time {v} at index {i}")));
+                return Err(Error::invalid("times", format!("duplicate time {} at index {i}", Short(v))));
             }
             if v < times[i - 1] {
                 return Err(Error::invalid(
                     "times",
-                    format!("not increasing at index {i} ({v} after {})", times[i - 1]),
+                    format!("not increasing at index {i} ({} after {})", Short(v), Short(times[i - 1])),
                 ));
             }
             crate::spline::check_span("times", times[i - 1], v, i)?;
@@ -271,10 +287,16 @@ fn validate(times: &[f64], quats: &[Quat], weights: Option<&[f64]>, min: usize, 
                     return Err(Error::NonFinite { arg: "weights", index: i });
                 }
                 if v < 0.0 {
-                    return Err(Error::invalid("weights", format!("negative weight {v} at index {i}")));
+                    return Err(Error::invalid(
+                        "weights",
+                        format!("negative weight {} at index {i}", Short(v)),
+                    ));
                 }
                 if v > 1e12 {
-                    return Err(Error::invalid("weights", format!("weight {v} at index {i} exceeds 1e12")));
+                    return Err(Error::invalid(
+                        "weights",
+                        format!("weight {} at index {i} exceeds 1e12", Short(v)),
+                    ));
                 }
                 sum += v;
             }
@@ -315,7 +337,7 @@ fn knot_layout_raw(knots: &Knots, t: &[f64]) -> Result<(f64, f64, usize)> {
         if s > 5e7 {
             return Err(Error::invalid(
                 "knots",
-                format!("spacing {h} gives {s:e} knot intervals (limit 5e7)"),
+                format!("spacing {} gives {s:e} knot intervals (limit 5e7)", Short(h)),
             ));
         }
         Ok(s as usize)
@@ -330,12 +352,15 @@ fn knot_layout_raw(knots: &Knots, t: &[f64]) -> Result<(f64, f64, usize)> {
         }
         Knots::Spacing(h) => {
             if !(h.is_finite() && *h > 0.0) {
-                return Err(Error::invalid("knots", format!("expected a finite positive spacing, got {h}")));
+                return Err(Error::invalid(
+                    "knots",
+                    format!("expected a finite positive spacing, got {}", Short(*h)),
+                ));
             }
             if *h > span {
                 return Err(Error::invalid(
                     "knots",
-                    format!("spacing {h} exceeds the data's time span {span}"),
+                    format!("spacing {} exceeds the data's time span {}", Short(*h), Short(span)),
                 ));
             }
             let s = segs_for(*h)?;
@@ -349,7 +374,7 @@ fn knot_layout_raw(knots: &Knots, t: &[f64]) -> Result<(f64, f64, usize)> {
                 if (v - (a + i as f64 * h)).abs() > 1e-6 * h {
                     return Err(Error::invalid(
                         "knots",
-                        format!("the fitted spline uses uniform knots; knot {i} = {v} is off the uniform grid (spacing {h})"),
+                        format!("the fitted spline uses uniform knots; knot {i} = {} is off the uniform grid (spacing {})", Short(v), Short(h)),
                     ));
                 }
             }
@@ -372,9 +397,11 @@ fn check_knot_array(k: &[f64], t: &[f64]) -> Result<()> {
         return Err(Error::invalid(
             "knots",
             format!(
-                "knots must span the data's time range exactly: [{}, {}] given, data [{a}, {b}]",
-                k[0],
-                k[k.len() - 1]
+                "knots must span the data's time range exactly: [{}, {}] given, data [{}, {}]",
+                Short(k[0]),
+                Short(k[k.len() - 1]),
+                Short(a),
+                Short(b)
             ),
         ));
     }
@@ -400,7 +427,11 @@ fn fit_layout(knots: &Knots, t: &[f64], k: usize) -> Result<layout::Layout> {
             if s >= 2 && (br[1] <= a || br[s - 1] >= b) {
                 return Err(Error::invalid(
                     "knots",
-                    format!("an interior knot coincides with the first or last sample time ({a}, {b})"),
+                    format!(
+                        "an interior knot coincides with the first or last sample time ({}, {})",
+                        Short(a),
+                        Short(b)
+                    ),
                 ));
             }
             return Ok(layout::Layout::nonuniform(br, k));
@@ -1087,7 +1118,10 @@ pub fn fit(
     }
     if let Smoothing::Fixed(l) = opts.smoothing {
         if !(l.is_finite() && l >= 0.0) {
-            return Err(Error::invalid("smoothing", format!("expected \"auto\" or a finite λ ≥ 0, got {l}")));
+            return Err(Error::invalid(
+                "smoothing",
+                format!("expected \"auto\" or a finite λ ≥ 0, got {}", Short(l)),
+            ));
         }
     }
     if let Some(c) = opts.robust_scale {
@@ -1100,7 +1134,7 @@ pub fn fit(
         if !(c.is_finite() && c > 0.0) {
             return Err(Error::invalid(
                 "robust_scale",
-                format!("expected a finite positive angle (radians), got {c}"),
+                format!("expected a finite positive angle (radians), got {}", Short(c)),
             ));
         }
     }
@@ -1108,7 +1142,10 @@ pub fn fit(
         return Err(Error::invalid("max_iter", format!("expected 1 … 100000, got {}", opts.max_iter)));
     }
     if !(opts.tol.is_finite() && opts.tol > 0.0) {
-        return Err(Error::invalid("tol", format!("expected a finite positive tolerance, got {}", opts.tol)));
+        return Err(Error::invalid(
+            "tol",
+            format!("expected a finite positive tolerance, got {}", Short(opts.tol)),
+        ));
     }
     let lay = fit_layout(&opts.knots, &data.t, k)?;
     let segs = lay.segs;
@@ -1177,11 +1214,13 @@ fn schoenberg_whitney(data: &Data, lay: &layout::Layout) -> Result<()> {
         "smoothing",
         format!(
             "smoothing=0 cannot interpolate with these knots: the {} samples {} … {} lie between \
-             knots {lo} and {hi}, which only {} control points reach (Schoenberg–Whitney \
+             knots {} and {}, which only {} control points reach (Schoenberg–Whitney \
              condition); add knots there or use smoothing > 0",
             inside.len(),
             inside[0],
             inside[inside.len() - 1],
+            Short(lo),
+            Short(hi),
             b - a + k
         ),
     ))
@@ -1492,7 +1531,9 @@ fn solve(mut model: Model, data: &Data, opts: &FitOptions, progress: Progress<'_
             };
             robust_on = true;
             if auto {
+                // λ is chosen afresh under the robust weights: a new search, not a reversal
                 lam_frozen = false;
+                lam_move = 0.0;
             }
             continue;
         }
