@@ -39,7 +39,13 @@
 //! the curve through the noisy samples, whose linearisation says little about λ) uses h = 10
 //! sample spacings; the second linearisation takes a coarse log grid and Brent's method (golden
 //! section with parabolic steps) between the best point's neighbours; every later one Brent's
-//! method from a bracket around the previous λ, until λ moves less than 1 %.
+//! method from a bracket around the previous λ, until λ moves less than 1 % or the step at
+//! the λ chosen is below the tolerance (the curve no longer depends on λ: samples at rest or
+//! noise-free, where GCV is flat). A move of ln λ back against the previous one is at most
+//! half as long, so λ cannot alternate between two GCV minima for ever; ties in the grid go to
+//! the larger λ. Each accepted Gauss–Newton step is followed along its direction to the
+//! minimum of the parabola through the cost at both ends when that lies well off the full
+//! step (Gauss–Newton is only linear where residuals are large).
 //!
 //! λ = 0 (interpolation, also [`min_energy::min_energy_bspline`]): the limit λ → 0⁺, i.e. the minimum-penalty curve
 //! of the spline space through every sample, by Bregman iteration (iterated Tikhonov): fit with
@@ -1835,6 +1841,24 @@ mod tests {
             for deg in 0..2 * n {
                 let s: f64 = nodes.iter().map(|(x, w)| w * x.powi(deg as i32)).sum();
                 assert!((s - 1.0 / (deg as f64 + 1.0)).abs() < 1e-14, "n {n} deg {deg}");
+            }
+        }
+    }
+
+    /// Samples at rest (GCV is flat: the residuals vanish for every λ) and noise-free
+    /// constant-rate motion fit with λ = "auto" to the exact curve, for both penalties.
+    #[test]
+    fn auto_fit_of_samples_at_rest_or_noise_free_converges_to_them() {
+        let t: Vec<f64> = (0..30).map(|i| 0.1 * i as f64).collect();
+        let rest = so3::exp([0.3, -1.0, 2.0]);
+        for pen in [Penalty::Acceleration, Penalty::Jerk] {
+            for rate in [0.0, 0.3] {
+                let y: Vec<Quat> =
+                    t.iter().map(|&s| rest * so3::exp([rate * s, 0.1 * rate * s, 0.0])).collect();
+                let opts = FitOptions { penalty: pen, ..Default::default() };
+                let r = fit(&t, &y, None, &opts, &mut |_, _, _| true).unwrap();
+                assert!(r.residuals.iter().all(|a| *a < 1e-9), "{pen:?} {rate}: {:?}", r.residuals);
+                assert!(r.lambda.is_finite() && r.lambda > 0.0);
             }
         }
     }
