@@ -63,6 +63,22 @@ def _choice(value, name: str, valid: tuple):
     return value
 
 
+_MAX_ORDER = 64  # far above any order the core supports; it names the supported range
+_MAX_ITER = 100_000
+
+
+def _integer(value, name: str, lo: int, hi: int, what: str) -> int:
+    """An integer argument in lo … hi (a ValueError naming it otherwise, never an overflow
+    on its way to the core)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"{name}: expected an integer, got {type(value).__name__}")
+    v = int(value)
+    if not lo <= v <= hi:
+        shown = f"{v}" if abs(v) < 10**15 else f"{float(v):.6g}"
+        raise ValueError(f"{name}: expected {what} in {lo} … {hi}, got {shown}")
+    return v
+
+
 def _lambda(value, name: str):
     """None for "auto", else a float (validated by the core: finite, ≥ 0)."""
     if isinstance(value, str):
@@ -73,7 +89,7 @@ def _lambda(value, name: str):
         raise TypeError(f"{name}: expected 'auto' or a number, got {type(value).__name__}")
     v = float(value)
     if not (np.isfinite(v) and v >= 0):
-        raise ValueError(f"{name}: expected 'auto' or a finite λ ≥ 0, got {value!r}")
+        raise ValueError(f"{name}: expected 'auto' or a finite λ ≥ 0, got {v:.6g}")
     return v
 
 
@@ -329,7 +345,7 @@ def fit(
     robust: str | None = None,
     robust_scale: float | None = None,
     order: int | None = None,
-    max_iter: int = 100,
+    max_iter: int = 1000,
     tol: float = 1e-10,
     progress=None,
     extrapolate: str = "raise",
@@ -378,7 +394,9 @@ def fit(
     order : int, optional
         Spline order (default 4 for acceleration, 6 for jerk).
     max_iter : int
-        Gauss–Newton iterations allowed; beyond them ``RuntimeError`` (never a silent result).
+        Gauss–Newton iterations allowed (1 … 100000); beyond them ``RuntimeError`` (never a
+        silent result). Gauss–Newton converges only linearly where residuals are large (samples
+        far from any smooth curve): such fits take a few hundred iterations.
     tol : float
         Convergence: largest control-point step in radians.
     progress : None, True or callable
@@ -439,17 +457,13 @@ def fit(
             raise TypeError(f"robust_scale: expected a number, got {type(robust_scale).__name__}")
         robust_scale = float(robust_scale)
     if order is not None:
-        if isinstance(order, bool) or not isinstance(order, numbers.Integral):
-            raise TypeError(f"order: expected an integer, got {type(order).__name__}")
-        order = int(order)
-        if order < 0:
-            raise ValueError(f"order: expected a positive integer, got {order}")
-    if isinstance(max_iter, bool) or not isinstance(max_iter, numbers.Integral):
-        raise TypeError(f"max_iter: expected an integer, got {type(max_iter).__name__}")
-    if int(max_iter) < 1:
-        raise ValueError(f"max_iter: expected at least 1, got {max_iter}")
-    if not isinstance(tol, numbers.Real) or not (np.isfinite(tol) and tol > 0):
-        raise ValueError(f"tol: expected a finite positive tolerance, got {tol!r}")
+        # the core checks the order against the penalty; this bounds it to what it can receive
+        order = _integer(order, "order", 1, _MAX_ORDER, "a spline order")
+    max_iter = _integer(max_iter, "max_iter", 1, _MAX_ITER, "an iteration count")
+    if isinstance(tol, bool) or not isinstance(tol, numbers.Real):
+        raise TypeError(f"tol: expected a number, got {type(tol).__name__}")
+    if not (np.isfinite(tol) and tol > 0):
+        raise ValueError(f"tol: expected a finite positive tolerance, got {float(tol):.6g}")
     w = _weights(weights, len(t))
     ks, ka = _knots(knots)
     p = None
