@@ -491,14 +491,18 @@ def test_log_of_a_tiny_or_huge_quaternion_is_finite(scale):
     assert np.isfinite(got).all(), got
     np.testing.assert_allclose(got[0], np.log(scale), rtol=1e-14)
     np.testing.assert_allclose(got[1:], [0.0, np.arctan2(0.8, 0.6), 0.0], atol=1e-15)
-    assert qs.log(np.zeros(4))[0] == -np.inf  # only the zero quaternion has ln|q| = −inf
+    with pytest.raises(ValueError, match="q: quaternion 0 has zero"):
+        qs.log(np.zeros(4))  # the zero quaternion has no logarithm
 
 
 def _rate_methods():
     """Every registry method with its key-based parameters (holds on where it is a choice)."""
     out = []
     for name, m in qs.registry.METHODS.items():
-        out.append(pytest.param(name, {"holds": True} if "holds" in m.params else {}, id=name))
+        params = {"holds": True} if "holds" in m.params else {}
+        if name == "fit":  # a fixed λ: the default λ search on stationary data is fit's own test
+            params = {"smoothing": "1e-3"}
+        out.append(pytest.param(name, params, id=name))
         if name == "natural":
             for ends in ("clamped", "rest", "closed"):
                 out.append(pytest.param(name, {"ends": ends}, id=f"natural-{ends}"))
@@ -518,7 +522,8 @@ def test_constant_attitude_has_exactly_zero_rates_in_every_spline_family(method,
         for f in (s.angular_velocity, s.angular_acceleration, s.jerk):
             for frame in ("world", "body"):
                 assert np.all(f(tt, frame) == 0.0), (method, f.__name__, frame)
-        assert np.all(np.abs(np.abs(s(tt) @ base) - 1.0) <= 4e-16)
+        v = s(tt)
+        assert np.all(np.minimum(np.abs(v - base), np.abs(v + base)) <= 2e-15), method
 
 
 @pytest.mark.parametrize(
@@ -546,7 +551,6 @@ def test_hold_between_equal_keys_is_exactly_constant_in_every_family(method, par
         tt = np.linspace(lo, hi, 41)[1:-1]
         for f in (s.angular_velocity, s.angular_acceleration, s.jerk):
             assert np.all(f(tt) == 0.0), (method, f.__name__)
-        held = s(tt[0])
-        assert np.all(np.abs(np.abs(s(tt) @ held) - 1.0) <= 4e-16)
-        if method != "bspline":
-            assert abs(abs(float(held @ q[2])) - 1.0) <= 4e-16
+        ref = q[2] if method != "bspline" else s(tt[0])
+        v = s(tt)
+        assert np.all(np.minimum(np.abs(v - ref), np.abs(v + ref)) <= 2e-15), method

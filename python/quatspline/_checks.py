@@ -36,7 +36,9 @@ def short(v) -> str:
 def _show(v) -> str:
     if isinstance(v, (numbers.Number, np.generic)) and not isinstance(v, (bool, np.bool_)):
         try:
-            return short(v) if isinstance(v, (numbers.Real, np.integer, np.floating)) else str(v)
+            if isinstance(v, (numbers.Integral, np.integer)):
+                return short(v)  # a float's repr is short already (1e+308)
+            return str(v.item() if isinstance(v, np.generic) else v)
         except (ValueError, TypeError):  # pragma: no cover - exotic numbers
             return str(v)
     r = repr(v)

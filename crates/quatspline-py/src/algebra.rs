@@ -1,10 +1,10 @@
 //! Bindings of the algebra, conversions and two-keyframe interpolation (flat batches).
 
+use crate::arrays::Count;
 use crate::arrays::{all_finite, all_parameters, fill, fill_blocks, same_len, to_py, Rows};
 use numpy::{PyArray2, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use crate::arrays::Count;
 use quatspline::convert::{self, EulerSeq};
 use quatspline::simd::Isa;
 use quatspline::{interp, special, DualQuat, Error, Quat};

@@ -1,10 +1,10 @@
 //! Bindings of the spline family: constructors and one `Spline` class for all methods.
 
+use crate::arrays::Count;
 use crate::arrays::{guarded, to_py, Rows};
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use crate::arrays::Count;
 use quatspline::spline::{self as sp, Extrapolate, Frame};
 use quatspline::{Error, Quat};
 use rayon::prelude::*;

@@ -2,11 +2,11 @@
 //! B-splines, reparameterised and retimed splines, SE(3) splines. Conversions, shape checks,
 //! GIL release and error mapping only.
 
+use crate::arrays::Count;
 use crate::arrays::{guarded, to_py, Rows};
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use crate::arrays::Count;
 use quatspline::integrate::{self, RateModel};
 use quatspline::spline::Frame;
 use quatspline::Quat;

@@ -339,7 +339,9 @@ mod tests {
 
     #[test]
     fn log_of_tiny_and_huge_quaternions_is_finite() {
-        for (scale, want) in [(1e-170, (1e-170f64).ln()), (1e-300, (1e-300f64).ln()), (1e200, (1e200f64).ln())] {
+        for (scale, want) in
+            [(1e-170, (1e-170f64).ln()), (1e-300, (1e-300f64).ln()), (1e200, (1e200f64).ln())]
+        {
             let l = Quat::new(0.6 * scale, 0.8 * scale, 0.0, 0.0).log();
             assert!((l.w - want).abs() <= 1e-13 * want.abs(), "{scale}: {}", l.w);
             assert!((l.x - 0.8f64.atan2(0.6)).abs() < 1e-15, "{scale}: {}", l.x);

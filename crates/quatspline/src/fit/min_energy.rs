@@ -600,6 +600,23 @@ mod tests {
     }
 
     #[test]
+    fn a_hold_between_equal_keys_is_exactly_constant() {
+        let (t, mut q) = keys(7);
+        q[3] = q[2];
+        for ends in [NaturalEnds::Natural, NaturalEnds::Rest] {
+            let me = MinEnergySpline::new(&q, Some(&t), ends, 2, &mut |_, _, _| true).unwrap();
+            assert!(me.converged && me.energy <= me.energy_natural, "{ends:?}");
+            assert_eq!(me.continuity(), 1);
+            for k in 1..20 {
+                let tk = t[2] + (t[3] - t[2]) * k as f64 / 20.0;
+                let d = me.segment::<4>(2, tk).derivatives();
+                assert!((d[0].dot(q[2]).abs() - 1.0).abs() <= 4e-16, "{ends:?} at {tk}");
+                assert!(d[1..].iter().all(|x| x.to_wxyz() == [0.0; 4]), "{ends:?} at {tk}");
+            }
+        }
+    }
+
+    #[test]
     fn hermite_basis_has_the_stated_end_derivatives() {
         for (idx, want0, want1) in [(0, [0.0, 1.0, 0.0], [0.0; 3]), (1, [0.0, 0.0, 1.0], [0.0; 3])]
             .into_iter()
