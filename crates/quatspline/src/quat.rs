@@ -246,18 +246,18 @@ impl Quat {
 
 impl Mul for Quat {
     type Output = Quat;
-    /// The Hamilton product (MATH.md §1). Each vector component sums its terms left to right
-    /// with the two w-terms first and the cross-product pair last, so in q* q and q q* every
-    /// partial sum cancels exactly: the relative rotation of two equal keys is exactly the
-    /// identity, and holds and constant attitudes give exact zeros.
+    /// The Hamilton product (MATH.md §1). The vector part is summed as
+    /// (a.w b.v + b.w a.v) + a.v × b.v, each pair rounded on its own, so q* q and q q* have an
+    /// exactly zero vector part (both pairs cancel exactly): the relative rotation of two equal
+    /// keys is exactly the identity, and holds and constant attitudes give exact zeros.
     #[inline]
     fn mul(self, b: Quat) -> Quat {
         let a = self;
         Quat {
             w: a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z,
-            x: a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-            y: a.w * b.y + a.y * b.w + a.z * b.x - a.x * b.z,
-            z: a.w * b.z + a.z * b.w + a.x * b.y - a.y * b.x,
+            x: (a.w * b.x + a.x * b.w) + (a.y * b.z - a.z * b.y),
+            y: (a.w * b.y + a.y * b.w) + (a.z * b.x - a.x * b.z),
+            z: (a.w * b.z + a.z * b.w) + (a.x * b.y - a.y * b.x),
         }
     }
 }
