@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import os
+import stat
 import subprocess
 import sys
 from pathlib import Path
@@ -284,3 +286,46 @@ def test_python_dash_m_package_runs_the_cli(tmp_path):
     assert (
         r.returncode == 1 and "missing.csv" in r.stderr and len(r.stderr.strip().splitlines()) == 1
     )
+
+
+@pytest.mark.parametrize("command", ["export", "sample"])
+@pytest.mark.parametrize("name", ["node", "mesh", "samples", "nonsense"])
+def test_param_that_is_not_a_parameter_of_the_method_is_a_one_line_usage_error(
+    tmp_path, capsys, command, name
+):
+    # `export --param node=x` reached to_gltf as a second `node` keyword: a TypeError about
+    # keyword arguments. Any name the method does not declare is refused up front.
+    src = tmp_path / "keys.csv"
+    qio.write(src, qio.Trajectory(np.arange(5.0), qs.from_rotvec(np.eye(3)[[0, 1, 2, 0, 1]])))
+    out = tmp_path / ("out.glb" if command == "export" else "out.csv")
+    extra = [] if command == "export" else ["--count", "5"]
+    code = main([command, str(src), "-o", str(out), "--param", f"{name}=x", *extra])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert f"--param {name}" in err and "valid: alpha, beta" in err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("command", ["sample", "fit"])
+def test_at_an_empty_file_is_a_one_line_error_naming_the_file(tmp_path, capsys, command):
+    src = tmp_path / "keys.csv"
+    qio.write(
+        src, qio.Trajectory(np.arange(6.0), qs.from_rotvec(0.1 * np.arange(18.0).reshape(6, 3)))
+    )
+    empty = tmp_path / "times.txt"
+    empty.write_text("# no times here\n")
+    code = main([command, str(src), "-o", str(tmp_path / "out.csv"), "--at", str(empty)])
+    err = capsys.readouterr().err
+    assert code == 1 and len(err.strip().splitlines()) == 1, err
+    assert str(empty) in err and "no times" in err and "UserWarning" not in err
+
+
+def test_demo_creates_its_output_directory_with_the_usual_mode(tmp_path):
+    # the demo built its tree in a mkdtemp directory (0700) and renamed it into place
+    out = tmp_path / "demo_out"
+    old = os.umask(0o022)
+    try:
+        assert main(["demo", "--out", str(out)]) == 0
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE(out.stat().st_mode) == 0o755

@@ -481,3 +481,76 @@ def test_error_convention_typeerror_for_kind_valueerror_for_value_naming_the_arg
     with pytest.raises(exc, match=msg):
         call(s)
     qs.set_num_threads(0)
+
+
+@pytest.mark.parametrize("scale", [1e-170, 1e-200, 1e-300, 1e160, 1e300])
+def test_log_of_a_tiny_or_huge_quaternion_is_finite(scale):
+    # |q|² underflowed to 0 below ~1e-154 (and overflowed above ~1e154): log gave ∓inf
+    q = np.array([0.6, 0.0, 0.8, 0.0]) * scale
+    got = qs.log(q)
+    assert np.isfinite(got).all(), got
+    np.testing.assert_allclose(got[0], np.log(scale), rtol=1e-14)
+    np.testing.assert_allclose(got[1:], [0.0, np.arctan2(0.8, 0.6), 0.0], atol=1e-15)
+    with pytest.raises(ValueError, match="q: quaternion 0 has zero"):
+        qs.log(np.zeros(4))  # the zero quaternion has no logarithm
+
+
+def _rate_methods():
+    """Every registry method with its key-based parameters (holds on where it is a choice)."""
+    out = []
+    for name, m in qs.registry.METHODS.items():
+        params = {"holds": True} if "holds" in m.params else {}
+        if name == "fit":  # a fixed λ: the default λ search on stationary data is fit's own test
+            params = {"smoothing": "1e-3"}
+        out.append(pytest.param(name, params, id=name))
+        if name == "natural":
+            for ends in ("clamped", "rest", "closed"):
+                out.append(pytest.param(name, {"ends": ends}, id=f"natural-{ends}"))
+    return out
+
+
+@pytest.mark.parametrize("method, params", _rate_methods())
+def test_constant_attitude_has_exactly_zero_rates_in_every_spline_family(method, params):
+    # NaturalSpline(ends="clamped") through one attitude gave α = 3.3e-16 where scipy gives 0:
+    # q* q had a vector part of ~1e-17, so the chord between equal keys was not the identity
+    rng = np.random.default_rng(5)
+    for base in qs.from_rotvec(rng.normal(size=(4, 3)) * 1.5):
+        q = np.tile(base, (7, 1))
+        t = np.cumsum(np.r_[0.0, rng.uniform(0.2, 2.0, 6)])
+        s = qs.registry.spline(method, q, t, **params)
+        tt = np.linspace(*s.domain, 61)
+        for f in (s.angular_velocity, s.angular_acceleration, s.jerk):
+            for frame in ("world", "body"):
+                assert np.all(f(tt, frame) == 0.0), (method, f.__name__, frame)
+        v = s(tt)
+        assert np.all(np.minimum(np.abs(v - base), np.abs(v + base)) <= 2e-15), method
+
+
+@pytest.mark.parametrize(
+    "method, params",
+    [
+        p
+        for p in _rate_methods()
+        if qs.registry.METHODS[p.values[0]].interpolating or "holds" in p.values[1]
+    ],
+)
+def test_hold_between_equal_keys_is_exactly_constant_in_every_family(method, params):
+    # MinimumEnergySpline drifted 5.3° between two equal keys; the others held to rounding
+    rng = np.random.default_rng(6)
+    for _ in range(4):
+        q = qs.from_rotvec(rng.normal(size=(7, 3)) * 0.6)
+        q[3] = q[2]
+        t = np.cumsum(np.r_[0.0, rng.uniform(0.3, 2.0, 6)])
+        if params.get("ends") == "closed":
+            t = np.r_[t, t[-1] + 1.0]
+        s = qs.registry.spline(method, q, t, **params)
+        if method == "bspline":  # approximating: its hold is the interval it reports
+            lo, hi = s.hold_intervals[0]
+        else:
+            lo, hi = t[2], t[3]
+        tt = np.linspace(lo, hi, 41)[1:-1]
+        for f in (s.angular_velocity, s.angular_acceleration, s.jerk):
+            assert np.all(f(tt) == 0.0), (method, f.__name__)
+        ref = q[2] if method != "bspline" else s(tt[0])
+        v = s(tt)
+        assert np.all(np.minimum(np.abs(v - ref), np.abs(v + ref)) <= 2e-15), method

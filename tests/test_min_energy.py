@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -237,3 +238,51 @@ def test_registry_builds_both_new_methods():
     f = qs.spline("fit", q, t, smoothing="1e-6", penalty="jerk", robust="none")
     assert f.method == "fit" and f.smoothing == 1e-6 and f.order == 6
     assert qs.METHODS["min_energy"].interpolating and not qs.METHODS["fit"].interpolating
+
+
+@pytest.mark.parametrize("ends", ["natural", "rest", "clamped", "closed"])
+def test_min_energy_holds_still_between_equal_keys(ends):
+    # it drifted 5.3° between two equal keys (its natural spline ignored holds and δ moved)
+    rng = np.random.default_rng(11)
+    q = qs.from_rotvec(rng.normal(size=(6, 3)) * 0.7)
+    q[3] = q[2]
+    t = np.cumsum(np.r_[0.0, rng.uniform(0.5, 1.5, 5)])
+    if ends == "closed":
+        t = np.r_[t, t[-1] + 1.0]
+    s = qs.MinimumEnergySpline(q, t, ends=ends, resolution=2)
+    tt = np.linspace(t[2], t[3], 33)
+    np.testing.assert_array_less(np.abs(np.abs(s(tt) @ q[2]) - 1.0), 4e-16)
+    inside = tt[1:-1]
+    for f in (s.angular_velocity, s.angular_acceleration, s.jerk):
+        assert np.all(f(inside) == 0.0), f.__name__
+    assert s.converged and s.energy <= s.natural_energy
+    np.testing.assert_array_less(angle(s(t[: len(q)]), q), 1e-12)
+
+
+def _random_keys(n, seed, hard):
+    rng = np.random.default_rng(seed)
+    if hard:  # independent random rotations at uneven times, 0.01 … 1 apart
+        q = rng.normal(size=(n, 4))
+        return qs.normalize(q), np.cumsum(rng.uniform(0.01, 1.0, n))
+    return qs.from_rotvec(rng.normal(size=(n, 3)) * 0.8), np.cumsum(rng.uniform(0.5, 1.5, n))
+
+
+@pytest.mark.parametrize(("n", "seed", "hard"), [(500, 1, True), (1000, 1000, False)])
+def test_min_energy_on_hundreds_of_random_keys_returns_a_curve_never_an_error(n, seed, hard):
+    # 500 random keys at uneven times raised "did not converge in 200 iterations" although
+    # every iterate is a valid interpolating curve below the natural spline's energy
+    q, t = _random_keys(n, seed, hard)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        s = qs.MinimumEnergySpline(q, t)
+    assert s.energy <= s.natural_energy and np.isfinite(s.gradient_norm)
+    assert 1 <= s.iterations <= 200
+    unconverged = [w for w in caught if issubclass(w.category, RuntimeWarning)]
+    assert s.converged == (not unconverged)  # reported either way
+    if hard:  # this one stops at the cap: the best iterate, said in the result and a warning
+        assert not s.converged and s.iterations == 200 and s.energy < 0.7 * s.natural_energy
+        msg = str(unconverged[0].message)
+        assert "stopped after 200 iterations" in msg and "best iterate" in msg
+    else:
+        assert s.converged
+    np.testing.assert_array_less(angle(s(t), q), 1e-11)

@@ -80,3 +80,79 @@ def test_shapes_and_options():
         qs.Squad(Q).derivative(1.0, order=4)
     with pytest.raises(ValueError, match=r"^start_rate: expected shape \(3,\)"):
         qs.NaturalSpline(Q, ends="clamped", start_rate=[1.0, 2.0])
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(rate=1e12), r"rate: 1e\+12 samples per unit .* more than max_samples = 10000000"),
+        (dict(rate=1e308), "gives inf samples, more than max_samples"),
+        (dict(n=2**70), "n: 1.18059e\\+21 samples is more than max_samples"),
+        (dict(rate=100.0, max_samples=50), "more than max_samples = 50"),
+        (dict(n=51, max_samples=50), "more than max_samples = 50"),
+    ],
+)
+def test_sample_refuses_more_than_max_samples_before_allocating(kwargs, match):
+    # rate=1e12 over 2 time units ended in numpy's "Unable to allocate 21.8 TiB" MemoryError
+    s = qs.NaturalSpline(random_walk(3, 0))
+    with pytest.raises(ValueError, match=match):
+        s.sample(**kwargs)
+    t, q = s.sample(rate=10.0, max_samples=21)
+    assert len(t) == len(q) == 21
+
+
+@pytest.mark.parametrize("S", [qs.SphericalBezier, qs.CumulativeBezier])
+@pytest.mark.parametrize(
+    "domain, exc, match",
+    [
+        (5, TypeError, r"domain: expected a pair \(t0, t1\) of real numbers, got int 5"),
+        ("ab", TypeError, r"domain: expected a pair \(t0, t1\)"),
+        ((0.0,), TypeError, r"domain: expected a pair \(t0, t1\)"),
+        (
+            (0.0, "1"),
+            TypeError,
+            r"domain: expected a pair \(t0, t1\) of real numbers, got \(float, str\)",
+        ),
+        ((1.0, 0.0), ValueError, r"domain: expected finite t0 < t1, got \(1, 0\)"),
+        ((0.0, np.inf), ValueError, r"domain: expected finite t0 < t1"),
+    ],
+)
+def test_bezier_domain_that_is_not_a_pair_names_domain(S, domain, exc, match):
+    # SphericalBezier(domain=5) raised "'int' object is not subscriptable"
+    with pytest.raises(exc, match=match):
+        S(random_walk(4, 1), domain=domain)
+    assert S(random_walk(4, 1), domain=np.array([0, 2])).domain == (0.0, 2.0)
+
+
+@pytest.mark.parametrize(
+    "build",
+    [
+        lambda q: qs.MinimumEnergySpline(q, resolution=2**70),
+        lambda q: qs.MinimumEnergySpline(q, penalty="jerk", resolution=2**70),
+        lambda q: qs.CumulativeBSpline(q, order=2**70),
+        lambda q: qs.CumulativeBSpline(q, order=10**400),
+        lambda q: qs.NaturalSpline(q).sample(n=10**400),
+        lambda q: qs.NaturalSpline(q).derivative([0.5], order=2**70),
+        lambda q: qs.NaturalSpline(q).segment_derivatives(2**70, 0.5),
+    ],
+)
+def test_huge_integer_arguments_are_value_errors_naming_the_argument(build):
+    # MinimumEnergySpline(resolution=2**70) raised OverflowError from the binding
+    q = random_walk(6, 2)
+    with pytest.raises(ValueError) as e:
+        build(q)
+    name = str(e.value).split(":")[0]
+    assert name in ("resolution", "order", "n", "segment"), str(e.value)
+    assert len(str(e.value)) < 200, str(e.value)  # no 400-digit number in the message
+
+
+def test_core_integer_arguments_beyond_64_bits_are_value_errors_not_overflow():
+    # the binding's one conversion for integers: ValueError with a short number
+    from quatspline import _core
+
+    q = np.ascontiguousarray(random_walk(6, 2))
+    for bad in (2**70, -1, 10**400):
+        with pytest.raises(ValueError, match=r"expected an integer from 0 to \d+, got -?(~1e|\d)"):
+            _core.cumulative_bspline(q, 1.0, 0.0, bad, True)
+    with pytest.raises(TypeError):
+        _core.cumulative_bspline(q, 1.0, 0.0, 2.5, True)

@@ -14,9 +14,30 @@ import numbers
 import numpy as np
 
 
+def short(v) -> str:
+    """A number as a message shows it: integers up to 15 digits in full, anything larger (and
+    every float) in ``:.6g`` form, so 1e308 or 2**1000 never print hundreds of digits."""
+    if isinstance(v, np.generic):
+        v = v.item()
+    if isinstance(v, numbers.Integral) and not isinstance(v, bool):
+        i = int(v)
+        if abs(i) < 10**15:
+            return str(i)
+        try:
+            return f"{float(i):.6g}"
+        except OverflowError:
+            digits = len(str(abs(i)))  # huge ints: the order of magnitude only
+            return f"{'-' if i < 0 else ''}~1e{digits - 1}"
+    if isinstance(v, numbers.Real) and not isinstance(v, bool):
+        return f"{float(v):.6g}"
+    return str(v)
+
+
 def _show(v) -> str:
     if isinstance(v, (numbers.Number, np.generic)) and not isinstance(v, (bool, np.bool_)):
         try:
+            if isinstance(v, (numbers.Integral, np.integer)):
+                return short(v)  # a float's repr is short already (1e+308)
             return str(v.item() if isinstance(v, np.generic) else v)
         except (ValueError, TypeError):  # pragma: no cover - exotic numbers
             return str(v)
@@ -36,7 +57,7 @@ def integer(v, name: str, lo: int | None = None, hi: int | None = None) -> int:
             want = f"an integer ≤ {hi}"
         else:
             want = f"an integer from {lo} to {hi}"
-        raise ValueError(f"{name}: expected {want}, got {i}")
+        raise ValueError(f"{name}: expected {want}, got {short(i)}")
     return i
 
 

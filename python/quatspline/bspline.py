@@ -14,6 +14,7 @@ import numpy as np
 
 from . import _core
 from ._arrays import as_real
+from ._checks import short
 
 __all__ = ["clamped_knots", "knots_from_spacing"]
 
@@ -62,7 +63,7 @@ def _core_spline(q, dt, t0, order, canonicalize, knots):
     if isinstance(order, bool) or not isinstance(order, (int, np.integer)):
         raise TypeError(f"order: expected an int, got {type(order).__name__}")
     if not 2 <= order <= 12:
-        raise ValueError(f"order: expected 2 ≤ order ≤ 12, got {order}")
+        raise ValueError(f"order: expected 2 ≤ order ≤ 12, got {short(order)}")
     if knots is None:
         u = knots_from_spacing(dt, t0, len(q), int(order))
     else:

@@ -33,14 +33,38 @@ class _Parser(argparse.ArgumentParser):
 
 
 # ---- shared helpers -------------------------------------------------------------------------
-def _params(pairs: list[str] | None) -> dict:
+def _params(pairs: list[str] | None, method: str | None = None) -> dict:
+    """``--param NAME=VALUE`` pairs as a dict; with a ``method`` of the registry, a name that
+    is not one of its parameters is a usage error naming the valid ones (never passed on as
+    a keyword to whatever the command calls)."""
     out = {}
+    known = METHODS[method].params if isinstance(method, str) and method in METHODS else None
     for p in pairs or []:
         if "=" not in p:
             raise UsageError(f"--param: expected name=value, got {p!r}")
         k, v = p.split("=", 1)
-        out[k.strip()] = v.strip()
+        k = k.strip()
+        if known is not None and k not in known:
+            valid = ", ".join(known) or "none"
+            raise UsageError(f"--param {k}: not a parameter of {method}; valid: {valid}")
+        out[k] = v.strip()
     return out
+
+
+def _times_file(path: Path, option: str, one: str = "time") -> np.ndarray:
+    """One number per line (``#`` comments) from ``path``; an unreadable or empty file is a
+    one-line error naming the option and the file (numpy's own warning is not shown)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # an empty file is reported below, in one line
+        try:
+            t = np.loadtxt(path, ndmin=1, comments="#")
+        except (OSError, ValueError) as e:
+            raise ValueError(f"{option} {path}: cannot read {one}s ({e})") from None
+    if t.ndim != 1:
+        raise ValueError(f"{option} {path}: expected one {one} per line, got {t.shape[1]} columns")
+    if t.size == 0:
+        raise ValueError(f"{option} {path}: the file holds no {one}s")
+    return t
 
 
 def _read(args) -> qio.Trajectory:
@@ -104,12 +128,18 @@ def _times_of(path: str) -> np.ndarray:
     try:
         return qio.read(p).times
     except ValueError as first:
-        try:
-            t = np.loadtxt(p, ndmin=1, comments="#")
-        except (OSError, ValueError):
-            raise ValueError(f"--at: {first} (and not a one-column file of times either)") from None
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # an empty file is reported below, in one line
+            try:
+                t = np.loadtxt(p, ndmin=1, comments="#")
+            except (OSError, ValueError):
+                raise ValueError(
+                    f"--at: {first} (and not a one-column file of times either)"
+                ) from None
         if t.ndim != 1:
             raise ValueError(f"--at: {p}: expected a trajectory or one time per line") from None
+        if t.size == 0:
+            raise ValueError(f"--at: {p}: the file holds no times") from None
         return t
 
 
@@ -136,7 +166,7 @@ def cmd_sample(args) -> int:
         try:
             out = resample(
                 traj, _times_of(args.at), method=args.method, extrapolate=args.extrapolate,
-                **_params(args.param),
+                **_params(args.param, args.method),
             )  # fmt: skip
         except ValueError as e:
             if str(e).startswith("extrapolate"):
@@ -154,7 +184,7 @@ def cmd_sample(args) -> int:
         args.method,
         rate=args.rate,
         count=args.count,
-        params=_params(args.param),
+        params=_params(args.param, args.method),
         derivatives=args.derivatives,
         max_samples=args.max_samples,
         extrapolate=args.extrapolate,
@@ -174,15 +204,7 @@ def _knot_file(path: Path) -> np.ndarray:
     from .io._common import check_regular_input
 
     check_regular_input(path)
-    try:
-        k = np.loadtxt(path, ndmin=1, comments="#")
-    except (OSError, ValueError) as e:
-        raise ValueError(f"--knots {path}: cannot read knot times ({e})") from None
-    if k.ndim != 1:
-        raise ValueError(
-            f"--knots {path}: expected one knot time per line, got {k.shape[1]} columns"
-        )
-    return k
+    return _times_file(path, "--knots", "knot time")
 
 
 def cmd_fit(args) -> int:
@@ -199,10 +221,7 @@ def cmd_fit(args) -> int:
         from .io._common import check_regular_input
 
         check_regular_input(at)
-        try:
-            times = np.loadtxt(at, ndmin=1, comments="#")
-        except (OSError, ValueError) as e:
-            raise ValueError(f"{at}: cannot read times ({e})") from None
+        times = _times_file(at, "--at")
     knots = None
     if args.knots is not None:
         try:
@@ -257,7 +276,7 @@ def _family(args, traj):
     vals = [v for v in values.split(",") if v]
     if not vals:
         raise UsageError("--family: expected PARAM=v1,v2,…")
-    base = _params(args.param)
+    base = _params(args.param, args.method)
     out = {}
     for v in vals:
         out[f"{name} = {v}"] = ops.build_spline(args.method, traj, {**base, name: v})
@@ -282,7 +301,7 @@ def cmd_plot(args) -> int:
             title=f"{name}: {args.method}, {args.family or 'alpha sweep'}",
         )
     else:
-        s = ops.build_spline(args.method, traj, _params(args.param))
+        s = ops.build_spline(args.method, traj, _params(args.param, args.method))
         if args.kind == "sphere":
             fig = plot.sphere(s, key_times=kt, name=name)
         elif args.kind == "rates":
@@ -327,7 +346,7 @@ def cmd_export(args) -> int:
             traj,
             np.minimum(traj.times[0] + np.arange(n) / fps, traj.times[-1]),
             method=args.method,
-            **_params(args.param),
+            **_params(args.param, args.method),
         )
         frames.times = np.arange(n) / fps  # BVH frames: uniform from 0
         qio.write(out, frames, format="bvh")
@@ -342,7 +361,7 @@ def cmd_export(args) -> int:
         node=args.node,
         mesh=None if args.empty else "axes",
         method=args.method,
-        **_params(args.param),
+        **_params(args.param, args.method),
     )
     print(rep.summary())
     return 0

@@ -66,10 +66,19 @@ def run(out: Path, recording: Path | None = None) -> int:
     return 0
 
 
+def _umask() -> int:
+    """The process umask (read by setting it and restoring it at once)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
 def _move_into(src: Path, dst: Path) -> None:
     """Moves the finished tree ``src`` to ``dst``: a rename when ``dst`` does not exist,
     otherwise file by file (each an atomic replace), keeping unrelated files in ``dst``."""
     if not dst.exists():
+        # mkdtemp made src 0700; the directory this run creates gets the usual mode.
+        os.chmod(src, 0o777 & ~_umask())
         os.rename(src, dst)
         return
     for root, _dirs, names in os.walk(src):

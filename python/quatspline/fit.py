@@ -31,6 +31,7 @@ import numpy as np
 
 from . import _core
 from ._arrays import as_real, with_width
+from ._checks import integer
 from .algebra import rotate
 from .spline import Spline, _describe, _gauss_legendre
 
@@ -531,6 +532,16 @@ class MinimumEnergySpline(Spline):
     spaces and converges to the continuous optimum (Spicv, analytic, in that tutorial's terms;
     this is the discrete numerical route, Sping). Joints are the key times.
 
+    Holds: consecutive equal keys give an exactly constant interval (ω = α = jerk = 0 there),
+    as in the other interpolating splines: the natural spline pins the rate to zero at both
+    keys of a hold and δ is held at zero on it (the curve is C¹ at those keys, C² elsewhere).
+
+    The descent stops at its criterion or after 200 iterations; either way the result is the
+    best iterate found, never above the natural spline's energy. When the cap is reached
+    first, ``converged`` is False and a ``RuntimeWarning`` says how far it got (iterations,
+    energy against the natural spline's, gradient norm) — the curve is valid and
+    interpolating, only not the optimum to the solver's precision.
+
     Construction (jerk): the minimum-∫|ω̈|² curve through the keys in a uniform cumulative
     B-spline space of order 6 with ``resolution`` knot intervals per mean key interval
     (doubled where keys crowd), by Gauss–Newton with Bregman iteration to 1e-11 rad.
@@ -561,6 +572,13 @@ class MinimumEnergySpline(Spline):
         keys with the same ends: ∫|ω̇|² for ``acceleration`` (the quadrature above), the
         body-frame ∫|ω̈|² for ``jerk`` (8-point Gauss–Legendre between the joints of both).
     iterations : int
+    converged : bool
+        Acceleration: whether the descent met its criterion (else: the best iterate after
+        the iteration cap, with a ``RuntimeWarning``). Jerk: True (that solver raises when it
+        does not converge).
+    gradient_norm : float
+        Acceleration: the norm of the energy's gradient over the free parameters at the
+        result (NaN for jerk).
 
     Examples
     --------
@@ -610,8 +628,9 @@ class MinimumEnergySpline(Spline):
             resolution = 4 if penalty == "acceleration" else 8
         if isinstance(resolution, bool) or not isinstance(resolution, numbers.Integral):
             raise TypeError(f"resolution: expected an integer, got {type(resolution).__name__}")
-        if resolution < 0:
-            raise ValueError(f"resolution: expected a non-negative integer, got {resolution}")
+        resolution = integer(
+            resolution, "resolution", *((0, 16) if penalty == "acceleration" else (1, 64))
+        )
         rates = []
         for name, r in (("start_rate", start_rate), ("end_rate", end_rate)):
             if r is not None and ends != "clamped":
@@ -637,6 +656,7 @@ class MinimumEnergySpline(Spline):
                 )
                 self.control_quats = res["ctrl"]
                 self.order = int(res["order"])
+                self.converged, self.gradient_norm = True, float("nan")
                 self.energy = self.natural_energy = float("nan")  # set below, once built
             else:
                 tt = None if times is None else np.ascontiguousarray(t)
@@ -645,6 +665,17 @@ class MinimumEnergySpline(Spline):
                 )
                 self.energy = float(res["energy"])
                 self.natural_energy = float(res["energy_natural"])
+                self.converged = bool(res["converged"])
+                self.gradient_norm = float(res["gradient_norm"])
+                if not self.converged:
+                    warnings.warn(
+                        f"MinimumEnergySpline: stopped after {int(res['iterations'])} "
+                        f"iterations before converging; returning the best iterate (energy "
+                        f"{self.energy:.6g}, natural spline {self.natural_energy:.6g}, "
+                        f"gradient norm {self.gradient_norm:.3g})",
+                        RuntimeWarning,
+                        stacklevel=2,
+                    )
         finally:
             if cb is not None and hasattr(cb, "close"):
                 cb.close()

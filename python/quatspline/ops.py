@@ -20,13 +20,14 @@ import numbers
 
 import numpy as np
 
+from ._checks import short
 from ._progress import progress as _progress_bar
 from .continuity import continuity
 from .io import Trajectory
 from .metrics import angle_between
 from .registry import METHODS, interpolating_methods
 from .registry import spline as make_spline
-from .spline import path_length
+from .spline import DEFAULT_MAX_SAMPLES, path_length
 
 __all__ = [
     "DEFAULT_MAX_SAMPLES",
@@ -41,7 +42,6 @@ __all__ = [
 #: Default bound on the number of samples one call may produce. Measured peak memory of
 #: ``quatspline sample --derivatives`` on a recording with positions: 0.27 GB (NPZ) and 0.37 GB
 #: (CSV) for 1,000,000 samples, i.e. about 300 bytes a sample: about 3 GB at this bound.
-DEFAULT_MAX_SAMPLES = 10_000_000
 
 
 class ParameterError(ValueError):
@@ -68,7 +68,7 @@ def _int_arg(value, name: str, minimum: int) -> int:
         raise TypeError(f"{name}: expected an integer, got {type(value).__name__}")
     value = int(value)
     if value < minimum:
-        raise ParameterError(f"{name}: expected an integer ≥ {minimum}, got {value}")
+        raise ParameterError(f"{name}: expected an integer ≥ {minimum}, got {short(value)}")
     return value
 
 
@@ -181,12 +181,14 @@ def sample_times(
         if not n <= max_samples:
             raise ParameterError(
                 f"rate: {rate:g} samples per unit over [{a:g}, {b:g}] gives {n:.4g} samples, "
-                f"more than max_samples = {max_samples}"
+                f"more than max_samples = {short(max_samples)}"
             )
         return a + np.arange(int(n)) / rate
     count = _int_arg(count, "count", 1)
     if count > max_samples:
-        raise ParameterError(f"count: {count} samples is more than max_samples = {max_samples}")
+        raise ParameterError(
+            f"count: {short(count)} samples is more than max_samples = {short(max_samples)}"
+        )
     return np.linspace(a, b, count)
 
 
@@ -306,7 +308,7 @@ def sample_trajectory(
         t = as_real(times, "times").reshape(-1)
         if len(t) > max_samples:
             raise ParameterError(
-                f"times: {len(t)} samples is more than max_samples = {max_samples}"
+                f"times: {len(t)} samples is more than max_samples = {short(max_samples)}"
             )
         lo, hi = t0, float(traj.times[-1])
         bad = ~np.isfinite(t)

@@ -20,6 +20,7 @@ import numpy as np
 
 from . import _core
 from ._arrays import as_real
+from ._checks import short
 from .bspline import knots_from_spacing
 from .se3 import PoseCurveSpline, _pose_args
 
@@ -78,7 +79,7 @@ class PoseBSpline(PoseCurveSpline):
         if isinstance(order, bool) or not isinstance(order, (int, np.integer)):
             raise TypeError(f"order: expected an int, got {type(order).__name__}")
         if not 2 <= order <= 12:
-            raise ValueError(f"order: expected 2 ≤ order ≤ 12, got {order}")
+            raise ValueError(f"order: expected 2 ≤ order ≤ 12, got {short(order)}")
         q, p = _pose_args(control_quats, control_positions, "control_quats")
         n, k = len(q), int(order)
         if knots is not None:

@@ -27,12 +27,15 @@ The documentation's mathematics pages give every formula, with references and er
 
 from __future__ import annotations
 
+import math
+import numbers
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _core
 from ._arrays import as_real, as_times, with_width
-from ._checks import choice, integer, real
+from ._checks import choice, integer, real, short
 
 __all__ = [
     "BetaSpline",
@@ -63,6 +66,29 @@ _ORDER_HINT = (
     "s.derivative(t, {order})"
 )
 _EXTRAPOLATE = ("raise", "clamp", "linear", "periodic")
+
+
+#: Samples a :meth:`Spline.sample` call produces at most unless told otherwise (also the
+#: default of :func:`quatspline.ops.sample_times` and the commands).
+DEFAULT_MAX_SAMPLES = 10_000_000
+
+
+def _domain(domain) -> tuple[float, float]:
+    """``domain`` as (t0, t1): a pair of real numbers (TypeError otherwise), finite with
+    t0 < t1 (ValueError otherwise)."""
+    kinds = (numbers.Real, np.integer, np.floating)
+    if isinstance(domain, (str, bytes)) or not hasattr(domain, "__len__") or len(domain) != 2:
+        raise TypeError(
+            f"domain: expected a pair (t0, t1) of real numbers, got {type(domain).__name__} "
+            f"{short(domain) if isinstance(domain, kinds) else ''}".rstrip()
+        )
+    if any(isinstance(v, (bool, np.bool_)) or not isinstance(v, kinds) for v in domain):
+        kinds_given = ", ".join(type(v).__name__ for v in domain)
+        raise TypeError(f"domain: expected a pair (t0, t1) of real numbers, got ({kinds_given})")
+    t0, t1 = float(domain[0]), float(domain[1])
+    if not (math.isfinite(t0) and math.isfinite(t1) and t0 < t1):
+        raise ValueError(f"domain: expected finite t0 < t1, got ({short(t0)}, {short(t1)})")
+    return t0, t1
 
 
 def _keys(q, name: str) -> np.ndarray:
@@ -505,7 +531,10 @@ class Spline:
         return self._core.segment_derivatives(segment, x)
 
     def sample(
-        self, n: int | None = None, rate: float | None = None
+        self,
+        n: int | None = None,
+        rate: float | None = None,
+        max_samples: int = DEFAULT_MAX_SAMPLES,
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Evenly spaced samples over the whole domain.
 
@@ -516,6 +545,9 @@ class Spline:
         rate : float, optional
             Samples per time unit, starting at the domain's start. Give exactly one of ``n``
             and ``rate``.
+        max_samples : int, default DEFAULT_MAX_SAMPLES
+            Refuse to produce more samples than this: the count (for ``rate``, from
+            rate × span) is checked before anything is allocated.
 
         Returns
         -------
@@ -525,7 +557,8 @@ class Spline:
         Raises
         ------
         ValueError
-            If neither or both of ``n`` and ``rate`` are given, or either is not positive.
+            If neither or both of ``n`` and ``rate`` are given, either is not positive, or
+            the number of samples would exceed ``max_samples``.
 
         Examples
         --------
@@ -539,12 +572,24 @@ class Spline:
         a, b = self.domain
         if (n is None) == (rate is None):
             raise ValueError("sample: give exactly one of n or rate")
+        max_samples = integer(max_samples, "max_samples", lo=1)
         if n is not None:
             n = integer(n, "n", lo=1)
+            if n > max_samples:
+                raise ValueError(
+                    f"n: {short(n)} samples is more than max_samples = {short(max_samples)}"
+                )
             t = np.linspace(a, b, n)
         else:
             rate = real(rate, "rate", positive=True)
-            t = a + np.arange(int(np.floor((b - a) * rate + 1e-9)) + 1) / rate
+            span = (b - a) * rate  # a Python float: nothing allocated yet (inf when huge)
+            count = math.floor(span + 1e-9) + 1 if math.isfinite(span) else math.inf
+            if not count <= max_samples:
+                raise ValueError(
+                    f"rate: {short(rate)} samples per unit over [{short(a)}, {short(b)}] gives "
+                    f"{short(count)} samples, more than max_samples = {short(max_samples)}"
+                )
+            t = a + np.arange(int(count)) / rate
         return t, self(t)
 
 
@@ -775,7 +820,7 @@ class SphericalBezier(Spline):
         extrapolate: str = "raise",
     ):
         q = _keys(control_points, "control_points")
-        d = (float(domain[0]), float(domain[1]))
+        d = _domain(domain)
         super().__init__(_core.spherical_bezier(q, d, bool(canonicalize)), extrapolate)
 
 
@@ -828,7 +873,7 @@ class CumulativeBezier(Spline):
         extrapolate: str = "raise",
     ):
         q = _keys(control_points, "control_points")
-        d = (float(domain[0]), float(domain[1]))
+        d = _domain(domain)
         super().__init__(_core.cumulative_bezier(q, d, bool(canonicalize)), extrapolate)
 
 
@@ -1072,7 +1117,7 @@ class CumulativeBSpline(Spline):
         q = _keys(control_quats, "control_quats")
         order = integer(order, "order")
         if not 2 <= order <= 12:  # the core's rule and message (-1 overflowed its usize before)
-            raise ValueError(f"order: expected 2 ≤ order ≤ 12, got {order}")
+            raise ValueError(f"order: expected 2 ≤ order ≤ 12, got {short(order)}")
         self.hold_intervals: list[tuple[float, float]] = []
         if (ends != "open" or holds) and (knots is not None or np.ndim(dt) != 0):
             raise ValueError(

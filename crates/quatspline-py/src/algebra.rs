@@ -1,5 +1,6 @@
 //! Bindings of the algebra, conversions and two-keyframe interpolation (flat batches).
 
+use crate::arrays::Count;
 use crate::arrays::{all_finite, all_parameters, fill, fill_blocks, same_len, to_py, Rows};
 use numpy::{PyArray2, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
@@ -344,7 +345,8 @@ fn sclerp<'py>(py: Python<'py>, dq0: Arr<'py>, dq1: Arr<'py>, t: Arr<'py>) -> Ou
 
 /// dqs: (N, 8K) rows of K poses; weights: (N, K).
 #[pyfunction]
-fn dlb<'py>(py: Python<'py>, dqs: Arr<'py>, weights: Arr<'py>, k: usize) -> Out<'py> {
+fn dlb<'py>(py: Python<'py>, dqs: Arr<'py>, weights: Arr<'py>, k: Count) -> Out<'py> {
+    let k = k.0;
     let d = Rows::new(&dqs, "dqs", 8 * k)?;
     let w = Rows::new(&weights, "weights", k)?;
     let n = same_len(&[("dqs", d.len()), ("weights", w.len())])?;

@@ -3,7 +3,7 @@
 
 use numpy::ndarray::ArrayView2;
 use numpy::{PyArray2, PyArrayMethods, PyReadonlyArray2};
-use pyo3::exceptions::{PyMemoryError, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyMemoryError, PyOverflowError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use quatspline::{Error, Quat};
 use rayon::prelude::*;
@@ -14,6 +14,46 @@ pub fn to_py(e: Error) -> PyErr {
     match e {
         Error::Internal(_) | Error::NotConverged { .. } => PyRuntimeError::new_err(e.to_string()),
         _ => PyValueError::new_err(e.to_string()),
+    }
+}
+
+/// A non-negative integer argument (an order, a count, a resolution, an index): the one place
+/// where Python integers cross into the core. Any int that fits a `usize` converts; one that
+/// does not (negative, or beyond 2⁶⁴ − 1) is a `ValueError` — never PyO3's `OverflowError` —
+/// with the value shown briefly (`~1e21`, not every digit). A non-integer stays a `TypeError`.
+/// The range each argument accepts is then checked by its function, naming the argument.
+#[derive(Debug, Clone, Copy)]
+pub struct Count(pub usize);
+
+impl<'a, 'py> FromPyObject<'a, 'py> for Count {
+    type Error = PyErr;
+
+    fn extract(obj: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        match obj.extract::<usize>() {
+            Ok(v) => Ok(Count(v)),
+            Err(e) if e.is_instance_of::<PyOverflowError>(obj.py()) => {
+                let digits = obj.str().map(|s| s.to_string()).unwrap_or_default();
+                Err(PyValueError::new_err(format!(
+                    "expected an integer from 0 to {}, got {}",
+                    usize::MAX,
+                    short_int(&digits)
+                )))
+            }
+            Err(e) => Err(e),
+        }
+    }
+}
+
+/// A decimal integer as messages show it: in full up to 15 digits, else `~1eN` (sign kept).
+pub fn short_int(digits: &str) -> String {
+    let (sign, mag) = match digits.strip_prefix('-') {
+        Some(m) => ("-", m),
+        None => ("", digits),
+    };
+    if mag.len() <= 15 {
+        digits.to_string()
+    } else {
+        format!("{sign}~1e{}", mag.len() - 1)
     }
 }
 

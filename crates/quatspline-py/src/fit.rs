@@ -106,9 +106,10 @@ fn min_energy<'py>(
     times: PyReadonlyArray1<'py, f64>,
     quats: PyReadonlyArray2<'py, f64>,
     penalty: &str,
-    resolution: usize,
+    resolution: crate::arrays::Count,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let resolution = resolution.0;
     let t = vec1(&times);
     let q = quats_rows(&quats, "quats")?;
     let pen = Penalty::parse(penalty).map_err(crate::arrays::to_py)?;
@@ -129,7 +130,7 @@ fn min_energy<'py>(
 }
 
 /// Minimum-∫|ω̇|² interpolation: the natural spline times Exp(δ) (`fit/min_energy.rs`);
-/// returns (spline, {energy, energy_natural, iterations}).
+/// returns (spline, {energy, energy_natural, iterations, converged, gradient_norm}).
 #[pyfunction]
 #[pyo3(signature = (quats, times, ends, start_rate, end_rate, resolution, progress=None))]
 #[allow(clippy::too_many_arguments)]
@@ -140,9 +141,10 @@ fn min_energy_spline<'py>(
     ends: &str,
     start_rate: Option<[f64; 3]>,
     end_rate: Option<[f64; 3]>,
-    resolution: usize,
+    resolution: crate::arrays::Count,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<(crate::spline::PySpline, Bound<'py, PyDict>)> {
+    let resolution = resolution.0;
     let q = quats_rows(&quats, "quats")?;
     let t = times.as_ref().map(vec1);
     let ends = match ends {
@@ -164,6 +166,8 @@ fn min_energy_spline<'py>(
     d.set_item("energy", s.energy)?;
     d.set_item("energy_natural", s.energy_natural)?;
     d.set_item("iterations", s.iterations)?;
+    d.set_item("converged", s.converged)?;
+    d.set_item("gradient_norm", s.gradient_norm)?;
     Ok((crate::spline::wrap(Ok(s))?, d))
 }
 

@@ -1,5 +1,6 @@
 //! Bindings of the spline family: constructors and one `Spline` class for all methods.
 
+use crate::arrays::Count;
 use crate::arrays::{guarded, to_py, Rows};
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
@@ -184,9 +185,10 @@ impl PySpline {
         &self,
         py: Python<'py>,
         t: &Bound<'py, PyArray1<f64>>,
-        order: usize,
+        order: Count,
         extrapolate: &str,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let order = order.0;
         if order > 3 {
             return Err(PyValueError::new_err(format!("order: expected 0, 1, 2 or 3, got {order}")));
         }
@@ -226,10 +228,11 @@ impl PySpline {
         &self,
         py: Python<'py>,
         t: PyReadonlyArray1<'py, f64>,
-        order: usize,
+        order: Count,
         extrapolate: &str,
         out: &Bound<'py, PyArray2<f64>>,
     ) -> PyResult<()> {
+        let order = order.0;
         if order > 3 {
             return Err(PyValueError::new_err(format!("order: expected 0, 1, 2 or 3, got {order}")));
         }
@@ -245,8 +248,9 @@ impl PySpline {
         &self,
         py: Python<'py>,
         t: PyReadonlyArray1<'py, f64>,
-        order: usize,
+        order: Count,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let order = order.0;
         let s = Arc::clone(&self.inner);
         let ta = t.as_array();
         let tv = crate::arrays::try_vec(ta.len(), ta.iter().copied(), "t")?;
@@ -267,10 +271,11 @@ impl PySpline {
         &self,
         py: Python<'py>,
         t: &Bound<'py, PyArray1<f64>>,
-        order: usize,
+        order: Count,
         body: bool,
         extrapolate: &str,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let order = order.0;
         if !(1..=3).contains(&order) {
             return Err(PyValueError::new_err(format!("order: expected 1, 2 or 3, got {order}")));
         }
@@ -288,9 +293,10 @@ impl PySpline {
     fn continuity_report(
         &self,
         py: Python<'_>,
-        order: usize,
+        order: Count,
         tol: f64,
     ) -> PyResult<Vec<(usize, f64, Vec<f64>, Vec<f64>, i32, f64, f64, f64, f64)>> {
+        let order = order.0;
         let width = (order + 1).clamp(4, 6);
         let s = Arc::clone(&self.inner);
         let r = guarded(py, "continuity", move || Ok(quatspline::analysis::continuity(&*s, order, tol)))?;
@@ -339,9 +345,10 @@ impl PySpline {
     fn segment_derivatives<'py>(
         &self,
         py: Python<'py>,
-        seg: usize,
+        seg: Count,
         t: f64,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let seg = seg.0;
         if seg >= self.inner.segments() {
             return Err(PyValueError::new_err(format!(
                 "seg: expected < {}, got {seg}",
@@ -498,10 +505,11 @@ fn cumulative_bspline(
     control_quats: PyReadonlyArray2<'_, f64>,
     dt: f64,
     t0: f64,
-    order: usize,
+    order: Count,
     canonicalize: bool,
     closed: bool,
 ) -> PyResult<PySpline> {
+    let order = order.0;
     let q = quats_of(&control_quats, "control_quats")?;
     wrap(sp::CumulativeBSpline::with_closed(&q, dt, t0, order, closed, canonicalize))
 }
@@ -615,7 +623,8 @@ fn c3_spline(
 /// 1
 /// >>> qs.set_num_threads(0)  # back to one per core
 #[pyfunction]
-fn set_num_threads(n: usize) -> PyResult<()> {
+fn set_num_threads(n: Count) -> PyResult<()> {
+    let n = n.0;
     crate::arrays::set_num_threads(n)
 }
 

@@ -2,6 +2,7 @@
 //! B-splines, reparameterised and retimed splines, SE(3) splines. Conversions, shape checks,
 //! GIL release and error mapping only.
 
+use crate::arrays::Count;
 use crate::arrays::{guarded, to_py, Rows};
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
@@ -88,9 +89,10 @@ fn wrap_spline(r: Result<impl sp::Spline + 'static, quatspline::Error>) -> PyRes
 fn nonuniform_bspline(
     control_quats: PyReadonlyArray2<'_, f64>,
     knots: PyReadonlyArray1<'_, f64>,
-    order: usize,
+    order: Count,
     canonicalize: bool,
 ) -> PyResult<PySpline> {
+    let order = order.0;
     let rows = Rows::new(&control_quats, "control_quats", 4)?;
     let q: Vec<Quat> = (0..rows.len()).map(|i| rows.quat(i)).collect();
     wrap_spline(sp::NonUniformBSpline::new(&q, &vec_of(&knots), order, canonicalize))
@@ -114,7 +116,8 @@ fn time_scaled_spline(spline: &PySpline, factor: f64) -> PyResult<PySpline> {
 
 /// (max |ω| or |dω/dt| or |d²ω/dt²|, time where reached) over the domain.
 #[pyfunction]
-fn max_rate(py: Python<'_>, spline: &PySpline, order: usize) -> PyResult<(f64, f64)> {
+fn max_rate(py: Python<'_>, spline: &PySpline, order: Count) -> PyResult<(f64, f64)> {
+    let order = order.0;
     let inner = spline.arc();
     guarded(py, "max_rate", move || sp::max_rate(&*inner, order))
 }
@@ -160,9 +163,10 @@ impl PyPoseCurve {
         &self,
         py: Python<'py>,
         t: PyReadonlyArray1<'py, f64>,
-        order: usize,
+        order: Count,
         extrapolate: &str,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let order = order.0;
         let ex = extrapolate_of(extrapolate)?;
         if order > 3 {
             return Err(PyValueError::new_err(format!("order: expected 0, 1, 2 or 3, got {order}")));
@@ -184,10 +188,11 @@ impl PyPoseCurve {
         &self,
         py: Python<'py>,
         t: PyReadonlyArray1<'py, f64>,
-        order: usize,
+        order: Count,
         body: bool,
         extrapolate: &str,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let order = order.0;
         let ex = extrapolate_of(extrapolate)?;
         let tv = vec_of(&t);
         let s = self.inner.clone();
@@ -233,9 +238,10 @@ fn pose_bspline(
     control_quats: PyReadonlyArray2<'_, f64>,
     positions: PyReadonlyArray2<'_, f64>,
     knots: PyReadonlyArray1<'_, f64>,
-    order: usize,
+    order: Count,
     formulation: &str,
 ) -> PyResult<PyPoseCurve> {
+    let order = order.0;
     let f = match formulation {
         "se3" => se3::PoseFormulation::Se3,
         "split" => se3::PoseFormulation::Split,

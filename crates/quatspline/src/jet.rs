@@ -449,10 +449,11 @@ impl<const N: usize> Mul for JQuat<N> {
     fn mul(self, b: Self) -> Self {
         let a = self;
         JQuat {
+            // grouped as `Quat`'s product: q* q has an exactly zero vector part
             w: a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z,
-            x: a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-            y: a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
-            z: a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w,
+            x: (a.w * b.x + a.x * b.w) + (a.y * b.z - a.z * b.y),
+            y: (a.w * b.y + a.y * b.w) + (a.z * b.x - a.x * b.z),
+            z: (a.w * b.z + a.z * b.w) + (a.x * b.y - a.y * b.x),
         }
     }
 }

@@ -157,8 +157,7 @@ impl Quat {
     pub fn log(self) -> Quat {
         let v = self.vec();
         let s = vec3::norm_robust(v);
-        let n2 = self.norm_squared();
-        let w0 = if (n2 - 1.0).abs() <= 4.0 * f64::EPSILON { 0.0 } else { 0.5 * n2.ln() };
+        let w0 = self.ln_norm();
         if s == 0.0 && self.w < 0.0 {
             return Quat { w: w0, x: std::f64::consts::PI, y: 0.0, z: 0.0 };
         }
@@ -171,6 +170,25 @@ impl Quat {
         }
         let r = atan2_over(s, self.w);
         Quat { w: w0, x: r * v[0], y: r * v[1], z: r * v[2] }
+    }
+
+    /// ln|q|: exactly 0 when |q|² rounds to within 4ε of 1; scaled by the largest component
+    /// first when |q|² would underflow or overflow (|q| below ~1e-154 or above ~1e154), so
+    /// tiny and huge quaternions get their finite logarithm (−inf only for q = 0).
+    #[inline]
+    pub fn ln_norm(self) -> f64 {
+        let n2 = self.norm_squared();
+        if (n2 - 1.0).abs() <= 4.0 * f64::EPSILON {
+            return 0.0;
+        }
+        if n2 >= f64::MIN_POSITIVE && n2.is_finite() {
+            return 0.5 * n2.ln();
+        }
+        let m = self.w.abs().max(self.x.abs()).max(self.y.abs()).max(self.z.abs());
+        if m == 0.0 || !m.is_finite() {
+            return m.ln();
+        }
+        m.ln() + 0.5 * self.scale(1.0 / m).norm_squared().ln()
     }
 
     /// q^t = exp(t log q). For a unit q this rotates by t times the angle of q about its axis
@@ -228,15 +246,18 @@ impl Quat {
 
 impl Mul for Quat {
     type Output = Quat;
-    /// The Hamilton product (MATH.md §1).
+    /// The Hamilton product (MATH.md §1). The vector part is summed as
+    /// (a.w b.v + b.w a.v) + a.v × b.v, each pair rounded on its own, so q* q and q q* have an
+    /// exactly zero vector part (both pairs cancel exactly): the relative rotation of two equal
+    /// keys is exactly the identity, and holds and constant attitudes give exact zeros.
     #[inline]
     fn mul(self, b: Quat) -> Quat {
         let a = self;
         Quat {
             w: a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z,
-            x: a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-            y: a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x,
-            z: a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w,
+            x: (a.w * b.x + a.x * b.w) + (a.y * b.z - a.z * b.y),
+            y: (a.w * b.y + a.y * b.w) + (a.z * b.x - a.x * b.z),
+            z: (a.w * b.z + a.z * b.w) + (a.x * b.y - a.y * b.x),
         }
     }
 }
@@ -298,6 +319,33 @@ mod tests {
         let l = Quat::new(-1.0, 0.0, 0.0, 0.0).log();
         assert_eq!(l, Quat::new(0.0, std::f64::consts::PI, 0.0, 0.0));
         assert!(close(l.exp(), Quat::new(-1.0, 0.0, 0.0, 0.0), 1e-15));
+    }
+
+    #[test]
+    fn relative_rotation_of_equal_keys_is_exactly_the_identity() {
+        let mut seed = 7u64;
+        for _ in 0..1000 {
+            let mut c = [0.0; 4];
+            for v in c.iter_mut() {
+                seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                *v = (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+            }
+            let q = Quat::from_wxyz(c).normalize();
+            for p in [q.conj() * q, q * q.conj(), (-q).conj() * q] {
+                assert_eq!(p.vec(), [0.0; 3], "{q:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn log_of_tiny_and_huge_quaternions_is_finite() {
+        for (scale, want) in
+            [(1e-170, (1e-170f64).ln()), (1e-300, (1e-300f64).ln()), (1e200, (1e200f64).ln())]
+        {
+            let l = Quat::new(0.6 * scale, 0.8 * scale, 0.0, 0.0).log();
+            assert!((l.w - want).abs() <= 1e-13 * want.abs(), "{scale}: {}", l.w);
+            assert!((l.x - 0.8f64.atan2(0.6)).abs() < 1e-15, "{scale}: {}", l.x);
+        }
     }
 
     #[test]

@@ -39,7 +39,7 @@ use super::{Robust, Smoothing};
 use crate::error::{Error, Result};
 use crate::jet::{angular, JQuat, Jet};
 use crate::quat::Quat;
-use crate::spline::{local, segment_jets, NaturalEnds, NaturalSpline, Spline};
+use crate::spline::{local, same_rotation, segment_jets, NaturalEnds, NaturalSpline, Spline};
 use crate::vec3::Vec3;
 
 /// Pieces per key interval and Gauss–Legendre nodes per piece of the energy quadrature.
@@ -58,7 +58,18 @@ pub struct MinEnergySpline {
     pub energy_natural: f64,
     pub energy: f64,
     pub iterations: usize,
+    /// Whether the descent stopped by its criterion (no step lowers the energy, or the last
+    /// lowered it by less than 1e-13 of the natural energy) rather than at the iteration cap;
+    /// either way the spline is the best iterate found (never above the natural spline).
+    pub converged: bool,
+    /// |∂(½E)/∂x| over the free parameters at the returned iterate.
+    pub gradient_norm: f64,
+    /// Per key interval: whether it joins two equal keys (a hold: exactly constant).
+    holds: Vec<bool>,
 }
+
+/// Iteration cap of the Levenberg–Marquardt descent.
+pub const MAX_ITER: usize = 200;
 
 fn quintic_hermite<const N: usize>(s: Jet<N>) -> [Jet<N>; 4] {
     [
@@ -128,6 +139,10 @@ impl MinEnergySpline {
 
     #[inline(always)]
     fn segment<const N: usize>(&self, i: usize, t: f64) -> JQuat<N> {
+        if self.holds[i] {
+            // A hold: δ ≡ 0 there and N is the constant key; return it exactly (zero ω, α, jerk).
+            return JQuat::constant(self.nat.segment::<1>(i, self.nat.joints()[i]).value());
+        }
         let j = self.nat.joints();
         let (a, b) = (j[i], j[i + 1]);
         let s = local::<N>(t, a, b);
@@ -139,7 +154,11 @@ impl MinEnergySpline {
     }
 
     /// Builds the spline: keys, times (default 0 … N−1), end conditions, K = `resolution`
-    /// bubble polynomials per key interval (0 … 16).
+    /// bubble polynomials per key interval (0 … 16). Consecutive equal keys (a hold, see
+    /// [`same_rotation`]) give an exactly constant interval: N pins the rate at both its keys
+    /// (as the natural spline's holds do), and δ's rates there and bubbles inside are held at 0.
+    /// The descent stops after [`MAX_ITER`] iterations at the latest; the result is then the
+    /// best iterate with `converged` false (never an error while a valid curve is at hand).
     pub fn new(
         keys: &[Quat],
         times: Option<&[f64]>,
@@ -153,7 +172,7 @@ impl MinEnergySpline {
                 format!("expected 0 … 16 bubble polynomials per key interval, got {resolution}"),
             ));
         }
-        let nat = NaturalSpline::with_keyframes(keys, times, ends, false, true)?;
+        let nat = NaturalSpline::with_keyframes(keys, times, ends, true, true)?;
         let closed = ends == NaturalEnds::Closed;
         let k = resolution;
         let st = 6 + 3 * k;
@@ -167,6 +186,20 @@ impl MinEnergySpline {
                 fixed[(nkeys - 1) * st + c] = true;
             }
         }
+        // Holds: the keys bounding one keep δ′ = δ″ = 0 and its bubbles stay 0, so δ ≡ 0 on it.
+        let j = nat.joints();
+        let holds: Vec<bool> = (0..segs)
+            .map(|i| {
+                let a = nat.segment::<1>(i, j[i]).value();
+                let b = nat.segment::<1>(i, j[i + 1]).value();
+                same_rotation(a, b)
+            })
+            .collect();
+        for (i, _) in holds.iter().enumerate().filter(|(_, &h)| h) {
+            let next = if closed && i + 1 == segs { 0 } else { i + 1 };
+            fixed[i * st..i * st + st].iter_mut().for_each(|f| *f = true);
+            fixed[next * st..next * st + 6].iter_mut().for_each(|f| *f = true);
+        }
         let mut me = MinEnergySpline {
             nat,
             x: vec![0.0; npar],
@@ -175,6 +208,9 @@ impl MinEnergySpline {
             energy_natural: 0.0,
             energy: 0.0,
             iterations: 0,
+            converged: true,
+            gradient_norm: 0.0,
+            holds,
         };
         let cache = Cache::new(&me);
         let e0 = cache.energy(&me.x);
@@ -183,21 +219,13 @@ impl MinEnergySpline {
         if e0 <= 0.0 || !e0.is_finite() {
             return Ok(me);
         }
-        let max_iter = 200;
         let mut mu = 0.0f64;
         let mut e = e0;
         let mut it = 0;
-        let mut step = f64::INFINITY;
-        loop {
+        let mut converged = false;
+        while it < MAX_ITER {
             it += 1;
-            if it > max_iter {
-                return Err(Error::NotConverged {
-                    what: "MinimumEnergySpline",
-                    iterations: max_iter,
-                    step,
-                    tol: 1e-12,
-                });
-            }
+            let mut step = 0.0;
             let (h, g) = cache.normal_equations(&me.x, &fixed);
             let mut accepted = false;
             for _ in 0..40 {
@@ -229,11 +257,15 @@ impl MinEnergySpline {
             // Converged: no step lowers the energy any more (the finite-difference Jacobian's
             // precision), or the last one lowered it by less than 1e-13 of the natural energy.
             if !accepted || step <= 1e-13 {
+                converged = true;
                 break;
             }
         }
+        let (_, g) = cache.normal_equations(&me.x, &fixed);
+        me.gradient_norm = g.iter().zip(&fixed).filter(|(_, &f)| !f).map(|(v, _)| v * v).sum::<f64>().sqrt();
         me.energy = e;
         me.iterations = it;
+        me.converged = converged;
         Ok(me)
     }
 
@@ -480,7 +512,12 @@ impl Spline for MinEnergySpline {
         true
     }
     fn continuity(&self) -> u8 {
-        2
+        // C¹ at the keys bounding a hold (N's rate is pinned to zero there), C² elsewhere.
+        if self.holds.iter().any(|&h| h) {
+            1
+        } else {
+            2
+        }
     }
     fn closed(&self) -> bool {
         self.closed
@@ -560,6 +597,23 @@ mod tests {
 
     fn so3_exp(v: Vec3) -> Quat {
         super::super::so3::exp(v)
+    }
+
+    #[test]
+    fn a_hold_between_equal_keys_is_exactly_constant() {
+        let (t, mut q) = keys(7);
+        q[3] = q[2];
+        for ends in [NaturalEnds::Natural, NaturalEnds::Rest] {
+            let me = MinEnergySpline::new(&q, Some(&t), ends, 2, &mut |_, _, _| true).unwrap();
+            assert!(me.converged && me.energy <= me.energy_natural, "{ends:?}");
+            assert_eq!(me.continuity(), 1);
+            for k in 1..20 {
+                let tk = t[2] + (t[3] - t[2]) * k as f64 / 20.0;
+                let d = me.segment::<4>(2, tk).derivatives();
+                assert!((d[0].dot(q[2]).abs() - 1.0).abs() <= 4e-16, "{ends:?} at {tk}");
+                assert!(d[1..].iter().all(|x| x.to_wxyz() == [0.0; 4]), "{ends:?} at {tk}");
+            }
+        }
     }
 
     #[test]
