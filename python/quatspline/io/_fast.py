@@ -9,12 +9,14 @@ file:line:column error. Both paths give bit-identical values (tested).
 
 from __future__ import annotations
 
+import mmap
 import os
+import warnings
 
 import numpy as np
 
 from .. import _progress
-from ._common import open_regular
+from ._common import MAX_LINE, open_regular
 
 #: below this size the careful parser is fast enough and pandas' import is not worth it
 MIN_BYTES = 1 << 16
@@ -30,6 +32,8 @@ def table(path, sep: str, ncols: int | None, skip: int = 0, int_first: bool = Fa
         return None  # the caller's careful parser opens it again and names what is wrong
     if len(head) < MIN_BYTES:
         return None
+    if not _lines_within_limit(path):
+        return None  # the careful parser reads at most MAX_LINE of a line and names it
     try:
         import pandas as pd
     except ImportError:
@@ -71,6 +75,30 @@ def table(path, sep: str, ncols: int | None, skip: int = 0, int_first: bool = Fa
     return vals
 
 
+def _lines_within_limit(path) -> bool:
+    """Whether every line of the file is shorter than :data:`MAX_LINE` bytes (so shorter in
+    characters too). pandas' tokenizer holds a whole line and its cells (several times the
+    line's size), so a file with a longer line is left to the careful parser, which refuses it
+    after reading :data:`MAX_LINE` characters. Every aligned block of ``MAX_LINE // 2`` bytes
+    must hold a line end (then no line spans ``MAX_LINE`` bytes); ``find`` on a memory map
+    stops at the first line end of each block, so this costs about one pass over the
+    file's pages."""
+    block = MAX_LINE // 2
+    try:
+        with open_regular(path, "rb") as f:
+            size = os.fstat(f.fileno()).st_size
+            if size < block:
+                return True
+            with mmap.mmap(f.fileno(), 0, access=mmap.ACCESS_READ) as mm:
+                size = len(mm)
+                for start in range(0, size - block + 1, block):
+                    if mm.find(b"\n", start, start + block) < 0:
+                        return False
+    except (OSError, ValueError):
+        return False
+    return True
+
+
 #: From this size on, and only when a progress bar can show (standard error is a terminal),
 #: pandas reads through a byte-counting file handle that drives the bar. Given a path, pandas
 #: parses faster (about 2.5x here, in parallel) but reports no progress; below this size that
@@ -85,9 +113,13 @@ def _read(pd, path, sep: str, top: int):
     try:
         # the open file, not the path: pandas must read what open_regular checked
         with open_regular(path, "rb") as raw:
-            if _progress.on_terminal() and os.fstat(raw.fileno()).st_size >= BAR_BYTES:
-                with _progress.reading(path) as bar:
-                    return pd.read_csv(_progress.counting(raw, bar), **kw)
-            return pd.read_csv(raw, **kw)
+            # a column of mixed types (a bad cell far down) is a DtypeWarning on standard
+            # error; the caller's careful parser names the cell instead
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", pd.errors.DtypeWarning)
+                if _progress.on_terminal() and os.fstat(raw.fileno()).st_size >= BAR_BYTES:
+                    with _progress.reading(path) as bar:
+                        return pd.read_csv(_progress.counting(raw, bar), **kw)
+                return pd.read_csv(raw, **kw)
     except Exception:  # ParserError (ragged rows), EmptyDataError, UnicodeDecodeError, …
         return None

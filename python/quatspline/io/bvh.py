@@ -10,6 +10,7 @@ Frame i is at time i × Frame Time.
 
 from __future__ import annotations
 
+from array import array
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -18,6 +19,7 @@ from .._atomic import atomic_write
 from ._common import (
     Trajectory,
     TrajectoryError,
+    bounded_lines,
     check_for_writing,
     finish,
     open_regular,
@@ -126,7 +128,7 @@ def _translation(joint: Joint, frames: np.ndarray) -> np.ndarray:
 
 def joints_of(path) -> list[str]:
     with open_regular(path, encoding="utf-8-sig") as f:
-        lines = f.read().splitlines()
+        lines = [text.rstrip("\r\n") for text in bounded_lines(f, path)]
     return [j.name for j in _parse_hierarchy(path, lines)[0]]
 
 
@@ -145,7 +147,7 @@ def read(
     if skip_frames < 0:
         raise TrajectoryError(f"{path}: skip_frames must be ≥ 0, got {int(skip_frames)}")
     with open_regular(path, encoding="utf-8-sig") as f:
-        lines = f.read().splitlines()
+        lines = [text.rstrip("\r\n") for text in bounded_lines(f, path)]
     joints, nchan, i = _parse_hierarchy(path, lines)
     if not joints:
         raise TrajectoryError(f"{path}: no joints in HIERARCHY")
@@ -166,7 +168,7 @@ def read(
         raise TrajectoryError(f"{path}:{i + 1}: no frames (Frames: {nframes})")
     if not (dt > 0 and np.isfinite(dt)):
         raise TrajectoryError(f"{path}:{i + 2}: Frame Time must be positive, got {dt}")
-    data = []
+    data = array("d")  # 8 bytes a value, not a Python float each
     for k in range(nframes):
         ln = i + 3 + k
         if ln - 1 >= len(lines):
@@ -174,7 +176,7 @@ def read(
         cells = lines[ln - 1].split()
         if len(cells) != nchan:
             raise TrajectoryError(f"{path}:{ln}: expected {nchan} channel values, got {len(cells)}")
-        data.append([parse_float(path, ln, c + 1, "channel", v) for c, v in enumerate(cells)])
+        data.extend([parse_float(path, ln, c + 1, "channel", v) for c, v in enumerate(cells)])
     frames = np.array(data, dtype=float).reshape(-1, nchan)[skip_frames:]
     if len(frames) == 0:
         raise TrajectoryError(f"{path}: no frames")
