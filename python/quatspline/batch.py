@@ -58,7 +58,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._atomic import atomic_write, file_kind, remove_stale_temporaries
+from ._atomic import atomic_write, file_kind, make_directories, remove_stale_temporaries
 from ._core import __version__
 from .ops import ParameterError
 
@@ -899,7 +899,7 @@ def run(
                     f"{out / n}: exists and was not written by a batch; refusing to overwrite "
                     "it (choose another output directory)"
                 )
-    (out / _STATE_DIR).mkdir(parents=True, exist_ok=True)
+    make_directories(out / _STATE_DIR, f"out_dir: {out}")
     targets = [p for t in tasks for p in (t.output, t.record)]
     for target in [*targets, *(out / n for n in _SUMMARY_FILES)]:
         remove_stale_temporaries(target)
