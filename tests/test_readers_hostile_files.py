@@ -193,3 +193,38 @@ def test_bvh_reader_does_not_hold_the_file_as_a_list_of_lines(tmp_path):
     finally:
         tracemalloc.stop()
     assert peak < size
+
+
+#: (file name, format, content with the odd number, its line)
+ODD_NUMBERS = [
+    ("a.csv", "csv", "t,qw,qx,qy,qz\n0,1,0,0,0\n1_0,1,0,0,0\n", 3),
+    ("b.csv", "csv", "t,qw,qx,qy,qz\n0,1,0,0,0\n\u0661,1,0,0,0\n", 3),
+    ("a.tum", "tum", "0 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 \uff11\n", 2),
+    ("k.txt", "kitti", ROT + "1 0 0 1_0 0 1 0 0 0 0 1 0\n", 2),
+    ("e.csv", "euroc", "#timestamp [ns],x,y,z,w,x,y,z\n0,0,0,0,1,0,0,0\n1_000,0,0,0,1,0,0,0\n", 3),
+    ("r.csv", "repoimu", "Time (s);Vicon Orientation;;;\n;W;X;Y;Z\n0;1;0;0;0\n1;1_0;0;0;0\n", 4),
+    ("b.bvh", "bvh", BVH_HEAD + "0 0 0\n0 1_5 0\n", 15),
+    ("f.bvh", "bvh", BVH_HEAD.replace("Frames: 2", "Frames: 1_0") + "0 0 0\n0 0 0\n", 12),
+]
+
+
+@pytest.mark.parametrize("name, fmt, content, line", ODD_NUMBERS, ids=[c[0] for c in ODD_NUMBERS])
+def test_text_readers_refuse_underscores_and_non_ascii_digits_as_numbers(
+    tmp_path, name, fmt, content, line
+):
+    """Python's float() and int() read `1_0` as 10 and Arabic-Indic or full-width digits
+    as numbers; the careful parsers passed cells to them unchecked, so `1_0` became 10."""
+    p = tmp_path / name
+    p.write_text(content, encoding="utf-8")
+    with pytest.raises(qio.TrajectoryError) as err:
+        qio.read(p, format=fmt)
+    assert str(err.value).startswith(f"{p}:{line}")
+
+
+def test_times_file_refuses_an_underscore_in_a_time(tmp_path):
+    poses = tmp_path / "k.txt"
+    poses.write_text(ROT + ROT)
+    times = tmp_path / "times.txt"
+    times.write_text("0\n1_0\n")
+    with pytest.raises(qio.TrajectoryError, match=r"times.txt:2: column 1 .*not a number"):
+        qio.read(poses, format="kitti", times=times)

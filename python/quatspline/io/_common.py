@@ -296,9 +296,18 @@ def read_line(f, path, line: int) -> str:
     return text
 
 
+def plain_number(text: str) -> str:
+    """``text`` unchanged if it may be a number as files write them; a ``ValueError`` for
+    what Python's ``float``/``int`` accept beyond that: digit-group underscores (``1_0`` is
+    10) and non-ASCII digits (Arabic-Indic ``١٢`` is 12, full-width ``１`` is 1)."""
+    if "_" in text or not text.isascii():
+        raise ValueError(f"not a plain number: {text[:40]!r}")
+    return text
+
+
 def parse_float(path, line: int, col: int, name: str, cell: str) -> float:
     try:
-        return float(cell)
+        return float(plain_number(cell))
     except ValueError:
         raise TrajectoryError(
             f"{path}:{line}: column {col} ({name!r}): not a number: {cell.strip()[:40]!r}"

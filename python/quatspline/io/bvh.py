@@ -24,6 +24,7 @@ from ._common import (
     finish,
     open_regular,
     parse_float,
+    plain_number,
     refuse_extra,
 )
 
@@ -89,7 +90,7 @@ def _parse_hierarchy(path, lines):
             if not joints or in_end_site:
                 raise TrajectoryError(f"{path}:{i}: CHANNELS outside a joint")
             try:
-                n = int(word[1])
+                n = int(plain_number(word[1]))
             except (IndexError, ValueError):
                 raise TrajectoryError(f"{path}:{i}: CHANNELS needs a count") from None
             chans = word[2:]
@@ -159,8 +160,8 @@ def read(
         if nchan == 0:
             raise TrajectoryError(f"{path}: no CHANNELS in HIERARCHY")
         try:
-            nframes = int(next(lines).split(":")[1])
-            dt = float(next(lines).split(":")[1])
+            nframes = int(plain_number(next(lines).split(":")[1]))
+            dt = float(plain_number(next(lines).split(":")[1]))
         except (StopIteration, IndexError, ValueError):
             raise TrajectoryError(
                 f"{path}:{i + 1}: expected 'Frames: N' and 'Frame Time: dt'"

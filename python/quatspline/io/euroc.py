@@ -20,6 +20,7 @@ from ._common import (
     finish,
     open_regular,
     parse_float,
+    plain_number,
     read_line,
     refuse_extra,
 )
@@ -57,7 +58,7 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
                         f"{path}:{line}: expected at least 8 columns, got {len(cells)}"
                     )
                 try:
-                    ns = int(cells[0])
+                    ns = int(plain_number(cells[0]))
                 except ValueError:
                     raise TrajectoryError(
                         f"{path}:{line}: column 1 ('timestamp'): not an integer: "
