@@ -9,7 +9,6 @@ file:line:column error. Both paths give bit-identical values (tested).
 
 from __future__ import annotations
 
-import mmap
 import os
 import warnings
 
@@ -80,23 +79,28 @@ def _lines_within_limit(path) -> bool:
     characters too). pandas' tokenizer holds a whole line and its cells (several times the
     line's size), so a file with a longer line is left to the careful parser, which refuses it
     after reading :data:`MAX_LINE` characters. Every aligned block of ``MAX_LINE // 2`` bytes
-    must hold a line end (then no line spans ``MAX_LINE`` bytes); ``find`` on a memory map
-    stops at the first line end of each block, so this costs about one pass over the
-    file's pages."""
+    must hold a line end (then no line spans ``MAX_LINE`` bytes): one pass over the file in
+    blocks read into one buffer (not a memory map, which a file truncated meanwhile would
+    turn into SIGBUS)."""
     block = MAX_LINE // 2
+    buf = bytearray(block)
+    view = memoryview(buf)
     try:
         with open_regular(path, "rb") as f:
-            size = os.fstat(f.fileno()).st_size
-            if size < block:
-                return True
-            with mmap.mmap(f.fileno(), 0, access=mmap.ACCESS_READ) as mm:
-                size = len(mm)
-                for start in range(0, size - block + 1, block):
-                    if mm.find(b"\n", start, start + block) < 0:
-                        return False
+            while True:
+                n = 0
+                while n < block:  # a whole block (a read may return less)
+                    k = f.readinto(view[n:])
+                    if not k:
+                        break
+                    n += k
+                if n < block:
+                    # the end: the last line started in a block that held a line end
+                    return True
+                if buf.find(b"\n") < 0:
+                    return False
     except (OSError, ValueError):
         return False
-    return True
 
 
 #: From this size on, and only when a progress bar can show (standard error is a terminal),
