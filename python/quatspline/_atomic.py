@@ -62,7 +62,10 @@ def resolve_output(path) -> tuple[Path, os.stat_result | None]:
     target = Path(os.path.realpath(path)) if path.is_symlink() else path
     try:
         st = os.stat(target)
-    except FileNotFoundError:
+    except (FileNotFoundError, NotADirectoryError):
+        why = blocking_component(target.parent)  # a parent that is a file, a FIFO …
+        if why is not None:
+            raise ValueError(f"{path}: {why}") from None
         return target, None
     if not stat.S_ISREG(st.st_mode):
         raise ValueError(
@@ -70,6 +73,43 @@ def resolve_output(path) -> tuple[Path, os.stat_result | None]:
             "written)"
         )
     return target, st
+
+
+def blocking_component(directory) -> str | None:
+    """What keeps ``directory`` from being created: ``"P is a FIFO (named pipe), not a
+    directory"`` for its first existing component P that is not a directory (a regular file,
+    FIFO, socket, device, dangling symbolic link), else None. Creates nothing."""
+    directory = Path(directory)
+    for part in [*reversed(directory.parents), directory]:
+        try:
+            st = os.stat(part)
+        except FileNotFoundError:
+            if os.path.islink(part):
+                return f"{part} is a symbolic link to a missing target"
+            return None
+        except NotADirectoryError:  # pragma: no cover - found at the component before
+            return None
+        except OSError:
+            return None
+        if not stat.S_ISDIR(st.st_mode):
+            kind = "a regular file" if stat.S_ISREG(st.st_mode) else file_kind(st.st_mode)
+            return f"{part} is {kind}, not a directory"
+    return None
+
+
+def make_directories(directory, path=None) -> None:
+    """Creates ``directory`` and its missing parents (``mkdir -p``). A component that exists
+    and is not a directory is a one-line ``ValueError`` naming ``path`` (default:
+    ``directory``) and that component (see :func:`blocking_component`), instead of
+    ``NotADirectoryError: [Errno 20]``."""
+    directory = Path(directory)
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+    except (FileExistsError, NotADirectoryError):
+        why = blocking_component(directory)
+        if why is None:
+            raise
+        raise ValueError(f"{path or directory}: {why}") from None
 
 
 def adopt_mode(tmp, old: os.stat_result | None) -> None:
@@ -221,7 +261,7 @@ def atomic_write(path, mode: str = "w", **kwargs):
     """Yields a file object; on success it replaces ``path`` atomically, on failure the
     temporary file is removed and any existing ``path`` is left untouched."""
     target, old = resolve_output(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
+    make_directories(target.parent, path)
     remove_stale_temporaries(target)
     with sigterm_unwinds():
         holder: list[Path] = []
@@ -368,8 +408,8 @@ def atomic_write_pair(primary, secondary, mode: str = "w", **kwargs):
     second = Path(os.path.realpath(second))
     if first == second:
         raise ValueError(f"{secondary}: is the same file as {primary}; a pair needs two files")
-    for target in (first, second):
-        target.parent.mkdir(parents=True, exist_ok=True)
+    for target, given in ((first, primary), (second, secondary)):
+        make_directories(target.parent, given)
     complete_pair(first)
     remove_stale_temporaries(first)
     remove_stale_temporaries(second)

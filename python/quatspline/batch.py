@@ -58,8 +58,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ._atomic import atomic_write, file_kind, remove_stale_temporaries
+from ._atomic import atomic_write, file_kind, make_directories, remove_stale_temporaries
 from ._core import __version__
+from .io._common import open_regular
 from .ops import ParameterError
 
 __all__ = ["OPERATIONS", "expand_inputs", "local_cluster", "plan", "run", "summarize"]
@@ -715,6 +716,43 @@ _OPERATION_FUNCS = {
 
 
 # ---- the batch --------------------------------------------------------------------------------
+#: Largest scheduler file read (Dask writes a few hundred bytes).
+MAX_SCHEDULER_FILE = 1 << 20
+
+
+def _scheduler_address(scheduler) -> str:
+    """The address to connect to: ``scheduler`` itself, or for a scheduler file (a name
+    ending in ``.json``, or any existing path) its ``"address"``. The file is read through
+    the regular-file check (a FIFO or device is refused, never opened to block) and checked,
+    so that a file that is not Dask's is a one-line ``ValueError`` naming it (Dask raised a
+    bare ``AssertionError`` or ``TypeError``)."""
+    name = str(scheduler)
+    if not (name.endswith(".json") or os.path.lexists(name)):
+        return name
+    try:
+        with open_regular(name, "rb") as f:
+            raw = f.read(MAX_SCHEDULER_FILE + 1)
+    except ValueError as e:
+        raise ValueError(f"scheduler: {e}") from None
+    except OSError as e:
+        raise ValueError(f"scheduler: {name}: cannot read ({e.strerror or e})") from None
+    if len(raw) > MAX_SCHEDULER_FILE:
+        raise ValueError(
+            f"scheduler: {name}: larger than {MAX_SCHEDULER_FILE} bytes; not a Dask scheduler file"
+        )
+    try:
+        doc = json.loads(raw.decode("utf-8"))
+    except (ValueError, RecursionError):
+        raise ValueError(f"scheduler: {name}: not a Dask scheduler file (not JSON)") from None
+    address = doc.get("address") if isinstance(doc, dict) else None
+    if not isinstance(address, str) or not address.strip():
+        raise ValueError(
+            f'scheduler: {name}: not a Dask scheduler file (no "address" string such as '
+            '"tcp://127.0.0.1:8786")'
+        )
+    return address
+
+
 @contextlib.contextmanager
 def _client(
     client=None, scheduler: str | None = None, workers: int | None = None, timeout: float = 10.0
@@ -725,14 +763,14 @@ def _client(
         return
     dd = _need_dask()
     if scheduler:
+        address = _scheduler_address(scheduler)
         try:
-            if str(scheduler).endswith(".json") and Path(scheduler).is_file():
-                c = dd.Client(scheduler_file=str(scheduler), timeout=timeout)
-            else:
-                c = dd.Client(str(scheduler), timeout=timeout)
+            c = dd.Client(address, timeout=timeout)
         except (OSError, TimeoutError) as e:
             raise OSError(
-                f"scheduler: cannot reach {scheduler} within {timeout:g} s ({type(e).__name__})"
+                f"scheduler: cannot reach {address}"
+                + (f" (from {scheduler})" if address != str(scheduler) else "")
+                + f" within {timeout:g} s ({type(e).__name__})"
             ) from None
         with c:
             yield c
@@ -899,7 +937,7 @@ def run(
                     f"{out / n}: exists and was not written by a batch; refusing to overwrite "
                     "it (choose another output directory)"
                 )
-    (out / _STATE_DIR).mkdir(parents=True, exist_ok=True)
+    make_directories(out / _STATE_DIR, f"out_dir: {out}")
     targets = [p for t in tasks for p in (t.output, t.record)]
     for target in [*targets, *(out / n for n in _SUMMARY_FILES)]:
         remove_stale_temporaries(target)

@@ -17,6 +17,11 @@ _LINE_BREAKS = re.compile(r"\s*[\r\n\v\f\x1c-\x1e\x85\u2028\u2029]+\s*")
 #: Longest first line read while guessing a format.
 MAX_SNIFF_LINE = 1 << 16
 
+#: Longest line the text readers accept (characters, line end excluded). A trajectory row is
+#: well under 1 KB; a longer line is refused as soon as this much of it has been read, before
+#: it is split into cells (a 2 GB line of ``0 0 0 …`` would otherwise cost tens of GB).
+MAX_LINE = 1 << 20
+
 
 class TrajectoryError(ValueError):
     """A file that cannot be read as a trajectory; the message names file, line and column.
@@ -262,9 +267,47 @@ def open_regular(path, mode: str = "r", **kwargs):
         raise
 
 
+def bounded_lines(f, path, first_line: int = 1):
+    """The lines of the text file ``f`` (line ends kept), never reading more than
+    :data:`MAX_LINE` characters of one line: a longer line is a one-line
+    :class:`TrajectoryError` naming ``path`` and the line (``first_line`` is the number of the
+    first line ``f`` yields)."""
+    line = first_line
+    while True:
+        text = f.readline(MAX_LINE + 2)
+        if not text:
+            return
+        check_line_length(path, line, text)
+        yield text
+        line += 1
+
+
+def check_line_length(path, line: int, text: str, what: str = "line") -> None:
+    """Refuses ``text``, read with ``readline(MAX_LINE + 2)``, when the line is longer than
+    :data:`MAX_LINE` characters (then ``text`` is only its start)."""
+    if len(text) > MAX_LINE and len(text.rstrip("\r\n")) > MAX_LINE:
+        raise TrajectoryError(f"{path}:{line}: {what} longer than {MAX_LINE} characters")
+
+
+def read_line(f, path, line: int) -> str:
+    """One header line of ``f``, refused like :func:`bounded_lines` when too long."""
+    text = f.readline(MAX_LINE + 2)
+    check_line_length(path, line, text, "header line")
+    return text
+
+
+def plain_number(text: str) -> str:
+    """``text`` unchanged if it may be a number as files write them; a ``ValueError`` for
+    what Python's ``float``/``int`` accept beyond that: digit-group underscores (``1_0`` is
+    10) and non-ASCII digits (Arabic-Indic ``١٢`` is 12, full-width ``１`` is 1)."""
+    if "_" in text or not text.isascii():
+        raise ValueError(f"not a plain number: {text[:40]!r}")
+    return text
+
+
 def parse_float(path, line: int, col: int, name: str, cell: str) -> float:
     try:
-        return float(cell)
+        return float(plain_number(cell))
     except ValueError:
         raise TrajectoryError(
             f"{path}:{line}: column {col} ({name!r}): not a number: {cell.strip()[:40]!r}"

@@ -10,11 +10,12 @@ file:line:column error. Both paths give bit-identical values (tested).
 from __future__ import annotations
 
 import os
+import warnings
 
 import numpy as np
 
 from .. import _progress
-from ._common import open_regular
+from ._common import MAX_LINE, open_regular
 
 #: below this size the careful parser is fast enough and pandas' import is not worth it
 MIN_BYTES = 1 << 16
@@ -30,6 +31,8 @@ def table(path, sep: str, ncols: int | None, skip: int = 0, int_first: bool = Fa
         return None  # the caller's careful parser opens it again and names what is wrong
     if len(head) < MIN_BYTES:
         return None
+    if not _lines_within_limit(path):
+        return None  # the careful parser reads at most MAX_LINE of a line and names it
     try:
         import pandas as pd
     except ImportError:
@@ -71,6 +74,35 @@ def table(path, sep: str, ncols: int | None, skip: int = 0, int_first: bool = Fa
     return vals
 
 
+def _lines_within_limit(path) -> bool:
+    """Whether every line of the file is shorter than :data:`MAX_LINE` bytes (so shorter in
+    characters too). pandas' tokenizer holds a whole line and its cells (several times the
+    line's size), so a file with a longer line is left to the careful parser, which refuses it
+    after reading :data:`MAX_LINE` characters. Every aligned block of ``MAX_LINE // 2`` bytes
+    must hold a line end (then no line spans ``MAX_LINE`` bytes): one pass over the file in
+    blocks read into one buffer (not a memory map, which a file truncated meanwhile would
+    turn into SIGBUS)."""
+    block = MAX_LINE // 2
+    buf = bytearray(block)
+    view = memoryview(buf)
+    try:
+        with open_regular(path, "rb") as f:
+            while True:
+                n = 0
+                while n < block:  # a whole block (a read may return less)
+                    k = f.readinto(view[n:])
+                    if not k:
+                        break
+                    n += k
+                if n < block:
+                    # the end: the last line started in a block that held a line end
+                    return True
+                if buf.find(b"\n") < 0:
+                    return False
+    except (OSError, ValueError):
+        return False
+
+
 #: From this size on, and only when a progress bar can show (standard error is a terminal),
 #: pandas reads through a byte-counting file handle that drives the bar. Given a path, pandas
 #: parses faster (about 2.5x here, in parallel) but reports no progress; below this size that
@@ -85,9 +117,13 @@ def _read(pd, path, sep: str, top: int):
     try:
         # the open file, not the path: pandas must read what open_regular checked
         with open_regular(path, "rb") as raw:
-            if _progress.on_terminal() and os.fstat(raw.fileno()).st_size >= BAR_BYTES:
-                with _progress.reading(path) as bar:
-                    return pd.read_csv(_progress.counting(raw, bar), **kw)
-            return pd.read_csv(raw, **kw)
+            # a column of mixed types (a bad cell far down) is a DtypeWarning on standard
+            # error; the caller's careful parser names the cell instead
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", pd.errors.DtypeWarning)
+                if _progress.on_terminal() and os.fstat(raw.fileno()).st_size >= BAR_BYTES:
+                    with _progress.reading(path) as bar:
+                        return pd.read_csv(_progress.counting(raw, bar), **kw)
+                return pd.read_csv(raw, **kw)
     except Exception:  # ParserError (ragged rows), EmptyDataError, UnicodeDecodeError, …
         return None

@@ -10,6 +10,7 @@ Frame i is at time i × Frame Time.
 
 from __future__ import annotations
 
+from array import array
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -18,10 +19,12 @@ from .._atomic import atomic_write
 from ._common import (
     Trajectory,
     TrajectoryError,
+    bounded_lines,
     check_for_writing,
     finish,
     open_regular,
     parse_float,
+    plain_number,
     refuse_extra,
 )
 
@@ -39,14 +42,16 @@ class Joint:
 
 
 def _parse_hierarchy(path, lines):
+    """The joints, the channel count and the number of the MOTION line, from an iterator of
+    lines (consumed up to MOTION: the file is never held as a list of lines)."""
     joints: list[Joint] = []
     stack: list[int] = []
     nchan = 0
     i = 0
     pending: Joint | None = None
     in_end_site = 0
-    while i < len(lines):
-        s = lines[i].strip()
+    for text in lines:
+        s = text.strip()
         i += 1
         if not s or s == "HIERARCHY":
             continue
@@ -85,7 +90,7 @@ def _parse_hierarchy(path, lines):
             if not joints or in_end_site:
                 raise TrajectoryError(f"{path}:{i}: CHANNELS outside a joint")
             try:
-                n = int(word[1])
+                n = int(plain_number(word[1]))
             except (IndexError, ValueError):
                 raise TrajectoryError(f"{path}:{i}: CHANNELS needs a count") from None
             chans = word[2:]
@@ -126,8 +131,7 @@ def _translation(joint: Joint, frames: np.ndarray) -> np.ndarray:
 
 def joints_of(path) -> list[str]:
     with open_regular(path, encoding="utf-8-sig") as f:
-        lines = f.read().splitlines()
-    return [j.name for j in _parse_hierarchy(path, lines)[0]]
+        return [j.name for j in _parse_hierarchy(path, bounded_lines(f, path))[0]]
 
 
 def read(
@@ -145,36 +149,39 @@ def read(
     if skip_frames < 0:
         raise TrajectoryError(f"{path}: skip_frames must be ≥ 0, got {int(skip_frames)}")
     with open_regular(path, encoding="utf-8-sig") as f:
-        lines = f.read().splitlines()
-    joints, nchan, i = _parse_hierarchy(path, lines)
-    if not joints:
-        raise TrajectoryError(f"{path}: no joints in HIERARCHY")
-    names = [j.name for j in joints]
-    target = 0 if joint is None else (names.index(joint) if joint in names else None)
-    if target is None:
-        raise TrajectoryError(f"{path}: no joint {joint!r}; joints: {', '.join(names)}")
-    if nchan == 0:
-        raise TrajectoryError(f"{path}: no CHANNELS in HIERARCHY")
-    try:
-        nframes = int(lines[i].split(":")[1])
-        dt = float(lines[i + 1].split(":")[1])
-    except (IndexError, ValueError):
-        raise TrajectoryError(
-            f"{path}:{i + 1}: expected 'Frames: N' and 'Frame Time: dt'"
-        ) from None
-    if nframes <= 0:
-        raise TrajectoryError(f"{path}:{i + 1}: no frames (Frames: {nframes})")
-    if not (dt > 0 and np.isfinite(dt)):
-        raise TrajectoryError(f"{path}:{i + 2}: Frame Time must be positive, got {dt}")
-    data = []
-    for k in range(nframes):
-        ln = i + 3 + k
-        if ln - 1 >= len(lines):
-            raise TrajectoryError(f"{path}: truncated: {k} of {nframes} frames")
-        cells = lines[ln - 1].split()
-        if len(cells) != nchan:
-            raise TrajectoryError(f"{path}:{ln}: expected {nchan} channel values, got {len(cells)}")
-        data.append([parse_float(path, ln, c + 1, "channel", v) for c, v in enumerate(cells)])
+        lines = bounded_lines(f, path)  # read as parsed: a frame at a time
+        joints, nchan, i = _parse_hierarchy(path, lines)
+        if not joints:
+            raise TrajectoryError(f"{path}: no joints in HIERARCHY")
+        names = [j.name for j in joints]
+        target = 0 if joint is None else (names.index(joint) if joint in names else None)
+        if target is None:
+            raise TrajectoryError(f"{path}: no joint {joint!r}; joints: {', '.join(names)}")
+        if nchan == 0:
+            raise TrajectoryError(f"{path}: no CHANNELS in HIERARCHY")
+        try:
+            nframes = int(plain_number(next(lines).split(":")[1]))
+            dt = float(plain_number(next(lines).split(":")[1]))
+        except (StopIteration, IndexError, ValueError):
+            raise TrajectoryError(
+                f"{path}:{i + 1}: expected 'Frames: N' and 'Frame Time: dt'"
+            ) from None
+        if nframes <= 0:
+            raise TrajectoryError(f"{path}:{i + 1}: no frames (Frames: {nframes})")
+        if not (dt > 0 and np.isfinite(dt)):
+            raise TrajectoryError(f"{path}:{i + 2}: Frame Time must be positive, got {dt}")
+        data = array("d")  # 8 bytes a value, not a Python float each
+        for k in range(nframes):
+            ln = i + 3 + k
+            text = next(lines, None)
+            if text is None:
+                raise TrajectoryError(f"{path}: truncated: {k} of {nframes} frames")
+            cells = text.split()
+            if len(cells) != nchan:
+                raise TrajectoryError(
+                    f"{path}:{ln}: expected {nchan} channel values, got {len(cells)}"
+                )
+            data.extend([parse_float(path, ln, c + 1, "channel", v) for c, v in enumerate(cells)])
     frames = np.array(data, dtype=float).reshape(-1, nchan)[skip_frames:]
     if len(frames) == 0:
         raise TrajectoryError(f"{path}: no frames")

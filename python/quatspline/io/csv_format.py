@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import csv
 import re
+from array import array
 
 import numpy as np
 
@@ -25,18 +26,19 @@ from . import _fast
 from ._common import (
     Trajectory,
     TrajectoryError,
+    bounded_lines,
     check_for_writing,
     finish,
     fmt,
     open_regular,
     parse_float,
+    read_line,
 )
 
 TIME = ("t", "time", "timestamp", "times", "sec", "seconds")
 QUATS = (("qw", "qx", "qy", "qz"), ("w", "x", "y", "z"), ("q_w", "q_x", "q_y", "q_z"))
 EULER = (("roll", "pitch", "yaw"), ("rx", "ry", "rz"), ("e1", "e2", "e3"), ("a1", "a2", "a3"))
 POSITIONS = (("tx", "ty", "tz"), ("px", "py", "pz"), ("x", "y", "z"))
-MAX_LINE = 1 << 20
 
 
 def _clean(name: str) -> str:
@@ -59,9 +61,7 @@ def read(
     dedupe: bool = False,
 ) -> Trajectory:
     with open_regular(path, encoding="utf-8-sig", newline="") as f:
-        header_line = f.readline()
-        if len(header_line) > MAX_LINE:
-            raise TrajectoryError(f"{path}:1: header line longer than {MAX_LINE} characters")
+        header_line = read_line(f, path, 1)
         if not header_line.strip():
             raise TrajectoryError(f"{path}:1: empty file or empty header")
         delim = max((",", ";", "\t"), key=header_line.count)
@@ -95,9 +95,11 @@ def read(
             out = _from_fast(path, fast, ti, qi, pi, euler, degrees, sort, dedupe)
             if out is not None:
                 return out
-        times, rows, pos, lines = [], [], [], []
+        # 8 bytes a value, not a Python float each (a bad last row is found after the rest)
+        times, rows, pos, lines = array("d"), array("d"), array("d"), array("q")
         with _progress.reading(path) as bar:
-            reader = csv.reader(_progress.lines(f, bar, len(header_line)), delimiter=delim)
+            rows_in = bounded_lines(f, path, first_line=2)
+            reader = csv.reader(_progress.lines(rows_in, bar, len(header_line)), delimiter=delim)
             try:
                 for row in reader:
                     line = reader.line_num + 1
@@ -109,27 +111,30 @@ def read(
                             f"got {len(row)}"
                         )
                     times.append(parse_float(path, line, ti + 1, header[ti], row[ti]))
-                    rows.append([parse_float(path, line, c + 1, header[c], row[c]) for c in qi])
+                    rows.extend([parse_float(path, line, c + 1, header[c], row[c]) for c in qi])
                     if pi is not None:
-                        pos.append([parse_float(path, line, c + 1, header[c], row[c]) for c in pi])
+                        pos.extend([parse_float(path, line, c + 1, header[c], row[c]) for c in pi])
                     lines.append(line)
             except csv.Error as e:
                 raise TrajectoryError(f"{path}:{reader.line_num + 1}: {e}") from None
     if not rows:
         raise TrajectoryError(f"{path}: no data rows")
+    values = np.array(rows, dtype=float).reshape(-1, len(qi))
     if euler is not None:
         from ..convert import from_euler
 
         try:
-            quats = from_euler(euler, np.array(rows), degrees=degrees)
+            quats = from_euler(euler, values, degrees=degrees)
         except ValueError as e:
-            bad = ~np.all(np.isfinite(np.array(rows)), axis=1)
+            bad = ~np.all(np.isfinite(values), axis=1)
             if np.any(bad):
                 raise TrajectoryError(f"{path}:{lines[int(np.argmax(bad))]}: NaN or inf") from None
             raise TrajectoryError(f"{path}: {e}") from None
     else:
-        quats = np.array(rows)
-    return finish(path, times, quats, pos if pi is not None else None, lines, sort, dedupe)
+        quats = values
+    positions = np.array(pos, dtype=float).reshape(-1, 3) if pi is not None else None
+    times = np.array(times, dtype=float)
+    return finish(path, times, quats, positions, np.asarray(lines), sort, dedupe)
 
 
 #: Characters a written column name may not hold (delimiters, quotes, line ends, the unit

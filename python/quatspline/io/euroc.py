@@ -5,6 +5,8 @@ Times are returned in seconds (ns / 1e9) and kept exactly as int64 nanoseconds i
 
 from __future__ import annotations
 
+from array import array
+
 import numpy as np
 
 from .. import _progress
@@ -13,10 +15,13 @@ from . import _fast
 from ._common import (
     Trajectory,
     TrajectoryError,
+    bounded_lines,
     check_for_writing,
     finish,
     open_regular,
     parse_float,
+    plain_number,
+    read_line,
     refuse_extra,
 )
 
@@ -24,9 +29,11 @@ NAMES = ("timestamp", "p_x", "p_y", "p_z", "q_w", "q_x", "q_y", "q_z")
 
 
 def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
-    rows, times, lines, stamps = [], [], [], []
+    # 8 bytes a value, not a Python object each (a bad last row is found after the rest)
+    rows, times, lines, stamps = array("d"), array("d"), array("q"), array("q")
+    exact = True  # every stamp fits int64 and is kept exactly
     with open_regular(path, encoding="utf-8-sig") as f:
-        header = f.readline()
+        header = read_line(f, path, 1)
         if not header.startswith("#"):
             raise TrajectoryError(f"{path}:1: bad header: expected '#timestamp [ns], p_RS_R_x …'")
         fast = _fast.table(path, ",", None, skip=1, int_first=True, min_cols=8)
@@ -39,7 +46,9 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
             except TrajectoryError:
                 pass  # the careful parser below gives the message with the file's line numbers
         with _progress.reading(path) as bar:
-            for line, text in enumerate(_progress.lines(f, bar, len(header)), start=2):
+            for line, text in enumerate(
+                _progress.lines(bounded_lines(f, path, 2), bar, len(header)), start=2
+            ):
                 s = text.strip()
                 if not s:
                     continue
@@ -49,7 +58,7 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
                         f"{path}:{line}: expected at least 8 columns, got {len(cells)}"
                     )
                 try:
-                    ns = int(cells[0])
+                    ns = int(plain_number(cells[0]))
                 except ValueError:
                     raise TrajectoryError(
                         f"{path}:{line}: column 1 ('timestamp'): not an integer: "
@@ -61,17 +70,26 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
                         "out of range (|t| ≤ 1e30 ns)"
                     )
                 times.append(ns * 1e-9)
-                stamps.append(ns)
-                rows.append(
+                if exact and -(2**63) <= ns < 2**63:
+                    stamps.append(ns)
+                else:
+                    exact = False
+                rows.extend(
                     [parse_float(path, line, c + 1, NAMES[c], cells[c]) for c in range(1, 8)]
                 )
                 lines.append(line)
     if not rows:
         raise TrajectoryError(f"{path}: no data rows")
-    a = np.array(rows)
-    exact = all(-(2**63) <= s < 2**63 for s in stamps)  # int64 stamps, kept exactly
+    a = np.array(rows, dtype=float).reshape(-1, 7)
     return finish(
-        path, times, a[:, 3:7], a[:, 0:3], lines, sort, dedupe, stamps_ns=stamps if exact else None
+        path,
+        np.array(times, dtype=float),
+        a[:, 3:7],
+        a[:, 0:3],
+        np.asarray(lines),
+        sort,
+        dedupe,
+        stamps_ns=np.asarray(stamps) if exact else None,
     )
 
 

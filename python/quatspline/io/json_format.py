@@ -27,6 +27,22 @@ def _parse_float(s: str) -> float:
     return x
 
 
+def _numbers(path, key: str, value) -> np.ndarray:
+    """``value`` (numbers in nested lists) as a float array. Anything else where a number
+    belongs — a string such as ``"1"``, ``true``, ``null``, an object — is refused naming the
+    key, rather than converted by numpy (``"1"`` → 1.0, ``true`` → 1.0, ``null`` → NaN)."""
+    stack = [value]
+    while stack:
+        v = stack.pop()
+        if isinstance(v, list):
+            stack.extend(v)
+        elif isinstance(v, bool) or not isinstance(v, (int, float)):
+            kind = {bool: "a boolean", str: "a string", dict: "an object"}.get(type(v), "null")
+            shown = json.dumps(v)[:40] if not isinstance(v, dict) else "{…}"
+            raise TrajectoryError(f'{path}: "{key}" holds {kind} ({shown}) where numbers belong')
+    return np.array(value, dtype=float)
+
+
 def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
     with open_regular(path, encoding="utf-8-sig") as f:
         text = f.read()
@@ -43,9 +59,15 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
     if not isinstance(doc, dict) or "times" not in doc or "quats" not in doc:
         raise TrajectoryError(f'{path}: expected an object with "times" and "quats"')
     try:
-        times = np.array(doc["times"], dtype=float)
-        quats = np.array(doc["quats"], dtype=float)
-        pos = np.array(doc["positions"], dtype=float) if doc.get("positions") is not None else None
+        times = _numbers(path, "times", doc["times"])
+        quats = _numbers(path, "quats", doc["quats"])
+        pos = (
+            _numbers(path, "positions", doc["positions"])
+            if doc.get("positions") is not None
+            else None
+        )
+    except TrajectoryError:
+        raise
     except (TypeError, ValueError, RecursionError) as e:
         raise TrajectoryError(f"{path}: non-numeric or ragged values ({e})") from None
     if times.ndim != 1 or quats.shape != (len(times), 4):

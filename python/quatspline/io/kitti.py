@@ -13,6 +13,7 @@ other than 0, 1, 2, … without a times file, and extra columns."""
 from __future__ import annotations
 
 import os
+from array import array
 from pathlib import Path
 
 import numpy as np
@@ -23,6 +24,7 @@ from . import _fast
 from ._common import (
     Trajectory,
     TrajectoryError,
+    bounded_lines,
     check_for_writing,
     finish,
     fmt,
@@ -59,9 +61,9 @@ def _matrices_to_quats(path, mats: np.ndarray, lines) -> np.ndarray:
 
 def read_times(path) -> np.ndarray:
     """One time per line (``#`` comments and blank lines skipped)."""
-    out = []
+    out = array("d")
     with open_regular(path, encoding="utf-8-sig") as f:
-        for line, text in enumerate(f, start=1):
+        for line, text in enumerate(bounded_lines(f, path), start=1):
             s = text.strip()
             if not s or s.startswith("#"):
                 continue
@@ -69,12 +71,13 @@ def read_times(path) -> np.ndarray:
             if len(cells) != 1:
                 raise TrajectoryError(f"{path}:{line}: expected one time, got {len(cells)} values")
             out.append(parse_float(path, line, 1, "time", cells[0]))
-    return np.array(out)
+    return np.array(out, dtype=float)
 
 
 def parse_rows(path, f, first_line: int = 1):
-    """The careful parser: (values (N, 12), lines)."""
-    rows, lines = [], []
+    """The careful parser: (values (N·12,) as an ``array("d")``, lines): 8 bytes a value, not
+    a Python float each (a file with a bad last row is parsed whole before it is refused)."""
+    rows, lines = array("d"), array("q")
     for line, text in enumerate(f, start=first_line):
         s = text.strip()
         if not s or s.startswith("#"):
@@ -85,7 +88,7 @@ def parse_rows(path, f, first_line: int = 1):
                 f"{path}:{line}: expected 12 values (the 3×4 matrix [R | t] row by row), "
                 f"got {len(cells)}"
             )
-        rows.append([parse_float(path, line, c + 1, NAMES[c], v) for c, v in enumerate(cells)])
+        rows.extend([parse_float(path, line, c + 1, NAMES[c], v) for c, v in enumerate(cells)])
         lines.append(line)
     return rows, lines
 
@@ -103,10 +106,11 @@ def read(path, times=None, sort: bool = False, dedupe: bool = False) -> Trajecto
         except TrajectoryError:
             pass  # the careful parser below gives the message with the file's line numbers
     with open_regular(path, encoding="utf-8-sig") as f, _progress.reading(path) as bar:
-        rows, lines = parse_rows(path, _progress.lines(f, bar))
+        rows, lines = parse_rows(path, _progress.lines(bounded_lines(f, path), bar))
     if not rows:
         raise TrajectoryError(f"{path}: no data rows")
-    return from_rows(path, np.array(rows), np.array(lines), times, sort, dedupe)
+    a = np.array(rows, dtype=float).reshape(-1, 12)
+    return from_rows(path, a, np.asarray(lines), times, sort, dedupe)
 
 
 def from_rows(path, a: np.ndarray, lines, times, sort, dedupe) -> Trajectory:

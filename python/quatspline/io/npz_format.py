@@ -45,9 +45,14 @@ def _read_member(zf: zipfile.ZipFile, name: str, path) -> np.ndarray:
                 f"{path}: array {name!r} has dtype {dtype}; expected real numbers "
                 "(integer or float)"
             )
+        if not all(isinstance(d, int) and d >= 0 for d in shape):
+            raise TrajectoryError(
+                f"{path}: array {name!r} declares shape {tuple(shape)}; dimensions must be "
+                "integers ≥ 0"
+            )
         count = 1
         for d in shape:
-            count *= int(d)  # Python integers: no overflow
+            count *= d  # Python integers: no overflow
         declared = count * dtype.itemsize
         if declared > MAX_ARRAY_BYTES:
             raise TrajectoryError(

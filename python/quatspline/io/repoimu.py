@@ -4,16 +4,20 @@ reference orientation are read."""
 
 from __future__ import annotations
 
+from array import array
+
 import numpy as np
 
 from .. import _progress
 from ._common import (
     Trajectory,
     TrajectoryError,
+    bounded_lines,
     check_for_writing,
     finish,
     open_regular,
     parse_float,
+    read_line,
     refuse_extra,
 )
 
@@ -21,15 +25,17 @@ NAMES = ("time", "W", "X", "Y", "Z")
 
 
 def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
-    rows, lines = [], []
+    rows, lines = array("d"), array("q")  # 8 bytes a value, not a Python float each
     with open_regular(path, encoding="utf-8-sig") as f:
-        first = f.readline()
+        first = read_line(f, path, 1)
         if not first.startswith("Time (s);Vicon Orientation"):
             raise TrajectoryError(f"{path}:1: bad header: not a RepoIMU file")
-        second = f.readline()
+        second = read_line(f, path, 2)
         with _progress.reading(path) as bar:
             header = len(first) + len(second)
-            for line, text in enumerate(_progress.lines(f, bar, header), start=3):
+            for line, text in enumerate(
+                _progress.lines(bounded_lines(f, path, 3), bar, header), start=3
+            ):
                 s = text.strip()
                 if not s:
                     continue
@@ -38,11 +44,11 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
                     raise TrajectoryError(
                         f"{path}:{line}: expected at least 5 columns, got {len(cells)}"
                     )
-                rows.append([parse_float(path, line, c + 1, NAMES[c], cells[c]) for c in range(5)])
+                rows.extend([parse_float(path, line, c + 1, NAMES[c], cells[c]) for c in range(5)])
                 lines.append(line)
     if not rows:
         raise TrajectoryError(f"{path}: no data rows")
-    a = np.array(rows)
+    a = np.array(rows, dtype=float).reshape(-1, 5)
     return finish(path, a[:, 0], a[:, 1:5], None, lines, sort, dedupe)
 
 

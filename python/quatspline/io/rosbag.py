@@ -49,6 +49,7 @@ import numpy as np
 from .._atomic import (
     adopt_mode,
     lock_descriptor,
+    make_directories,
     remove_stale_temporaries,
     resolve_output,
     sigterm_unwinds,
@@ -387,7 +388,7 @@ def write(
         if os.path.lexists(target):
             old_files = proven_bag_files(path, target)
             old = os.stat(target)
-    target.parent.mkdir(parents=True, exist_ok=True)
+    make_directories(target.parent, path)
     if as_file:
         remove_stale_temporaries(target, suffixes=(".bagtmp",), remove=_remove_work_dir)
     with sigterm_unwinds():

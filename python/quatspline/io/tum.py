@@ -3,6 +3,8 @@ whitespace separated, ``#`` comment lines."""
 
 from __future__ import annotations
 
+from array import array
+
 import numpy as np
 
 from .. import _progress
@@ -11,6 +13,7 @@ from . import _fast
 from ._common import (
     Trajectory,
     TrajectoryError,
+    bounded_lines,
     check_for_writing,
     finish,
     fmt,
@@ -29,9 +32,9 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
             return finish(path, fast[:, 0], fast[:, [7, 4, 5, 6]], fast[:, 1:4], None, sort, dedupe)
         except TrajectoryError:
             pass  # the careful parser below gives the message with the file's line numbers
-    rows, lines = [], []
+    rows, lines = array("d"), array("q")  # 8 bytes a value, not a Python float each
     with open_regular(path, encoding="utf-8-sig") as f, _progress.reading(path) as bar:
-        for line, text in enumerate(_progress.lines(f, bar), start=1):
+        for line, text in enumerate(_progress.lines(bounded_lines(f, path), bar), start=1):
             s = text.strip()
             if not s or s.startswith("#"):
                 continue
@@ -41,11 +44,11 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
                     f"{path}:{line}: expected 8 columns (timestamp tx ty tz qx qy qz qw), "
                     f"got {len(cells)}"
                 )
-            rows.append([parse_float(path, line, c + 1, NAMES[c], v) for c, v in enumerate(cells)])
+            rows.extend([parse_float(path, line, c + 1, NAMES[c], v) for c, v in enumerate(cells)])
             lines.append(line)
     if not rows:
         raise TrajectoryError(f"{path}: no data rows")
-    a = np.array(rows)
+    a = np.array(rows, dtype=float).reshape(-1, 8)
     quats = a[:, [7, 4, 5, 6]]
     return finish(path, a[:, 0], quats, a[:, 1:4], lines, sort, dedupe)
 
