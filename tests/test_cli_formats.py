@@ -82,8 +82,8 @@ def test_sample_at_outside_names_the_first_time(tmp_path, capsys):
     out = tmp_path / "x.tum"
     assert main(["sample", str(src), "--at", str(tmp_path / "gt.tum"), "-o", str(out)]) == 1
     err = capsys.readouterr().err
-    assert "times[0] = 1305031107.0 is after the trajectory's last time" in err
-    assert "(all of them are outside)" in err
+    # the wording of every sampling route (ops.sample_trajectory), --at and --count alike
+    assert "times[0] = 1305031107.0 is outside the recording's time range" in err
     assert not out.exists()
     argv = ["sample", str(src), "--at", str(tmp_path / "gt.tum"), "-o", str(out)]
     assert main([*argv, "--extrapolate", "clamp"]) == 0
@@ -133,3 +133,62 @@ def test_plot_rates_with_jerk_and_title_from_the_file(tmp_path, monkeypatch, cap
     assert main(["plot", str(src), "-o", str(out), "--kind", "body", "--force"]) == 0
     assert figs[-1].axes[0].get_xlabel() == "x (m)"
     assert figs[-1].axes[0].get_title().startswith("est.tum: ")
+
+
+@pytest.mark.parametrize("link", ["same", "symlink", "hardlink"])
+def test_commands_refuse_to_overwrite_their_auxiliary_input_files(tmp_path, capsys, link):
+    """The output of sample/fit may not be the KITTI --times file, the --at file or the --knots
+    file (by any name), as it may not be the input: each is refused (exit 2) and unchanged."""
+    tr, src = est(tmp_path)
+    kitti, times = tmp_path / "00.txt", tmp_path / "times.txt"
+    qio.write(kitti, tr, format="kitti", times_path=times)
+    at = tmp_path / "at.txt"
+    at.write_text("".join(f"{float(t)!r}\n" for t in tr.times[5:50:5]))
+    knots = tmp_path / "knots.txt"
+    knots.write_text("".join(f"{float(t)!r}\n" for t in np.linspace(tr.times[0], tr.times[-1], 9)))
+
+    def named(path):
+        if link == "same":
+            return path
+        other = tmp_path / f"other-{path.name}"
+        other.unlink(missing_ok=True)
+        (other.symlink_to if link == "symlink" else other.hardlink_to)(path)
+        return other
+
+    cases = [
+        (["sample", str(kitti), "--times", str(times), "--count", "5", "--format", "kitti"], times),
+        (["sample", str(src), "--at", str(at), "--format", "tum"], at),
+        (["fit", str(src), "--at", str(at), "--format", "tum"], at),
+        (["fit", str(src), "--knots", str(knots), "--count", "5", "--format", "tum"], knots),
+    ]
+    for argv, victim in cases:
+        before = victim.read_bytes()
+        capsys.readouterr()
+        assert main([*argv, "-o", str(named(victim))]) == 2, argv
+        err = capsys.readouterr().err
+        assert "refusing to overwrite the --" in err and err.count("\n") == 1, err
+        assert victim.read_bytes() == before, argv
+
+
+def test_sample_at_honours_max_samples_and_derivatives(tmp_path, capsys):
+    """``sample --at`` goes through the same route as ``--count``: the ω/α/jerk columns with
+    ``--derivatives`` and the ``--max-samples`` bound (both were ignored with ``--at``)."""
+    tr, src = est(tmp_path)
+    at = tmp_path / "at.txt"
+    at.write_text("".join(f"{float(t)!r}\n" for t in tr.times[3:20]))
+    out = tmp_path / "s.csv"
+    argv = ["sample", str(src), "--at", str(at), "-o", str(out)]
+    assert main([*argv, "--derivatives"]) == 0
+    header = out.read_text().splitlines()[0].split(",")
+    assert len(qio.read(out)) == 17 and {"omega_x", "alpha_y", "jerk_z"} <= set(header)
+    by_count = tmp_path / "c.csv"
+    assert main(["sample", str(src), "--count", "17", "--derivatives", "-o", str(by_count)]) == 0
+    assert by_count.read_text().splitlines()[0].split(",") == header
+    out.unlink()
+    assert main([*argv, "--max-samples", "3"]) == 2  # a bad option value, as with --count
+    err = capsys.readouterr().err
+    assert "max" in err and err.count("\n") == 1 and not out.exists()
+    # a one-line file of three numbers is not three times
+    at.write_text(" ".join(f"{float(t)!r}" for t in tr.times[3:6]) + "\n")
+    assert main(argv) == 1
+    assert not out.exists()

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import warnings
 from pathlib import Path
@@ -17,6 +18,7 @@ import numpy as np
 
 from . import __version__, ops
 from . import io as qio
+from .io.kitti import read_times
 from .registry import METHODS, interpolating_methods
 
 
@@ -52,16 +54,13 @@ def _params(pairs: list[str] | None, method: str | None = None) -> dict:
 
 
 def _times_file(path: Path, option: str, one: str = "time") -> np.ndarray:
-    """One number per line (``#`` comments) from ``path``; an unreadable or empty file is a
-    one-line error naming the option and the file (numpy's own warning is not shown)."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # an empty file is reported below, in one line
-        try:
-            t = np.loadtxt(path, ndmin=1, comments="#")
-        except (OSError, ValueError) as e:
-            raise ValueError(f"{option} {path}: cannot read {one}s ({e})") from None
-    if t.ndim != 1:
-        raise ValueError(f"{option} {path}: expected one {one} per line, got {t.shape[1]} columns")
+    """One number per line (``#`` comments) from ``path``, read as the KITTI times reader
+    reads (a regular file, bounded lines); an unreadable or empty file is a one-line error
+    naming the option and the file."""
+    try:
+        t = read_times(path)
+    except ValueError as e:
+        raise ValueError(f"{option}: {e}") from None
     if t.size == 0:
         raise ValueError(f"{option} {path}: the file holds no {one}s")
     return t
@@ -123,76 +122,76 @@ def _write_trajectory(args, traj: qio.Trajectory) -> None:
 
 
 def _times_of(path: str) -> np.ndarray:
-    """The times of any trajectory file, or of a one-column file of times."""
+    """The times of any trajectory file, or of a one-column file of times (``--at``)."""
     p = Path(path)
     try:
         return qio.read(p).times
     except ValueError as first:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # an empty file is reported below, in one line
-            try:
-                t = np.loadtxt(p, ndmin=1, comments="#")
-            except (OSError, ValueError):
-                raise ValueError(
-                    f"--at: {first} (and not a one-column file of times either)"
-                ) from None
-        if t.ndim != 1:
-            raise ValueError(f"--at: {p}: expected a trajectory or one time per line") from None
-        if t.size == 0:
-            raise ValueError(f"--at: {p}: the file holds no times") from None
-        return t
+        try:
+            t = read_times(p)
+        except ValueError:
+            raise ValueError(f"--at: {first} (and not a one-column file of times either)") from None
+    if t.size == 0:
+        raise ValueError(f"--at {p}: the file holds no times")
+    return t
 
 
-def _guard_output(out: Path, inputs: list[Path], force: bool) -> None:
-    if str(out) == "-":
+def _input_files(args) -> list[tuple[str, Path]]:
+    """Every file the command reads, with the argument that names it: the input and the
+    auxiliary files (a KITTI ``--times`` file, ``--at`` times, ``--knots`` FILE)."""
+    files = [("the input file", Path(args.input))]
+    for opt in ("times", "at", "knots"):
+        value = getattr(args, opt, None)
+        if value is None or (opt == "knots" and _is_number(value)):
+            continue
+        files.append((f"the --{opt} file", Path(value)))
+    return files
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _guard_output(out: Path, args) -> None:
+    """Refuses an output that is one of the files the command reads (the same file by any
+    name: a symbolic or a hard link), unless ``--force``."""
+    if str(out) == "-" or args.force or not out.exists():
         return
-    for i in inputs:
-        if out.exists() and i.exists() and out.resolve() == i.resolve() and not force:
-            raise UsageError(f"{out}: refusing to overwrite the input file (use --force)")
+    for what, path in _input_files(args):
+        try:
+            same = os.path.samefile(out, path)
+        except OSError:  # the input does not exist (its reader says so)
+            continue
+        if same:
+            raise UsageError(f"{out}: refusing to overwrite {what} {path} (use --force)")
 
 
 # ---- sample ---------------------------------------------------------------------------------
 def cmd_sample(args) -> int:
     _check_output(args)
-    _guard_output(Path(args.output), [Path(args.input)], args.force)
+    _guard_output(Path(args.output), args)
     traj = _read(args)
-    if args.at is not None:
-        at = Path(args.at)
-        from .io._common import check_regular_input
-
-        check_regular_input(at)
-        from .resampling import resample
-
-        try:
-            out = resample(
-                traj, _times_of(args.at), method=args.method, extrapolate=args.extrapolate,
-                **_params(args.param, args.method),
-            )  # fmt: skip
-        except ValueError as e:
-            if str(e).startswith("extrapolate"):
-                raise UsageError(f"--{e}") from None
-            raise ValueError(f"--at {args.at}: {e}") from None
-        _write_trajectory(args, out)
-        if args.output != "-":
-            print(
-                f"wrote {args.output}: {len(out)} samples of {args.method} at the times of "
-                f"{args.at}"
-            )
-        return 0
+    times = None if args.at is None else _times_of(args.at)
     out = ops.sample_trajectory(
         traj,
         args.method,
         rate=args.rate,
         count=args.count,
+        times=times,
         params=_params(args.param, args.method),
         derivatives=args.derivatives,
         max_samples=args.max_samples,
         extrapolate=args.extrapolate,
     )
     _write_trajectory(args, out)
+    at = "" if args.at is None else f" at the times of {args.at}"
     print(
         f"wrote {'standard output' if args.output == '-' else args.output}: {len(out)} samples "
-        f"of {args.method} through {len(traj)} keys",
+        f"of {args.method} through {len(traj)} keys{at}",
         file=sys.stderr if args.output == "-" else sys.stdout,
     )
     return 0
@@ -201,9 +200,6 @@ def cmd_sample(args) -> int:
 # ---- fit ------------------------------------------------------------------------------------
 def _knot_file(path: Path) -> np.ndarray:
     """Knot times from a text file (one per line, ``#`` comments), on the recording's clock."""
-    from .io._common import check_regular_input
-
-    check_regular_input(path)
     return _times_file(path, "--knots", "knot time")
 
 
@@ -213,15 +209,11 @@ def cmd_fit(args) -> int:
     from .fit import fit_trajectory
 
     _check_output(args)
-    _guard_output(Path(args.output), [Path(args.input)], args.force)
+    _guard_output(Path(args.output), args)
     traj = _read(args)
     times = None
     if args.at is not None:
-        at = Path(args.at)
-        from .io._common import check_regular_input
-
-        check_regular_input(at)
-        times = _times_file(at, "--at")
+        times = _times_of(args.at)
     knots = None
     if args.knots is not None:
         try:
@@ -290,7 +282,7 @@ def cmd_plot(args) -> int:
     if Path(args.output).suffix.lower() not in (".png", ".svg", ".pdf"):
         raise UsageError(f"{args.output}: expected a .png, .svg or .pdf output")
     resolve_output(args.output)
-    _guard_output(Path(args.output), [Path(args.input)], args.force)
+    _guard_output(Path(args.output), args)
 
     traj = _read(args)
     kt = traj.times - traj.times[0]
@@ -317,7 +309,7 @@ def cmd_plot(args) -> int:
 
                 pos = PoseSpline(traj.quats, kt, traj.positions, rotation="slerp").position
             fig = plot.body(s, positions=pos, name=name)
-    _guard_output(Path(args.output), [Path(args.input)], args.force)
+    _guard_output(Path(args.output), args)
     plot.save(fig, args.output)
     print(f"wrote {args.output}")
     return 0
@@ -334,7 +326,7 @@ def cmd_export(args) -> int:
     except (TypeError, ValueError) as e:
         raise UsageError(str(e)) from None
     out = Path(args.output)
-    _guard_output(out, [Path(args.input)], args.force)
+    _guard_output(out, args)
     if out.suffix.lower() == ".bvh":
         from .resampling import resample
 
