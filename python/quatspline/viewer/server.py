@@ -464,7 +464,11 @@ def create_app(path: Path | None = None, token: str | None = None, port: int = 0
             or request.headers.get("x-quatspline-token")
             or request.cookies.get("quatspline_token")
         )
-        return bool(given) and secrets.compare_digest(str(given), token)
+        if not given:
+            return False
+        # bytes: compare_digest refuses str with non-ASCII characters (a TypeError, a 500)
+        raw = str(given).encode("utf-8", "surrogateescape")
+        return secrets.compare_digest(raw, token.encode("utf-8", "surrogateescape"))
 
     def _bad(status: int, msg: str) -> Response:
         return PlainTextResponse(msg + "\n", status_code=status)
@@ -580,7 +584,9 @@ def create_app(path: Path | None = None, token: str | None = None, port: int = 0
             origin = request.headers.get("origin")
             if not _host_ok(request.headers.get("host")):
                 resp = _bad(403, "forbidden: unknown host")
-            elif origin is not None and not _host_ok(origin.split("://", 1)[-1]):
+            elif origin is not None and not (
+                origin.startswith("http://") and _host_ok(origin[len("http://") :])
+            ):
                 resp = _bad(403, "forbidden: cross-origin request")
             elif not _authorised(request):
                 resp = _bad(403, "forbidden: missing or wrong token")
