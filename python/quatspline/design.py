@@ -16,8 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import _checks
-from . import _core
+from . import _checks, _core
 from . import io as qio
 from ._arrays import as_real, as_times
 from .algebra import normalize
