@@ -118,6 +118,9 @@ def test_a_design_accepts_every_kind_of_parameter_the_page_sends():
 
 
 def test_a_design_never_reads_a_file_named_in_its_parameters(tmp_path):
+    hermite = next(m for m in design.method_specs() if m["name"] == "hermite")
+    rates = next(p for p in hermite["params"] if p["name"] == "rates")
+    assert rates["choices"] == ["bessel", "zero"]  # the page offers no file name field
     rates = tmp_path / "rates.txt"
     rates.write_text("0 0 0\n0 0 1\n0 0 0\n")
     for name in (str(rates), "/dev/zero"):
@@ -911,3 +914,33 @@ def test_an_origin_of_another_scheme_is_403(server):
     tok = {"X-Quatspline-Token": server.token}
     for origin in (f"https://127.0.0.1:{server.port}", f"ws://127.0.0.1:{server.port}"):
         assert server.request("GET", "/api/state", headers={**tok, "Origin": origin})[0] == 403
+
+
+def test_the_viewer_serves_the_interface_it_was_asked_to_listen_on():
+    from quatspline.viewer.server import _free_port
+
+    host = "127.0.0.2"  # another loopback address: serve(host=…) is documented
+    port = _free_port(host)
+    code = (
+        "import sys; from quatspline.viewer import serve; "
+        f"serve(host={host!r}, port={port}, open_browser=False)"
+    )
+    with subprocess.Popen(
+        [sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True
+    ) as proc:
+        try:
+            line = proc.stdout.readline()
+            assert line.startswith(f"quatspline view: http://{host}:{port}/?token="), line
+            token = line.split("token=", 1)[1].split()[0]
+            c = http.client.HTTPConnection(host, port, timeout=30)
+            c.request("GET", f"/?token={token}")  # Host: 127.0.0.2:PORT, as a browser sends
+            r = c.getresponse()
+            assert r.status == 200 and b"quatspline view" in r.read()
+            c.request("GET", f"/?token={token}", headers={"Host": f"evil.example:{port}"})
+            r = c.getresponse()
+            r.read()
+            assert r.status == 403
+            c.close()
+        finally:
+            proc.terminate()
+            proc.wait(timeout=20)

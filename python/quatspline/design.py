@@ -102,7 +102,11 @@ def method_specs() -> list[dict]:
                     "kind": kind,
                     "default": default,
                     "help": p.help,
-                    "choices": _choices(p.help) if kind == "str" else None,
+                    # Hermite rates: the page offers the estimates only (a design reads no
+                    # files; arrays come from the Python API)
+                    "choices": ["bessel", "zero"]
+                    if p.type is rates_spec
+                    else (_choices(p.help) if kind == "str" else None),
                 }
             )
         out.append(
