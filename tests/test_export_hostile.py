@@ -99,3 +99,9 @@ def test_bvh_export_joint_of_the_wrong_kind_is_a_type_error(tmp_path):
     with pytest.raises(TypeError, match=r"^joint: expected a string, got int"):
         to_bvh(qio.Trajectory(np.arange(6.0), q), tmp_path / "a.bvh", joint=5)
     assert not (tmp_path / "a.bvh").exists()
+
+
+@pytest.mark.parametrize("path", [None, 5, b"a.glb"])
+def test_gltf_export_path_of_the_wrong_kind_is_a_type_error_naming_it(path):
+    with pytest.raises(TypeError, match=r"^path: expected a file path"):
+        to_gltf(_spline(), path, progress=False)

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import base64
 import json
+import os
 import re
 import struct
 from dataclasses import dataclass
@@ -659,6 +660,8 @@ def to_gltf(
     for flag_name, flag_value in (("uniform", uniform), ("progress", progress)):
         if not isinstance(flag_value, (bool, np.bool_)):
             raise TypeError(f"{flag_name}: expected True or False, got {type(flag_value).__name__}")
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path: expected a file path, got {type(path).__name__}")
     path = Path(path)
     if path.suffix.lower() not in (".glb", ".gltf"):
         raise ValueError(f"{path}: expected a .glb or .gltf output")
