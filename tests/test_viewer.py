@@ -142,7 +142,8 @@ def test_hermite_rates_from_a_fifo_or_a_device_are_refused_not_read(tmp_path):
     ("quats", "times", "error", "match"),
     [
         (KEYS3, ["0", "1", "2"], TypeError, "times: expected real numbers"),
-        (KEYS3, None, TypeError, "times: expected real numbers"),
+        (KEYS3, None, TypeError, r"times: missing \(expected N increasing numbers\)"),
+        (None, [0, 1, 2], TypeError, r"quats: missing \(expected an \(N, 4\) array"),
         ([[1, 0, 0, 0], [0, 0, 0, 1], [0, 1, 0, "a"]], [0, 1, 2], TypeError, "quats: expected"),
         ([[1, 0, 0, 0], [0, 0, 0, 1], [0, 1, 0, {}]], [0, 1, 2], TypeError, "quats: expected"),
         ([[1, 0, 0, 0], [0, 0, 0, 1], [1, 2]], [0, 1, 2], ValueError, "quats: not an array"),

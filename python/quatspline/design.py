@@ -125,6 +125,10 @@ def _check_keys(quats, times) -> tuple[np.ndarray, np.ndarray]:
     """Keys and times as float arrays: real numbers of the right shapes (a ``TypeError`` for
     strings or objects, a ``ValueError`` naming the first bad element), finite, non-zero keys
     (returned normalised), strictly increasing times in the core's range."""
+    if quats is None:
+        raise TypeError("quats: missing (expected an (N, 4) array of numbers)")
+    if times is None:
+        raise TypeError("times: missing (expected N increasing numbers)")
     q = as_real(quats, "quats")
     t = as_times(times, "times")
     if q.ndim != 2 or q.shape[1] != 4:
