@@ -168,18 +168,19 @@ def _param_value(method: str, name: str, value):
     if conv in (float, float_or_none):
         return _checks.real(value, label)
     if conv in (float_or_auto, smoothing_spec):
-        if isinstance(value, (bool, np.bool_)) or not isinstance(value, (str, int, float)):
-            if not isinstance(value, (np.integer, np.floating)):
-                raise TypeError(f"{label}: expected a number or 'auto', got {type(value).__name__}")
         if isinstance(value, str):
             if value.strip().lower() == "auto":
                 return "auto"
             if conv is float_or_auto:
                 raise TypeError(f"{label}: expected a number or 'auto', got str {value!r}")
-            try:
+            try:  # fit's λ: the page sends what was typed
                 value = float(value)
             except ValueError:
                 raise ValueError(f"{label}: expected 'auto' or a number, got {value!r}") from None
+        elif isinstance(value, (bool, np.bool_)) or not isinstance(
+            value, (int, float, np.integer, np.floating)
+        ):
+            raise TypeError(f"{label}: expected a number or 'auto', got {type(value).__name__}")
         return _checks.real(value, label)
     if conv in (int, int_or_none):
         return _checks.integer(value, label, -(2**31), 2**31 - 1)
