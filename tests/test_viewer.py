@@ -6,6 +6,7 @@ import contextlib
 import http.client
 import json
 import os
+import re
 import resource
 import select
 import shutil
@@ -73,6 +74,114 @@ def test_bad_samples_and_parameters():
         design.evaluate("slerp", k, [0, 1], samples=2.5)
     with pytest.raises(ValueError, match="unknown parameter"):
         design.evaluate("slerp", k, [0, 1], {"alpha": 1.0})
+
+
+KEYS3 = [[1, 0, 0, 0], [0, 0, 0, 1], [0, 1, 0, 0]]
+
+
+@pytest.mark.parametrize(
+    ("method", "params", "error", "match"),
+    [
+        ("c3", {"holds": []}, TypeError, "params.holds: expected true or false"),
+        ("c3", {"holds": "maybe"}, TypeError, "params.holds: expected true or false"),
+        ("c3", {"variant": 5}, TypeError, "params.variant: expected a string"),
+        ("c3", {"ends": {}}, TypeError, "params.ends: expected a string"),
+        ("c3", {"alpha": "0.3"}, TypeError, "params.alpha: expected a number or 'auto'"),
+        ("c3", {"alpha": [1]}, TypeError, "params.alpha: expected a number or 'auto'"),
+        ("c3", {"beta": float("nan")}, ValueError, "params.beta: expected a finite number"),
+        ("kochanek_bartels", {"tension": "1"}, TypeError, "params.tension: expected a real"),
+        ("bspline", {"order": "4"}, TypeError, "params.order: expected an integer"),
+        ("min_energy", {"resolution": 4.5}, TypeError, "params.resolution: expected an integer"),
+        ("min_energy", {"resolution": 1e308}, TypeError, "params.resolution: expected an int"),
+        ("min_energy", {"resolution": 2**70}, ValueError, "params.resolution: expected an int"),
+        ("fit", {"smoothing": "x"}, ValueError, "params.smoothing: expected 'auto' or a num"),
+        ("fit", {"smoothing": True}, TypeError, "params.smoothing: expected a number or 'auto'"),
+        ("fit", {"robust": 5}, TypeError, "params.robust: expected a string"),
+        ("hermite", {"rates": [0, 0, 0]}, ValueError, r"params.rates: expected an \(N, 3\)"),
+    ],
+)
+def test_a_design_refuses_params_of_the_wrong_kind_naming_them(method, params, error, match):
+    with pytest.raises(error, match=f"^{match}"):
+        design.evaluate(method, KEYS3, [0, 1, 2], params, samples=5)
+
+
+def test_a_design_accepts_every_kind_of_parameter_the_page_sends():
+    for method, params in [
+        ("c3", {"alpha": "auto", "holds": False, "variant": "patent", "ends": "open"}),
+        ("c3", {"alpha": 0, "beta": None}),
+        ("fit", {"smoothing": "0.5", "robust": "none", "penalty": "jerk", "knots": None}),
+        ("hermite", {"rates": "zero", "frame": "world"}),
+        ("hermite", {"rates": [[0, 0, 0], [0, 0, 1], [0, 0, 0]], "frame": "world"}),
+        ("min_energy", {"resolution": 2}),
+    ]:
+        assert len(design.evaluate(method, KEYS3, [0, 1, 2], params, samples=5)["t"]) == 5
+
+
+def test_a_design_never_reads_a_file_named_in_its_parameters(tmp_path):
+    hermite = next(m for m in design.method_specs() if m["name"] == "hermite")
+    rates = next(p for p in hermite["params"] if p["name"] == "rates")
+    assert rates["choices"] == ["bessel", "zero"]  # the page offers no file name field
+    rates = tmp_path / "rates.txt"
+    rates.write_text("0 0 0\n0 0 1\n0 0 0\n")
+    for name in (str(rates), "/dev/zero"):
+        with pytest.raises(ValueError, match=r"^params.rates: .*\(a design reads no files\)"):
+            design.evaluate("hermite", KEYS3, [0, 1, 2], {"rates": name}, samples=5)
+        with pytest.raises(ValueError, match=r"^params.rates: .*\(a design reads no files\)"):
+            design.export_bytes("csv", "hermite", KEYS3, [0, 1, 2], {"rates": name}, samples=5)
+
+
+def test_hermite_rates_from_a_fifo_or_a_device_are_refused_not_read(tmp_path):
+    fifo = tmp_path / "rates.fifo"
+    os.mkfifo(fifo)
+    for name in (str(fifo), "/dev/zero"):
+        with pytest.raises(ValueError, match="^rates: "):
+            qs.spline("hermite", KEYS3, [0, 1, 2], rates=name)
+
+
+@pytest.mark.parametrize(
+    ("quats", "times", "error", "match"),
+    [
+        (KEYS3, ["0", "1", "2"], TypeError, "times: expected real numbers"),
+        (KEYS3, None, TypeError, r"times: missing \(expected N increasing numbers\)"),
+        (None, [0, 1, 2], TypeError, r"quats: missing \(expected an \(N, 4\) array"),
+        ([[1, 0, 0, 0], [0, 0, 0, 1], [0, 1, 0, "a"]], [0, 1, 2], TypeError, "quats: expected"),
+        ([[1, 0, 0, 0], [0, 0, 0, 1], [0, 1, 0, {}]], [0, 1, 2], TypeError, "quats: expected"),
+        ([[1, 0, 0, 0], [0, 0, 0, 1], [1, 2]], [0, 1, 2], ValueError, "quats: not an array"),
+        ([[1, 0, 0, 0], [0, 0, 0, 0], [0, 1, 0, 0]], [0, 1, 2], ValueError, r"quats\[1\]: zero"),
+        (KEYS3, [0, 1e-300, 1], ValueError, "times: keys at index 0 and 1"),
+    ],
+)
+def test_design_keys_of_the_wrong_kind_or_value_are_errors_naming_them(quats, times, error, match):
+    with pytest.raises(error, match=f"^{match}"):
+        design.evaluate("slerp", quats, times, samples=5)
+    with pytest.raises(error, match=f"^{match}"):
+        design.export_bytes("keys", "slerp", quats, times)
+
+
+def test_the_keys_export_holds_the_keys_the_design_uses(tmp_path):
+    tiny = [[1e-300, 0, 0, 0], [0, 0, 0, 1e-300]]
+    path = tmp_path / "keys.json"
+    path.write_bytes(design.export_bytes("keys", "slerp", tiny, [0, 1]))
+    np.testing.assert_array_equal(qio.read(path).quats, [[1, 0, 0, 0], [0, 0, 0, 1]])
+
+
+@pytest.mark.parametrize(
+    ("kind", "body", "match"),
+    [
+        ("evaluate", {"params": []}, "^params: expected an object, got an array"),
+        ("evaluate", {"params": ""}, "^params: expected an object, got a string"),
+        ("evaluate", {"method": ["c3"]}, "^method: expected a string, got an array"),
+        ("export", {"format": []}, "^format: expected a string"),
+        ("export", {"format": {}}, "^format: expected a string"),
+    ],
+)
+def test_a_request_field_of_the_wrong_kind_is_400_naming_it(kind, body, match):
+    from quatspline.viewer import _worker
+
+    keys = {"quats": KEYS3, "times": [0, 1, 2], "samples": 5}
+    status, _, blob, _ = _worker.handle(kind, json.dumps({**keys, **body}).encode())
+    assert status == 400
+    assert re.search(match, json.loads(blob)["error"]), blob
 
 
 # ---- the server --------------------------------------------------------------------------------
@@ -782,3 +891,57 @@ def test_export_bytes_passes_no_foreign_keywords_to_gltf():
     with pytest.raises(ValueError, match="options"):
         design.export_bytes("csv", "c3", k, [0, 1], options={"max_error": 0.5})
     assert design.export_bytes("glb", "c3", k, [0, 1], options={"max_error": 0.5})[:4] == b"glTF"
+
+
+# ---- further hostile inputs ---------------------------------------------------------------------
+@pytest.mark.parametrize(
+    "request_head",
+    [
+        b"GET /api/state HTTP/1.1\r\nX-Quatspline-Token: t\xf6k\r\n",
+        b"GET /api/state?token=%FF%FE HTTP/1.1\r\n",
+        b"GET /api/state?token=%C3%A9 HTTP/1.1\r\n",
+        b"GET /?token=%C3%A9 HTTP/1.1\r\n",
+        b"GET /api/state HTTP/1.1\r\nCookie: quatspline_token=\xc3\xa9\r\n",
+    ],
+)
+def test_a_token_with_non_ascii_characters_is_403_not_500(server, request_head):
+    c = _raw(server.port)
+    c.sendall(request_head + f"Host: 127.0.0.1:{server.port}\r\n\r\n".encode())
+    assert _status_line(c) == b"HTTP/1.1 403 Forbidden"
+    c.close()
+
+
+def test_an_origin_of_another_scheme_is_403(server):
+    tok = {"X-Quatspline-Token": server.token}
+    for origin in (f"https://127.0.0.1:{server.port}", f"ws://127.0.0.1:{server.port}"):
+        assert server.request("GET", "/api/state", headers={**tok, "Origin": origin})[0] == 403
+
+
+def test_the_viewer_serves_the_interface_it_was_asked_to_listen_on():
+    from quatspline.viewer.server import _free_port
+
+    host = "127.0.0.2"  # another loopback address: serve(host=…) is documented
+    port = _free_port(host)
+    code = (
+        "import sys; from quatspline.viewer import serve; "
+        f"serve(host={host!r}, port={port}, open_browser=False)"
+    )
+    with subprocess.Popen(
+        [sys.executable, "-c", code], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True
+    ) as proc:
+        try:
+            line = proc.stdout.readline()
+            assert line.startswith(f"quatspline view: http://{host}:{port}/?token="), line
+            token = line.split("token=", 1)[1].split()[0]
+            c = http.client.HTTPConnection(host, port, timeout=30)
+            c.request("GET", f"/?token={token}")  # Host: 127.0.0.2:PORT, as a browser sends
+            r = c.getresponse()
+            assert r.status == 200 and b"quatspline view" in r.read()
+            c.request("GET", f"/?token={token}", headers={"Host": f"evil.example:{port}"})
+            r = c.getresponse()
+            r.read()
+            assert r.status == 403
+            c.close()
+        finally:
+            proc.terminate()
+            proc.wait(timeout=20)

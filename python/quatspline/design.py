@@ -16,10 +16,23 @@ from pathlib import Path
 
 import numpy as np
 
+from . import _checks, _core
 from . import io as qio
+from ._arrays import as_real, as_times
+from .algebra import normalize
 from .continuity import continuity
 from .export import to_gltf
-from .registry import METHODS, spline
+from .registry import (
+    METHODS,
+    flag,
+    float_or_auto,
+    float_or_none,
+    int_or_none,
+    rates_spec,
+    smoothing_spec,
+    spline,
+    str_or_none,
+)
 
 __all__ = [
     "EXPORT_OPTIONS",
@@ -89,7 +102,11 @@ def method_specs() -> list[dict]:
                     "kind": kind,
                     "default": default,
                     "help": p.help,
-                    "choices": _choices(p.help) if kind == "str" else None,
+                    # Hermite rates: the page offers the estimates only (a design reads no
+                    # files; arrays come from the Python API)
+                    "choices": ["bessel", "zero"]
+                    if p.type is rates_spec
+                    else (_choices(p.help) if kind == "str" else None),
                 }
             )
         out.append(
@@ -105,8 +122,15 @@ def method_specs() -> list[dict]:
 
 
 def _check_keys(quats, times) -> tuple[np.ndarray, np.ndarray]:
-    q = np.asarray(quats, dtype=float)
-    t = np.asarray(times, dtype=float)
+    """Keys and times as float arrays: real numbers of the right shapes (a ``TypeError`` for
+    strings or objects, a ``ValueError`` naming the first bad element), finite, non-zero keys
+    (returned normalised), strictly increasing times in the core's range."""
+    if quats is None:
+        raise TypeError("quats: missing (expected an (N, 4) array of numbers)")
+    if times is None:
+        raise TypeError("times: missing (expected N increasing numbers)")
+    q = as_real(quats, "quats")
+    t = as_times(times, "times")
     if q.ndim != 2 or q.shape[1] != 4:
         raise ValueError(f"quats: expected shape (N, 4), got {q.shape}")
     if t.shape != (len(q),):
@@ -116,15 +140,73 @@ def _check_keys(quats, times) -> tuple[np.ndarray, np.ndarray]:
     bad = ~np.all(np.isfinite(q), axis=1)
     if bad.any():
         raise ValueError(f"quats[{int(np.argmax(bad))}]: not finite")
+    tiny = np.max(np.abs(q), axis=1) < np.finfo(float).tiny
+    if tiny.any():
+        raise ValueError(f"quats[{int(np.argmax(tiny))}]: zero (or denormal) quaternion")
     if not np.all(np.isfinite(t)):
         raise ValueError(f"times[{int(np.argmax(~np.isfinite(t)))}]: not finite")
-    d = np.diff(t)
+    with np.errstate(over="ignore", invalid="ignore"):  # ±1e308 steps: refused just below
+        d = np.diff(t)
     if np.any(d <= 0):
         k = int(np.argmax(d <= 0)) + 1
         raise ValueError(
             f"times[{k}]: key times must increase ({t[k]:g} is not after {t[k - 1]:g})"
         )
-    return q, t
+    _core.check_times(np.ascontiguousarray(t), len(q))  # range and spacing, as every spline
+    return normalize(q), t
+
+
+def _param_value(method: str, name: str, value):
+    """One parameter of ``method`` checked against the kind its converter declares: a
+    ``TypeError`` for a value of another kind (a string or list for a number, a number for a
+    flag), a ``ValueError`` naming it for a bad value. Never a file name: Hermite rates are
+    ``"bessel"``, ``"zero"`` or an (N, 3) array (a design reads no files)."""
+    conv = METHODS[method].params[name].type
+    label = f"params.{name}"
+    if value is None and conv in (float_or_none, int_or_none, str_or_none):
+        return None
+    if conv in (float, float_or_none):
+        return _checks.real(value, label)
+    if conv in (float_or_auto, smoothing_spec):
+        if isinstance(value, str):
+            if value.strip().lower() == "auto":
+                return "auto"
+            if conv is float_or_auto:
+                raise TypeError(f"{label}: expected a number or 'auto', got str {value!r}")
+            try:  # fit's λ: the page sends what was typed
+                value = float(value)
+            except ValueError:
+                raise ValueError(f"{label}: expected 'auto' or a number, got {value!r}") from None
+        elif isinstance(value, (bool, np.bool_)) or not isinstance(
+            value, (int, float, np.integer, np.floating)
+        ):
+            raise TypeError(f"{label}: expected a number or 'auto', got {type(value).__name__}")
+        return _checks.real(value, label)
+    if conv in (int, int_or_none):
+        return _checks.integer(value, label, -(2**31), 2**31 - 1)
+    if conv is flag:
+        if not isinstance(value, (bool, np.bool_)):
+            raise TypeError(f"{label}: expected true or false, got {type(value).__name__}")
+        return bool(value)
+    if conv in (str, str_or_none):
+        if not isinstance(value, str):
+            raise TypeError(f"{label}: expected a string, got {type(value).__name__}")
+        return value
+    if conv is rates_spec:
+        if isinstance(value, str):
+            if value not in ("bessel", "zero"):
+                raise ValueError(
+                    f"{label}: expected 'bessel', 'zero' or an (N, 3) array of rates, got "
+                    f"{value[:40]!r} (a design reads no files)"
+                )
+            return value
+        r = as_real(value, label)
+        if r.ndim != 2 or r.shape[1] != 3:
+            raise ValueError(f"{label}: expected an (N, 3) array of rates, got shape {r.shape}")
+        if not np.all(np.isfinite(r)):
+            raise ValueError(f"{label}: not finite")
+        return r.tolist()
+    return value  # pragma: no cover - a converter this check does not know: the registry's
 
 
 def _check_params(method, params) -> dict:
@@ -144,7 +226,7 @@ def _check_params(method, params) -> dict:
             f"params: unknown parameter{'s' if len(unknown) > 1 else ''} of {method}: "
             f"{', '.join(unknown)}; valid: {', '.join(valid) or 'none'}"
         )
-    return dict(params)
+    return {name: _param_value(method, name, v) for name, v in params.items()}
 
 
 def _check_work(method: str, params: dict, t: np.ndarray) -> None:
@@ -402,12 +484,14 @@ def export_bytes(
     if options is not None and fmt != "glb":
         raise ValueError(f"options: glTF options apply to format glb only, not {fmt}")
     options = _check_options(options)
+    # the keys were checked as every spline checks them (and normalised), so the keys file
+    # holds exactly the keys the design uses and opens again
     with tempfile.TemporaryDirectory() as d:
         path = Path(d) / ("keys.json" if fmt == "keys" else f"design.{fmt}")
         if fmt == "keys":
             qio.write(path, qio.Trajectory(t, q))
         elif fmt == "glb":
-            to_gltf(qio.Trajectory(t, q), path, method=method, progress=False, **options, **params)
+            to_gltf(spline(method, q, t, **params), path, progress=False, **options)
         else:
             s = spline(method, q, t, **params)
             ts = np.linspace(*s.domain, samples)

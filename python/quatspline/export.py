@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import base64
 import json
+import os
 import re
 import struct
 from dataclasses import dataclass
@@ -36,6 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import _checks
 from ._atomic import atomic_write
 from .interpolate import slerp
 
@@ -113,6 +115,17 @@ class _Motion:
         from .spline import Spline
 
         self.name = ""
+        if not isinstance(motion, Trajectory) and isinstance(motion, (Spline, PoseSpline)):
+            if params:
+                raise TypeError(
+                    f"{sorted(params)[0]}: a spline is exported as it is; a method's parameters "
+                    "apply to an io.Trajectory only"
+                )
+            if method is not None:
+                raise TypeError(
+                    "method: a spline is exported as it is; method applies to an io.Trajectory only"
+                )
+        method = "c3" if method is None else method
         if isinstance(motion, Trajectory):
             self.name = motion.name
             t = motion.times
@@ -166,6 +179,8 @@ def _sign_continuous(q: np.ndarray) -> np.ndarray:
 #: Blender in float32): every measured error gets this many float32 units of roundoff on top
 #: (radians for rotations, times the largest |position| for translations).
 _ROUNDOFF = 8 * 2.0**-24
+#: The largest finite float32 value (glTF stores times, values and meshes as float32).
+_F32_MAX = float(np.finfo(np.float32).max)
 #: Check points evaluated at once (bounds the memory of the verification).
 _CHUNK = 1 << 18
 #: The largest ``samples``: a CUBICSPLINE pose export then peaks at about 0.8 GB (measured;
@@ -379,7 +394,7 @@ def _fit(ch: _Channel, tol: float, check_t, name: str, max_candidates: int):
         kt = ch.t[np.array(keys)]
         e = _check(ch, keys, check_t)
         seg = np.clip(np.searchsorted(kt, check_t, side="right") - 1, 0, len(kt) - 2)
-        fail = np.unique(seg[e > tol])
+        fail = np.unique(seg[~(e <= tol)])  # NaN fails too
         if len(fail) == 0:
             return keys, float(e.max()), check_t
         new, refine = set(keys), []
@@ -558,7 +573,7 @@ def to_gltf(
     mesh: str | None = "axes",
     size: float = 0.1,
     samples: int | None = None,
-    method: str = "c3",
+    method: str | None = None,
     uniform: bool = True,
     progress: bool = True,
     **params,
@@ -581,15 +596,22 @@ def to_gltf(
         The glTF sampler interpolation. CUBICSPLINE keys carry the spline's one-sided
         derivatives as in/out tangents.
     node : str
-        The animated node's name.
+        The animated node's name (any non-empty Unicode text).
     mesh : {"axes", None}
-        A small red/green/blue axes mesh of length ``size`` (metres), or an empty node.
+        A small red/green/blue axes mesh of length ``size`` (metres, positive and within
+        float32 range), or an empty node.
     samples : int, optional
         Candidate key times (default: 16 per spline segment, at least 2000, at most 200000;
         at most :data:`MAX_SAMPLES` = 1,000,000); the bound is verified on a grid four times
         denser, and candidates are added where adjacent ones cannot meet it.
+    method : str, optional
+        For a Trajectory: the registry method its spline is built with (default ``"c3"``),
+        with ``params``; a spline is exported as it is (giving ``method`` or parameters with
+        one is a ``TypeError``).
     uniform : bool
         Also find how many evenly spaced keys the same bound needs (for the report).
+    progress : bool
+        Show a progress bar.
 
     Returns
     -------
@@ -601,9 +623,10 @@ def to_gltf(
     ValueError
         A bound that is not positive or cannot be parsed, an unknown interpolation,
         ``samples`` outside [2, MAX_SAMPLES], a bound no keys can meet (the message names
-        ``max_error`` or ``max_position_error`` and the best achievable error).
+        ``max_error`` or ``max_position_error`` and the best achievable error), positions
+        beyond float32 range.
     TypeError
-        A motion of the wrong kind.
+        A motion or an option of the wrong kind.
 
     Examples
     --------
@@ -623,8 +646,22 @@ def to_gltf(
         )
     if mesh not in ("axes", None):
         raise ValueError(f"mesh: expected 'axes' or None, got {mesh!r}")
-    if not isinstance(node, str) or not node:
+    if not isinstance(node, str):
+        raise TypeError(f"node: expected a string, got {type(node).__name__}")
+    if not node:
         raise ValueError("node: expected a non-empty name")
+    try:
+        node.encode("utf-8")
+    except UnicodeEncodeError:
+        raise ValueError("node: not valid Unicode text (a lone surrogate)") from None
+    size = _checks.real(size, "size", positive=True)
+    if not size <= _F32_MAX:
+        raise ValueError(f"size: {size:g} m is beyond float32 range (glTF stores float32)")
+    for flag_name, flag_value in (("uniform", uniform), ("progress", progress)):
+        if not isinstance(flag_value, (bool, np.bool_)):
+            raise TypeError(f"{flag_name}: expected True or False, got {type(flag_value).__name__}")
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path: expected a file path, got {type(path).__name__}")
     path = Path(path)
     if path.suffix.lower() not in (".glb", ".gltf"):
         raise ValueError(f"{path}: expected a .glb or .gltf output")
@@ -658,6 +695,11 @@ def to_gltf(
             else:
                 ch.roundoff = _ROUNDOFF * float(np.abs(v).max(initial=0.0)) * np.sqrt(3)
             ch.v, ch.a, ch.b = v, a, b
+            if not rot and not np.abs(v).max(initial=0.0) <= _F32_MAX:
+                raise ValueError(
+                    f"motion: positions reach {float(np.abs(v).max()):.3g} m, beyond the float32 "
+                    "range of glTF (3.4e38)"
+                )
             if ch.roundoff >= tol:
                 _refuse(bound, tol, ch.roundoff, "by float32 keys (players' roundoff)")
             keys, err, check_t = _fit(ch, tol, _dense(ch.t), bound, 2 * MAX_SAMPLES)
@@ -671,11 +713,13 @@ def to_gltf(
             results[name] = (kept, keys, err, nu, tol, len(check_t))
             del ch, check_t, v, a, b
 
+    # a name from a file name may hold lone surrogates (undecodable bytes): JSON needs Unicode
+    label = m.name.encode("utf-8", "replace").decode("utf-8") if m.name else ""
     b = _Builder()
     doc: dict = {
         "asset": {"version": "2.0", "generator": "quatspline"},
         "scene": 0,
-        "scenes": [{"name": m.name or "quatspline", "nodes": [0]}],
+        "scenes": [{"name": label or "quatspline", "nodes": [0]}],
         "nodes": [{"name": node}],
     }
     if mesh == "axes":
@@ -705,7 +749,7 @@ def to_gltf(
         channels.append({"sampler": len(samplers) - 1, "target": {"node": 0, "path": name}})
         first = kv[0].astype(np.float32).astype(float).tolist()
         doc["nodes"][0][name] = first
-    doc["animations"] = [{"name": m.name or "motion", "channels": channels, "samplers": samplers}]
+    doc["animations"] = [{"name": label or "motion", "channels": channels, "samplers": samplers}]
     doc["accessors"], doc["bufferViews"] = b.accessors, b.views
     _write_file(path, doc, bytes(b.blob))
     r = results["rotation"]
@@ -726,8 +770,11 @@ def to_gltf(
     return rep
 
 
-def to_bvh(trajectory, path, **options) -> None:
-    """Writes a trajectory as a BVH joint (see :mod:`quatspline.io.bvh`)."""
+def to_bvh(trajectory, path, *, joint: str = "Root") -> None:
+    """Writes a trajectory as a BVH joint named ``joint`` (the trajectory's name when it has
+    one; see :mod:`quatspline.io.bvh`)."""
     from .io import bvh
 
-    bvh.write(Path(path), trajectory, **options)
+    if not isinstance(joint, str):
+        raise TypeError(f"joint: expected a string, got {type(joint).__name__}")
+    bvh.write(Path(path), trajectory, joint=joint)

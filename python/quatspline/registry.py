@@ -30,6 +30,7 @@ from numpy.typing import ArrayLike
 from . import _core
 from . import spline as sp
 from ._arrays import as_real, with_width
+from .io._common import open_regular
 
 __all__ = [
     "METHODS",
@@ -113,10 +114,11 @@ def rates_spec(v):
     if isinstance(v, str):
         if v in ("bessel", "zero"):
             return v
-        if v.endswith(".npy"):
-            return np.load(v, allow_pickle=False)
-        try:
-            return np.loadtxt(v, ndmin=2, comments="#", delimiter=None)
+        try:  # a FIFO or a device such as /dev/zero is refused, not read for ever
+            with open_regular(v, "rb") as f:
+                if v.endswith(".npy"):
+                    return np.load(f, allow_pickle=False)
+                return np.loadtxt(f, ndmin=2, comments="#", delimiter=None)
         except OSError as e:
             raise ValueError(f"cannot read {v!r} ({e})") from None
     return np.asarray(v, dtype=float)

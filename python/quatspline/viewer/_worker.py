@@ -50,13 +50,24 @@ def _request(kind: str, body: bytes) -> dict:
     return data
 
 
+def _kind(value) -> str:
+    """The JSON kind of a parsed value, for messages."""
+    if value is None:
+        return "null"
+    return {bool: "a boolean", str: "a string", list: "an array", dict: "an object"}.get(
+        type(value), "a number"
+    )
+
+
 def _design_args(data: dict):
     method = data.get("method", "c3")
     if not isinstance(method, str):
-        raise TypeError("method: expected a string")
-    params = data.get("params") or {}
+        raise TypeError(f"method: expected a string, got {_kind(method)}")
+    params = data.get("params")
+    if params is None:
+        params = {}
     if not isinstance(params, dict):
-        raise TypeError("params: expected an object")
+        raise TypeError(f"params: expected an object, got {_kind(params)}")
     samples = data.get("samples", 2000)
     return method, data.get("quats"), data.get("times"), params, samples
 
@@ -87,6 +98,8 @@ def handle(kind: str, body: bytes) -> tuple[int, str, bytes, dict]:
             blob = json.dumps(design.to_json(out), allow_nan=False).encode()
             return 200, "application/json", blob, {}
         fmt = data.get("format")
+        if not isinstance(fmt, str):
+            raise TypeError(f"format: expected a string ({', '.join(EXPORT_FORMATS)})")
         if fmt not in EXPORT_FORMATS:
             raise ValueError(f"format: expected one of {', '.join(EXPORT_FORMATS)}")
         method, q, t, params, samples = _design_args(data)

@@ -421,7 +421,9 @@ def load_keys(path: Path | None, max_keys: int = 400) -> tuple[np.ndarray, np.nd
     return traj.quats[idx], t, Path(path).name
 
 
-def create_app(path: Path | None = None, token: str | None = None, port: int = 0):
+def create_app(
+    path: Path | None = None, token: str | None = None, port: int = 0, host: str = "127.0.0.1"
+):
     """The Starlette application.
 
     Parameters
@@ -435,6 +437,9 @@ def create_app(path: Path | None = None, token: str | None = None, port: int = 0
     port : int
         The port the server listens on (for the ``Host``/``Origin`` checks; 0 accepts any
         port on 127.0.0.1/localhost, for tests).
+    host : str, default "127.0.0.1"
+        The interface the server listens on: requests naming it (or 127.0.0.1 or localhost)
+        in ``Host`` are served, any other name is refused (DNS rebinding).
 
     Returns
     -------
@@ -450,13 +455,22 @@ def create_app(path: Path | None = None, token: str | None = None, port: int = 0
     token = token or secrets.token_urlsafe(24)
     pool = WorkerPool()
     quats, times, name = load_keys(path)
-    hosts = {"127.0.0.1", "localhost"}
+    hosts = {"127.0.0.1", "localhost", host.strip("[]").lower()}
 
     def _host_ok(value: str | None) -> bool:
+        """``value`` (a Host header, or an origin without its scheme) names this server."""
         if not value:
             return False
-        host, _, p = value.rpartition(":") if value.count(":") == 1 else (value, "", "")
-        return host in hosts and (port == 0 or p == str(port))
+        if value.startswith("["):  # an IPv6 address: [::1]:8000
+            name, _, rest = value[1:].partition("]")
+            p = rest[1:] if rest.startswith(":") else None
+            if rest and p is None:
+                return False
+        elif value.count(":") == 1:
+            name, _, p = value.partition(":")
+        else:
+            name, p = value, None
+        return name.lower() in hosts and (port == 0 or p == str(port))
 
     def _authorised(request: Request) -> bool:
         given = (
@@ -464,7 +478,11 @@ def create_app(path: Path | None = None, token: str | None = None, port: int = 0
             or request.headers.get("x-quatspline-token")
             or request.cookies.get("quatspline_token")
         )
-        return bool(given) and secrets.compare_digest(str(given), token)
+        if not given:
+            return False
+        # bytes: compare_digest refuses str with non-ASCII characters (a TypeError, a 500)
+        raw = str(given).encode("utf-8", "surrogateescape")
+        return secrets.compare_digest(raw, token.encode("utf-8", "surrogateescape"))
 
     def _bad(status: int, msg: str) -> Response:
         return PlainTextResponse(msg + "\n", status_code=status)
@@ -580,7 +598,9 @@ def create_app(path: Path | None = None, token: str | None = None, port: int = 0
             origin = request.headers.get("origin")
             if not _host_ok(request.headers.get("host")):
                 resp = _bad(403, "forbidden: unknown host")
-            elif origin is not None and not _host_ok(origin.split("://", 1)[-1]):
+            elif origin is not None and not (
+                origin.startswith("http://") and _host_ok(origin[len("http://") :])
+            ):
                 resp = _bad(403, "forbidden: cross-origin request")
             elif not _authorised(request):
                 resp = _bad(403, "forbidden: missing or wrong token")
@@ -642,7 +662,8 @@ def serve(
         )
     p = Path(path) if path is not None else None
     # listen before the URL is printed, so a browser opened at once finds the server
-    sock = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    sock = socket.socket(family, socket.SOCK_STREAM)
     sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
     try:
         sock.bind((host, int(port)))
@@ -651,9 +672,9 @@ def serve(
         raise OSError(f"--port: cannot listen on {host}:{port} ({e.strerror or e})") from None
     sock.listen(128)
     port = int(sock.getsockname()[1])
-    app = create_app(p, token, port)
+    app = create_app(p, token, port, host)
     config = server_config(app, host=host, port=port, open_files=open_files_limit())
-    url = f"http://{host}:{port}/?token={app.state.token}"
+    url = f"http://{f'[{host}]' if ':' in host else host}:{port}/?token={app.state.token}"
     print(f"quatspline view: {url}  (Ctrl-C to stop)", flush=True)
     if open_browser:
         webbrowser.open(url)
