@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 import quatspline as qs
 import quatspline.io as qio
+from quatspline.cli import main
 from quatspline.export import to_bvh, to_gltf
 
 
@@ -105,3 +106,42 @@ def test_bvh_export_joint_of_the_wrong_kind_is_a_type_error(tmp_path):
 def test_gltf_export_path_of_the_wrong_kind_is_a_type_error_naming_it(path):
     with pytest.raises(TypeError, match=r"^path: expected a file path"):
         to_gltf(_spline(), path, progress=False)
+
+
+def test_bvh_writer_accepts_uniform_frames_at_epoch_times_and_names_a_single_frame(tmp_path):
+    """Uniform frames at 1.7e9 s differ by the rounding of the times (2.4e-7 s), which the
+    writer took for uneven spacing; one frame has no frame time and is refused as such."""
+    q = np.tile([1.0, 0.0, 0.0, 0.0], (600, 1))
+    qio.write(tmp_path / "e.bvh", qio.Trajectory(1.7e9 + np.arange(600) / 120, q))
+    back = qio.read(tmp_path / "e.bvh")
+    assert len(back) == 600 and np.allclose(np.diff(back.times), 1 / 120)
+    with pytest.raises(ValueError, match="at least 2 frames"):
+        qio.write(tmp_path / "one.bvh", qio.Trajectory([0.0], q[:1]))
+    with pytest.raises(ValueError, match="uniformly spaced"):
+        qio.write(tmp_path / "u.bvh", qio.Trajectory([0.0, 1.0, 3.0], q[:3]))
+
+
+def test_export_fps_zero_is_refused_not_taken_as_unset(tmp_path, capsys):
+    tr = qio.Trajectory(np.arange(20) / 10, np.tile([1.0, 0.0, 0.0, 0.0], (20, 1)))
+    src = tmp_path / "k.csv"
+    qio.write(src, tr)
+    out = tmp_path / "x.bvh"
+    assert main(["export", str(src), "-o", str(out), "--fps", "0"]) == 2
+    assert "--fps" in capsys.readouterr().err and not out.exists()
+    assert main(["export", str(src), "-o", str(out), "--fps", "20"]) == 0
+    assert len(qio.read(out)) == 39
+
+
+@pytest.mark.parametrize(
+    ("method", "params", "words"),
+    [
+        ("c3", {"alpha": "x"}, "a number or 'auto'"),
+        ("c3", {"holds": "maybe"}, "true or false"),
+        ("hermite", {"rates": "no-such-file"}, "'bessel', 'zero', a file"),
+    ],
+)
+def test_registry_messages_say_what_a_parameter_accepts_not_the_converter(method, params, words):
+    q = np.tile([1.0, 0.0, 0.0, 0.0], (3, 1))
+    with pytest.raises(ValueError) as e:
+        qs.spline(method, q, [0.0, 1.0, 2.0], **params)
+    assert words in str(e.value) and "float_or_auto" not in str(e.value)

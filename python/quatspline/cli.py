@@ -330,7 +330,7 @@ def cmd_export(args) -> int:
     if out.suffix.lower() == ".bvh":
         from .resampling import resample
 
-        fps = args.fps or 1.0 / float(np.median(np.diff(traj.times)))
+        fps = args.fps if args.fps is not None else 1.0 / float(np.median(np.diff(traj.times)))
         if not (np.isfinite(fps) and 0 < fps <= 10_000):
             raise UsageError(f"--fps: expected a frame rate in (0, 10000], got {fps}")
         n = int(np.floor((traj.times[-1] - traj.times[0]) * fps + 1e-9)) + 1

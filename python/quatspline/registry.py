@@ -108,6 +108,22 @@ int_or_none.kind = "int"  # type: ignore[attr-defined]
 flag.kind = "bool"  # type: ignore[attr-defined]
 
 
+def _expects(convert) -> str:
+    """What a parameter converter accepts, in words (for messages)."""
+    words = {
+        float: "a number",
+        int: "an integer",
+        str: "a string",
+        float_or_none: "a number or none",
+        float_or_auto: "a number or 'auto'",
+        int_or_none: "an integer or none",
+        flag: "true or false",
+    }
+    if convert is rates_spec:
+        return "'bessel', 'zero', a file of N×3 rates or an (N, 3) array"
+    return words.get(convert, convert.__name__)
+
+
 def rates_spec(v):
     """Hermite key rates: "bessel" (estimated from the keys), "zero", a file of N×3 values
     (text or .npy) or an (N, 3) array."""
@@ -532,7 +548,7 @@ def spline(
         try:
             p[name] = spec.type(v)
         except (TypeError, ValueError):
-            raise ValueError(f"{name}: expected {spec.type.__name__}, got {v!r}") from None
+            raise ValueError(f"{name}: expected {_expects(spec.type)}, got {v!r}") from None
     return _build(method, quats, times, p)
 
 

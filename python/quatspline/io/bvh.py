@@ -235,7 +235,12 @@ def write(path, traj: Trajectory, joint: str = "Root") -> None:
     with np.errstate(over="ignore", invalid="ignore"):  # spans beyond 1.8e308 are refused
         dt = np.diff(traj.times)
         uneven = len(traj) < 2 or not np.all(np.isfinite(dt))
-        uneven = uneven or bool(np.any(np.abs(dt - dt[0]) > 1e-9 * max(1.0, abs(dt[0]))))
+        # even up to the rounding of the times themselves (epoch seconds: 2.4e-7 at 1.7e9)
+        slack = 1e-9 * max(1.0, abs(dt[0])) if len(dt) else 0.0
+        slack += 4 * float(np.spacing(np.max(np.abs(traj.times)))) if len(dt) else 0.0
+        uneven = uneven or bool(np.any(np.abs(dt - dt[0]) > slack))
+    if len(traj) < 2:
+        raise ValueError(f"{path}: BVH needs at least 2 frames (its frame time), got {len(traj)}")
     if uneven:
         raise ValueError(f"{path}: BVH needs uniformly spaced times (resample first)")
     angles = as_euler(traj.quats, "ZXY", degrees=True)
@@ -247,7 +252,8 @@ def write(path, traj: Trajectory, joint: str = "Root") -> None:
         else:
             f.write("  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n")
         f.write("  End Site\n  {\n    OFFSET 0 0 0\n  }\n}\n")
-        f.write(f"MOTION\nFrames: {len(traj)}\nFrame Time: {float(dt[0])!r}\n")
+        frame_time = (float(traj.times[-1]) - float(traj.times[0])) / (len(traj) - 1)
+        f.write(f"MOTION\nFrames: {len(traj)}\nFrame Time: {frame_time!r}\n")
         for k, a in enumerate(angles):
             vals = a if pos is None else (*pos[k], *a)
             f.write(" ".join(repr(float(v)) for v in vals) + "\n")
