@@ -329,3 +329,35 @@ def test_demo_creates_its_output_directory_with_the_usual_mode(tmp_path):
     finally:
         os.umask(old)
     assert stat.S_IMODE(out.stat().st_mode) == 0o755
+
+
+def test_demo_never_replaces_a_file_it_did_not_write_and_cleans_a_killed_runs_work(
+    tmp_path, capsys
+):
+    """``demo -o DIR`` into a directory holding the user's own ``report.md`` replaced it; a
+    killed run's work directory was left beside DIR for ever. Now the user's file is refused
+    (nothing moved), a re-run replaces only the demo's own files (its manifest), and a stale
+    work directory (unlocked) is removed while a look-alike user directory is kept."""
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "report.md").write_text("my notes")
+    (out / "mine.txt").write_text("keep")
+    assert main(["demo", "--out", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert "report.md: exists and was not written by the demo" in err and err.count("\n") == 1
+    assert (out / "report.md").read_text() == "my notes" and sorted(os.listdir(out)) == [
+        "mine.txt",
+        "report.md",
+    ]
+    (out / "report.md").unlink()
+    stale = tmp_path / ".out.0123456789ab.demotmp"
+    (stale / "out").mkdir(parents=True)
+    (stale / "out" / "partial.csv").write_text("x")
+    lookalike = tmp_path / ".out.notours.demotmp"
+    lookalike.mkdir()
+    assert main(["demo", "--out", str(out)]) == 0
+    first = (out / "report.md").read_text()
+    assert main(["demo", "--out", str(out)]) == 0  # its own files: replaced
+    assert (out / "report.md").read_text() == first and (out / "mine.txt").read_text() == "keep"
+    assert not stale.exists() and lookalike.is_dir()
+    assert [p.name for p in tmp_path.iterdir() if p.name.endswith(".demotmp")] == [lookalike.name]

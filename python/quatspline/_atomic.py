@@ -236,6 +236,36 @@ def remove_stale_temporaries(target, suffixes=(".tmp",), remove=None) -> list[Pa
     return removed
 
 
+_WORK_LOCKS: dict[Path, int] = {}
+
+
+def make_work_directory(target, suffix: str) -> Path:
+    """A new work directory ``.NAME.<12 hex>SUFFIX`` beside ``target`` (mode 0700), locked
+    until :func:`release_work_directory`: a later :func:`remove_stale_temporaries` with the
+    same suffix sees a live writer's directory as live and a killed writer's as stale."""
+    target = Path(target)
+    for _ in range(100):
+        work = target.parent / f".{target.name}.{secrets.token_hex(6)}{suffix}"
+        try:
+            os.mkdir(work, 0o700)
+        except FileExistsError:
+            continue
+        fd = os.open(work, os.O_RDONLY)
+        if lock_descriptor(fd):
+            _WORK_LOCKS[work] = fd
+        else:
+            os.close(fd)
+        return work
+    raise FileExistsError(f"{target}: cannot create a work directory beside it")
+
+
+def release_work_directory(work) -> None:
+    """Drops the lock of a work directory made by :func:`make_work_directory`."""
+    fd = _WORK_LOCKS.pop(Path(work), None)
+    if fd is not None:
+        os.close(fd)
+
+
 def _create_temporary(target: Path, holder: list) -> int:
     """Creates ``.NAME.XXXXXXXXXXXX.tmp`` beside ``target`` (mode 0600, O_EXCL) and returns its
     descriptor. The name is put in ``holder`` *before* the file is created, so an interrupt

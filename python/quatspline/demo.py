@@ -13,17 +13,23 @@ import importlib.util
 import json
 import os
 import shutil
-import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 
 from . import io as qio
-from ._atomic import atomic_write
+from ._atomic import (
+    atomic_write,
+    make_directories,
+    make_work_directory,
+    release_work_directory,
+    remove_stale_temporaries,
+)
 from .algebra import normalize
 from .examples import BETA_EXAMPLE1_VERTICES, BETA_EXAMPLE2_VERTICES
 from .interpolate import slerp
+from .io._common import open_regular
 from .registry import interpolating_methods
 from .registry import spline as make_spline
 from .spline import BetaSpline
@@ -42,24 +48,35 @@ def _have_matplotlib() -> bool:
     return importlib.util.find_spec("matplotlib") is not None
 
 
+#: The demo's record of the files it wrote into its output directory (one path a line).
+MANIFEST = ".quatspline-demo"
+#: Suffix of the demo's locked work directory beside its output.
+_WORK_SUFFIX = ".demotmp"
+
+
 def run(out: Path, recording: Path | None = None) -> int:
     """Runs the demo into ``out`` (created if missing; files of a previous run are replaced
-    only when this run has succeeded). ``recording``: any trajectory file instead of the
-    bundled one. Returns the exit code (0)."""
+    only when this run has succeeded, and never a file the demo did not write there).
+    ``recording``: any trajectory file instead of the bundled one. Returns the exit code (0).
+    """
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise ValueError(f"{out}: exists and is not a directory")
     if recording is not None and not Path(recording).is_file():
         raise ValueError(f"{recording}: no such file")
-    parent = out.resolve().parent
-    parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=parent))
+    make_directories(out.parent, out)
+    target = out.resolve()
+    remove_stale_temporaries(target, suffixes=(_WORK_SUFFIX,))  # a killed run's work
+    work = make_work_directory(target, _WORK_SUFFIX)
     try:
+        tmp = work / "out"
+        tmp.mkdir()
         figures = _have_matplotlib()
         summary = _run(tmp, recording, figures)
         _move_into(tmp, out)
     finally:
-        shutil.rmtree(tmp, ignore_errors=True)
+        shutil.rmtree(work, ignore_errors=True)
+        release_work_directory(work)
     print(summary.replace("{out}", str(out)))
     if not figures:
         print(PLOT_HINT)
@@ -73,19 +90,39 @@ def _umask() -> int:
     return mask
 
 
+def _written_before(dst: Path) -> set[str]:
+    """The files an earlier demo wrote into ``dst`` (its manifest), or none."""
+    try:
+        with open_regular(dst / MANIFEST, encoding="utf-8") as f:
+            return {line.rstrip("\n") for line in f if line.strip()}
+    except (OSError, ValueError):
+        return set()
+
+
 def _move_into(src: Path, dst: Path) -> None:
     """Moves the finished tree ``src`` to ``dst``: a rename when ``dst`` does not exist,
-    otherwise file by file (each an atomic replace), keeping unrelated files in ``dst``."""
+    otherwise file by file (each an atomic replace), keeping unrelated files in ``dst`` and
+    refusing, before anything is moved, to replace a file the demo did not write there."""
+    files = sorted(
+        (Path(root) / name).relative_to(src).as_posix()
+        for root, _dirs, names in os.walk(src)
+        for name in names
+    )
+    (src / MANIFEST).write_text("".join(f"{f}\n" for f in files), encoding="utf-8")
     if not dst.exists():
-        # mkdtemp made src 0700; the directory this run creates gets the usual mode.
-        os.chmod(src, 0o777 & ~_umask())
+        os.chmod(src, 0o777 & ~_umask())  # the directory this run creates: the usual mode
         os.rename(src, dst)
         return
-    for root, _dirs, names in os.walk(src):
-        rel = Path(root).relative_to(src)
-        (dst / rel).mkdir(exist_ok=True)
-        for name in names:
-            os.replace(Path(root) / name, dst / rel / name)
+    ours = _written_before(dst)
+    for rel in files:
+        if os.path.lexists(dst / rel) and rel not in ours:
+            raise ValueError(
+                f"{dst / rel}: exists and was not written by the demo; refusing to overwrite "
+                "it (choose another output directory)"
+            )
+    for rel in [*files, MANIFEST]:
+        (dst / rel).parent.mkdir(parents=True, exist_ok=True)
+        os.replace(src / rel, dst / rel)
 
 
 def _run(out: Path, recording: Path | None, figures: bool) -> str:

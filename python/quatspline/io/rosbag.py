@@ -38,7 +38,6 @@ import ctypes
 import ctypes.util
 import numbers
 import os
-import secrets
 import shutil
 import stat
 import warnings
@@ -48,8 +47,9 @@ import numpy as np
 
 from .._atomic import (
     adopt_mode,
-    lock_descriptor,
     make_directories,
+    make_work_directory,
+    release_work_directory,
     remove_stale_temporaries,
     resolve_output,
     sigterm_unwinds,
@@ -392,7 +392,7 @@ def write(
     if as_file:
         remove_stale_temporaries(target, suffixes=(".bagtmp",), remove=_remove_work_dir)
     with sigterm_unwinds():
-        work = _make_work_dir(target)
+        work = make_work_directory(target, ".bagtmp")
         try:
             out = _write_bag(work, ros, suffix, traj.quats, stamps, pos, has_pos, topic, frame_id)
             if as_file:
@@ -448,27 +448,6 @@ def proven_bag_files(path, directory: Path) -> list[str]:
     return entries
 
 
-def _make_work_dir(target: Path) -> Path:
-    """A new, locked work directory ``.NAME.<12 hex>.bagtmp`` beside ``target``. The lock
-    (held until the process ends or the directory is removed) tells a later write that it
-    is live; a killed write's directory is unlocked and so stale."""
-    for _ in range(100):
-        work = target.parent / f".{target.name}.{secrets.token_hex(6)}.bagtmp"
-        try:
-            os.mkdir(work, 0o700)
-        except FileExistsError:
-            continue
-        fd = os.open(work, os.O_RDONLY)
-        if lock_descriptor(fd):
-            _WORK_LOCKS[work] = fd
-        else:
-            os.close(fd)
-        return work
-    raise FileExistsError(f"{target}: cannot create a work directory beside it")
-
-
-_WORK_LOCKS: dict[Path, int] = {}
-
 #: the old bag, set aside inside the work directory during the swap
 _OLD = "old"
 
@@ -500,12 +479,10 @@ def _remove_work_dir(work: Path) -> None:
     for entry in os.listdir(work):  # only what _write_bag makes: bag.bag, bag/
         if entry == "bag.bag":
             os.unlink(work / entry)
-    fd = _WORK_LOCKS.pop(work, None)
     try:
         os.rmdir(work)
     finally:
-        if fd is not None:
-            os.close(fd)
+        release_work_directory(work)
 
 
 def _swap_in(new: Path, target: Path, work: Path, old_files) -> None:
