@@ -6,11 +6,13 @@ Item numbers refer to issue 2.1 (docs/robustness.md has one row per input).
 from __future__ import annotations
 
 import itertools
+import re
 import warnings
 
 import numpy as np
 import pytest
 import quatspline as qs
+from quatspline import design
 from scipy.spatial.transform import Rotation
 
 SEQS = [
@@ -554,3 +556,48 @@ def test_hold_between_equal_keys_is_exactly_constant_in_every_family(method, par
         ref = q[2] if method != "bspline" else s(tt[0])
         v = s(tt)
         assert np.all(np.minimum(np.abs(v - ref), np.abs(v + ref)) <= 2e-15), method
+
+
+# ---- messages print huge and tiny numbers short ----------------------------------------------
+_K2 = np.tile([1.0, 0.0, 0.0, 0.0], (2, 1))
+_K3 = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0], [0, 0, 1.0, 0]])
+_K4 = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0], [0, 0, 1.0, 0], [0, 0, 0, 1.0]])
+
+
+@pytest.mark.parametrize(
+    ("call", "shown"),
+    [
+        (lambda: qs.spline("slerp", _K2, [0, 1e300]), "1e300"),
+        (lambda: qs.spline("slerp", _K2, [0, -1e300]), "-1e300"),
+        (lambda: qs.spline("slerp", _K2, [0, 1])(np.array([1e300])), "1e300"),
+        (lambda: design.evaluate("c3", _K3, [0, 1, 2], {"alpha": 1e308}), "1e308"),
+        (lambda: design.evaluate("kochanek_bartels", _K3, [0, 1, 2], {"tension": 1e308}), "1e308"),
+        (lambda: qs.spline("kochanek_bartels", _K3, [0, 1, 2], bias=-1e308), "-1e308"),
+        (lambda: qs.spline("beta", _K4, None, beta1=1e-300), "1e-300"),
+        (lambda: qs.spline("beta", _K4, None, beta2=-1e300), "-1e300"),
+        (
+            lambda: qs.CumulativeBSpline(_K4, knots=[0, 0, 0, 0, 1e300, 1e300, 1e300, 1e300]),
+            "1e300",
+        ),
+        (lambda: qs.CumulativeBSpline(_K4, knots=[0, 0, 0, 1e29, -1e300, 1, 1, 1]), "-1e300"),
+    ],
+    ids=[
+        "key-time",
+        "decreasing-time",
+        "outside-domain",
+        "c3-alpha",
+        "design-tension",
+        "kb-bias",
+        "beta1-tiny",
+        "beta2",
+        "knot-range",
+        "knot-order",
+    ],
+)
+def test_core_messages_print_huge_numbers_short(call, shown):
+    with pytest.raises(ValueError) as e:
+        call()
+    msg = str(e.value)
+    assert "\n" not in msg, msg
+    assert max(len(run) for run in re.findall(r"\d+", msg)) <= 20, msg
+    assert shown in msg, msg

@@ -4,6 +4,22 @@
 
 use std::fmt;
 
+/// A number as messages print it: as written between 1e-4 and 1e15 (Rust's shortest
+/// round-trip digits), in scientific notation beyond (a weight of 1e308 is "1e308", not
+/// 309 digits). Every `f64` interpolated into an error message goes through it.
+pub struct Short(pub f64);
+
+impl fmt::Display for Short {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let v = self.0;
+        if v == 0.0 || !v.is_finite() || (1e-4..1e15).contains(&v.abs()) {
+            write!(f, "{v}")
+        } else {
+            write!(f, "{v:e}")
+        }
+    }
+}
+
 /// What went wrong, and where.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Error {
@@ -40,8 +56,11 @@ impl fmt::Display for Error {
             Error::Invalid { arg, message } => write!(f, "{arg}: {message}"),
             Error::OutOfDomain { index, t, start, end } => write!(
                 f,
-                "t: t[{index}] = {t} is outside the spline's domain [{start}, {end}] \
-                 (use extrapolate=\"clamp\", \"linear\" or \"periodic\" to evaluate outside)"
+                "t: t[{index}] = {} is outside the spline's domain [{}, {}] \
+                 (use extrapolate=\"clamp\", \"linear\" or \"periodic\" to evaluate outside)",
+                Short(*t),
+                Short(*start),
+                Short(*end)
             ),
             Error::Internal(m) => write!(f, "internal error (please report): {m}"),
             Error::NotConverged { what, iterations, step, tol } => write!(
@@ -57,3 +76,44 @@ impl std::error::Error for Error {}
 
 /// The core's result type.
 pub type Result<T> = std::result::Result<T, Error>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn short_prints_huge_and_tiny_numbers_in_scientific_notation() {
+        let cases = [
+            (1e308, "1e308"),
+            (-1e308, "-1e308"),
+            (f64::MAX, "1.7976931348623157e308"),
+            (1e15, "1e15"),
+            (1e-5, "1e-5"),
+            (f64::MIN_POSITIVE, "2.2250738585072014e-308"),
+            (5e-324, "5e-324"),
+            (0.0, "0"),
+            (0.5, "0.5"),
+            (-2.25, "-2.25"),
+            (1e-4, "0.0001"),
+            (123456789012345.0, "123456789012345"),
+            (f64::INFINITY, "inf"),
+            (f64::NEG_INFINITY, "-inf"),
+            (f64::NAN, "NaN"),
+        ];
+        for (v, want) in cases {
+            assert_eq!(Short(v).to_string(), want, "{v:e}");
+        }
+        // Round trip: the printed digits are the shortest that read back as the same number.
+        for v in [1e308, 1.5e-300, 0.1, 3.0e14, 7.25e15] {
+            assert_eq!(Short(v).to_string().parse::<f64>().unwrap(), v);
+        }
+    }
+
+    #[test]
+    fn out_of_domain_message_prints_huge_numbers_short() {
+        let e = Error::OutOfDomain { index: 2, t: 1e308, start: -1e300, end: 1e-310 };
+        let m = e.to_string();
+        assert!(m.contains("t[2] = 1e308") && m.contains("[-1e300, 1e-310]"), "{m}");
+        assert!(!m.contains("00000"), "{m}");
+    }
+}

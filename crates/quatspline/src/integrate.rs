@@ -21,7 +21,7 @@
 //! The Magnus step is one exponential per interval (commutator-free in the sense that only
 //! the single cross product above appears), so every output is a rotation to rounding.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Short};
 use crate::quat::Quat;
 use crate::spline::Frame;
 use crate::vec3::{self, Vec3};
@@ -85,7 +85,10 @@ pub fn check_inputs(times: &[f64], rates: &[Vec3], q0: Quat) -> Result<Quat> {
     if (n - 1.0).abs() > Q0_NORM_TOLERANCE || n.is_nan() {
         return Err(Error::invalid(
             "q0",
-            format!("not a rotation: |q0| = {n}, expected a unit quaternion (within {Q0_NORM_TOLERANCE})"),
+            format!(
+                "not a rotation: |q0| = {}, expected a unit quaternion (within {Q0_NORM_TOLERANCE})",
+                Short(n)
+            ),
         ));
     }
     Ok(q0.scale(1.0 / n))

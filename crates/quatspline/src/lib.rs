@@ -30,5 +30,5 @@ pub mod translation;
 pub mod vec3;
 
 pub use dual_quat::{DualQuat, Screw};
-pub use error::{Error, Result};
+pub use error::{Error, Result, Short};
 pub use quat::Quat;

@@ -62,7 +62,7 @@ pub mod model;
 pub mod position;
 pub mod so3;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Short};
 use crate::jet::Jet;
 use crate::quat::Quat;
 use crate::vec3::{self, Vec3};
@@ -223,22 +223,6 @@ pub struct FitResult {
 
 /// Progress callback: (stage, iteration, last step). Returning false cancels the fit.
 pub type Progress<'a> = &'a mut dyn FnMut(&str, usize, f64) -> bool;
-
-/// A number as messages print it: as written between 1e-4 and 1e15 (Rust's shortest
-/// round-trip digits), in scientific notation beyond (a weight of 1e308 is "1e308", not
-/// 309 digits).
-pub(crate) struct Short(pub f64);
-
-impl std::fmt::Display for Short {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let v = self.0;
-        if v == 0.0 || !v.is_finite() || (1e-4..1e15).contains(&v.abs()) {
-            write!(f, "{v}")
-        } else {
-            write!(f, "{v:e}")
-        }
-    }
-}
 
 /// The data of a fit after validation.
 struct Data {

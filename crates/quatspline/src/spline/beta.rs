@@ -16,7 +16,7 @@
 //! 1/h per order, the β relations hold in the local parameter u.
 
 use super::{prepare_keys, prepare_times, segment_jets, Spline};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Short};
 use crate::jet::{Axis, JQuat, Jet};
 use crate::quat::Quat;
 use crate::simd::cumulative::{Basis, CumulativeTable, SegmentForm};
@@ -83,12 +83,12 @@ impl BetaSpline {
         let b1 = per_vertex(beta1, n, "beta1")?;
         let b2 = per_vertex(beta2, n, "beta2")?;
         if let Some(i) = b1.iter().position(|&b| b <= 0.0) {
-            return Err(Error::invalid("beta1", format!("beta1[{i}] = {} must be > 0", b1[i])));
+            return Err(Error::invalid("beta1", format!("beta1[{i}] = {} must be > 0", Short(b1[i]))));
         }
         if let Some(i) = b1.iter().position(|&b| b < 1e-6) {
             return Err(Error::invalid(
                 "beta1",
-                format!("beta1[{i}] = {} is below the supported 1e-6", b1[i]),
+                format!("beta1[{i}] = {} is below the supported 1e-6", Short(b1[i])),
             ));
         }
         let mut gamma = Vec::with_capacity(n);
@@ -98,8 +98,9 @@ impl BetaSpline {
                 return Err(Error::invalid(
                     "beta2",
                     format!(
-                        "beta2[{i}] = {} makes β₂ + 2β₁(1+β₁) = {den} ≤ 0 (γ_{i} infinite or negative)",
-                        b2[i]
+                        "beta2[{i}] = {} makes β₂ + 2β₁(1+β₁) = {} ≤ 0 (γ_{i} infinite or negative)",
+                        Short(b2[i]),
+                        Short(den)
                     ),
                 ));
             }

@@ -10,7 +10,7 @@
 //! control rotations. The domain is [t₀, t₀ + (n−k+1)Δt].
 
 use super::{local, prepare_keys, segment_jets, Spline};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Short};
 use crate::jet::{Axis, JQuat, Jet};
 use crate::quat::Quat;
 use crate::simd::cumulative::{Basis, CumulativeTable, SegmentForm};
@@ -84,7 +84,10 @@ impl CumulativeBSpline {
             return Err(Error::invalid("order", format!("expected 2 ≤ order ≤ 12, got {order}")));
         }
         if !(dt.is_finite() && dt > 0.0) {
-            return Err(Error::invalid("dt", format!("expected a finite positive spacing, got {dt}")));
+            return Err(Error::invalid(
+                "dt",
+                format!("expected a finite positive spacing, got {}", Short(dt)),
+            ));
         }
         if !t0.is_finite() {
             return Err(Error::NonFinite { arg: "t0", index: 0 });

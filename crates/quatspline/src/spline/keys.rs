@@ -1,6 +1,6 @@
 //! Validation of keyframes and key times, shared by every spline constructor.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Short};
 use crate::jet::Axis;
 use crate::quat::Quat;
 
@@ -56,7 +56,7 @@ pub fn check_increasing(arg: &'static str, v: &[f64], spans: bool) -> Result<()>
         if i > 0 && x <= v[i - 1] {
             return Err(Error::invalid(
                 arg,
-                format!("not strictly increasing at index {i} ({x} after {})", v[i - 1]),
+                format!("not strictly increasing at index {i} ({} after {})", Short(x), Short(v[i - 1])),
             ));
         }
         if spans && i > 0 {
@@ -80,14 +80,17 @@ pub fn check_span(arg: &'static str, a: f64, b: f64, index: usize) -> Result<()>
             arg,
             format!(
                 "time {} at index {index} is beyond the supported range |t| ≤ 1e30",
-                if a.abs() > MAX_TIME { a } else { b }
+                Short(if a.abs() > MAX_TIME { a } else { b })
             ),
         ));
     }
     let h = b - a;
     let scale = 1f64.max(a.abs()).max(b.abs());
     if !h.is_finite() {
-        return Err(Error::invalid(arg, format!("span {a} … {b} at index {index} overflows")));
+        return Err(Error::invalid(
+            arg,
+            format!("span {} … {} at index {index} overflows", Short(a), Short(b)),
+        ));
     }
     if h < MIN_RELATIVE_SPACING * scale {
         return Err(Error::invalid(
@@ -107,7 +110,7 @@ pub fn check_shape(arg: &'static str, v: &[f64]) -> Result<()> {
         if x.abs() > 1e6 {
             return Err(Error::invalid(
                 arg,
-                format!("{arg}[{i}] = {x} is beyond the supported range |{arg}| ≤ 1e6"),
+                format!("{arg}[{i}] = {} is beyond the supported range |{arg}| ≤ 1e6", Short(*x)),
             ));
         }
     }
@@ -122,7 +125,10 @@ pub fn chain_logs(q: &[Quat]) -> Vec<Axis> {
 /// A single curve's time domain (t₀, t₁): finite, increasing, wide enough.
 pub fn check_domain(domain: (f64, f64)) -> Result<[f64; 2]> {
     if !(domain.0.is_finite() && domain.1.is_finite() && domain.1 > domain.0) {
-        return Err(Error::invalid("domain", format!("expected finite t0 < t1, got {domain:?}")));
+        return Err(Error::invalid(
+            "domain",
+            format!("expected finite t0 < t1, got ({}, {})", Short(domain.0), Short(domain.1)),
+        ));
     }
     check_span("domain", domain.0, domain.1, 1)?;
     Ok([domain.0, domain.1])

@@ -29,7 +29,7 @@
 
 use super::keyframe::{prepare_loop, same_rotation, KeyLoop};
 use super::{check_shape, de_casteljau, local, segment_jets, Spline};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Short};
 use crate::jet::{Axis, JQuat};
 use crate::quat::Quat;
 use crate::vec3::{self, Vec3};
@@ -88,7 +88,7 @@ fn per_key(v: &[f64], given: usize, kept: usize, dropped: bool, arg: &'static st
 /// segment included for a loop).
 pub fn alpha_times(keys: &[Quat], alpha: f64, closed: bool) -> Result<Vec<f64>> {
     if !(alpha.is_finite() && (0.0..=1.0).contains(&alpha)) {
-        return Err(Error::invalid("alpha", format!("expected a value in [0, 1], got {alpha}")));
+        return Err(Error::invalid("alpha", format!("expected a value in [0, 1], got {}", Short(alpha))));
     }
     let n = keys.len();
     let mut k: Vec<Quat> = keys.iter().map(|q| q.normalize()).collect();

@@ -18,7 +18,7 @@
 //! the domain. Approximating: it passes through control rotations only at clamped ends.
 
 use super::{prepare_keys, segment_jets, Spline};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Short};
 use crate::jet::{Axis, JQuat, Jet};
 use crate::quat::Quat;
 
@@ -71,12 +71,12 @@ pub fn check_knots(knots: &[f64], n: usize, k: usize) -> Result<(Vec<usize>, Vec
             return Err(Error::NonFinite { arg: "knots", index: i });
         }
         if u.abs() > super::MAX_TIME {
-            return Err(Error::invalid("knots", format!("knot {i} = {u} is beyond |t| ≤ 1e30")));
+            return Err(Error::invalid("knots", format!("knot {i} = {} is beyond |t| ≤ 1e30", Short(u))));
         }
         if i > 0 && u < knots[i - 1] {
             return Err(Error::invalid(
                 "knots",
-                format!("not non-decreasing at index {i} ({u} after {})", knots[i - 1]),
+                format!("not non-decreasing at index {i} ({} after {})", Short(u), Short(knots[i - 1])),
             ));
         }
     }
@@ -93,7 +93,7 @@ pub fn check_knots(knots: &[f64], n: usize, k: usize) -> Result<(Vec<usize>, Vec
                 "knots",
                 format!(
                     "knot {} (index {i}) repeats {mult} times; at most {} {} the domain",
-                    knots[i],
+                    Short(knots[i]),
                     if inside { k - 1 } else { k },
                     if inside { "inside" } else { "at the ends of" }
                 ),
@@ -104,7 +104,12 @@ pub fn check_knots(knots: &[f64], n: usize, k: usize) -> Result<(Vec<usize>, Vec
     if knots[n] <= knots[k - 1] {
         return Err(Error::invalid(
             "knots",
-            format!("the domain [u_{}, u_{n}] = [{}, {}] is empty", k - 1, knots[k - 1], knots[n]),
+            format!(
+                "the domain [u_{}, u_{n}] = [{}, {}] is empty",
+                k - 1,
+                Short(knots[k - 1]),
+                Short(knots[n])
+            ),
         ));
     }
     let mut seg = Vec::new();

@@ -22,7 +22,7 @@
 //! inner speed is exactly zero the derivatives of s are infinite and are reported as zero.
 
 use super::{segment_jets, Spline};
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, Short};
 use crate::jet::{JQuat, Jet};
 use std::sync::Arc;
 
@@ -100,7 +100,10 @@ impl Reparameterized {
     /// Uniform time stretch by `factor` > 0 about the start of the domain.
     pub fn scaled(inner: Arc<dyn Spline>, factor: f64) -> Result<Self> {
         if !(factor.is_finite() && factor > 0.0) {
-            return Err(Error::invalid("factor", format!("expected a finite positive factor, got {factor}")));
+            return Err(Error::invalid(
+                "factor",
+                format!("expected a finite positive factor, got {}", Short(factor)),
+            ));
         }
         let (a, _) = inner.domain();
         let joints: Vec<f64> = inner.joints().iter().map(|&s| a + (s - a) * factor).collect();
@@ -412,7 +415,7 @@ pub fn max_rate(s: &dyn Spline, order: usize) -> Result<(f64, f64)> {
             (0..=M).map(|i| if i == M { b } else { a + (b - a) * i as f64 / M as f64 }).collect();
         let y: Vec<f64> = x.iter().map(|&t| f(seg, t)).collect();
         if let Some(k) = y.iter().position(|v| !v.is_finite()) {
-            return Err(Error::invalid("spline", format!("non-finite rate at t = {}", x[k])));
+            return Err(Error::invalid("spline", format!("non-finite rate at t = {}", Short(x[k]))));
         }
         for i in 0..=M {
             let left = if i > 0 { y[i - 1] } else { f64::NEG_INFINITY };
