@@ -480,7 +480,7 @@ def test_c3_alpha_bad_values():
     q = random_walk(4, 1)
     with pytest.raises(ValueError, match=r"^alpha: expected a number, numbers or 'auto'"):
         qs.C3Spline(q, alpha="fast")
-    with pytest.raises(ValueError, match=r"^alpha: expected float_or_auto, got 'fast'"):
+    with pytest.raises(ValueError, match=r"^alpha: expected a number or 'auto', got 'fast'"):
         qs.spline("c3", q, alpha="fast")
     with pytest.raises(ValueError, match=r"^alpha: non-finite value .* element 2"):
         qs.C3Spline(q, alpha=[0.3, 0.3, np.nan, 0.3])
