@@ -83,6 +83,7 @@ def test_demo_replaces_files_of_a_previous_run_and_keeps_others(tmp_path, monkey
     out = tmp_path / "out"
     out.mkdir()
     (out / "keep.txt").write_text("mine")
+    assert demo.run(out) == 0  # a previous run: its files are recorded in its manifest
     (out / "report.md").write_text("old report")
     assert demo.run(out) == 0
     assert (out / "keep.txt").read_text() == "mine"
