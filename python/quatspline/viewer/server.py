@@ -23,7 +23,7 @@ import numpy as np
 
 from .. import design
 from .. import io as qio
-from . import _worker
+from ._worker import EXPORT_FORMATS as _EXPORT_FORMATS
 
 FIRST = asyncio.FIRST_COMPLETED
 
@@ -59,7 +59,7 @@ MAX_QUEUED = 8
 JOB_TIMEOUT = 60.0
 #: Seconds the server waits for running requests after SIGTERM or Ctrl-C before it stops.
 SHUTDOWN_TIMEOUT = 2
-EXPORT_FORMATS = _worker.EXPORT_FORMATS
+EXPORT_FORMATS = _EXPORT_FORMATS
 _HEADER = struct.Struct(">Q")
 #: Started in each worker process (the package root comes first on its path).
 _WORKER_CODE = (
