@@ -64,7 +64,7 @@ browser:
 
 test-python: build $(DEV) $(GLTF_VALIDATOR) viewer-assets browser
 	$(VPY) -m pytest
-	QUATSPLINE_SIMD=scalar $(VPY) -m pytest -q tests/test_simd.py tests/test_engine.py tests/test_splines.py
+	QUATSPLINE_SIMD=scalar $(VPY) -m pytest -q tests/core/test_simd.py tests/core/test_engine.py tests/splines/test_splines.py
 
 PYDIRS := $(wildcard python tests tests_installed benchmarks fuzz examples docs)
 

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 from quatspline.examples import load_recording
-from quatspline.export import to_gltf
+from quatspline.ops import to_gltf
 
 
 def main() -> None:

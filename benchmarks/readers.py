@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import quatspline.io as qio
-from quatspline.convert import as_matrix
+from quatspline.core.convert import as_matrix
 from quatspline.io import _fast
 
 

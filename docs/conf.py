@@ -70,17 +70,25 @@ sphinx_gallery_conf = {
 }
 
 # ---- the API reference, generated from quatspline.__all__ ----------------------------------
-SECTIONS = {
-    "quatspline.spline": "Splines",
+SECTIONS = {  # module (or package) of a name's definition → its section; longest prefix wins
+    "quatspline.splines.joints": "Continuity certificate",
+    "quatspline.splines.timing": "Retiming",
+    "quatspline.splines.screw": "Poses",
+    "quatspline.splines.se3": "Poses",
+    "quatspline.splines.pose_bspline": "Poses",
+    "quatspline.poses": "Poses",
+    "quatspline.splines": "Splines",
     "quatspline.registry": "Splines by name",
-    "quatspline.continuity": "Continuity certificate",
-    "quatspline.pose": "Poses",
-    "quatspline.screw": "Poses",
-    "quatspline.algebra": "Quaternion algebra",
-    "quatspline.interpolate": "Two-key interpolation",
-    "quatspline.convert": "Conversions",
-    "quatspline.dualquat": "Dual quaternions",
-    "quatspline.rigid": "Rigid bodies",
+    "quatspline.fitting": "Fitting",
+    "quatspline.core.algebra": "Quaternion algebra",
+    "quatspline.core.interpolate": "Two-key interpolation",
+    "quatspline.core.convert": "Conversions",
+    "quatspline.core.dualquat": "Dual quaternions",
+    "quatspline.core.rigid": "Rigid bodies",
+    "quatspline.core.metrics": "Metrics",
+    "quatspline.core.averaging": "Means",
+    "quatspline.core.integration": "Integration",
+    "quatspline._util": "Engine settings",
     "quatspline._core": "Engine settings",
 }
 
@@ -91,8 +99,9 @@ def _section(name: str, obj: object) -> str:
     if not callable(obj):
         return "Constants"
     mod = getattr(obj, "__module__", None) or "quatspline"
-    if mod in SECTIONS:
-        return SECTIONS[mod]
+    for prefix in sorted(SECTIONS, key=len, reverse=True):
+        if mod == prefix or mod.startswith(prefix + "."):
+            return SECTIONS[prefix]
     # a module added later: its own section, titled after the module
     return mod.rsplit(".", 1)[-1].replace("_", " ").capitalize()
 

@@ -12,8 +12,9 @@ DOC = ROOT / "docs" / "robustness.md"
 
 
 def _python_tests(module: str) -> set[str]:
-    path = ROOT / "tests" / f"{module}.py"
-    assert path.is_file(), f"docs/robustness.md names tests/{module}.py, which does not exist"
+    found = sorted((ROOT / "tests").rglob(f"{module}.py"))
+    assert len(found) == 1, f"docs/robustness.md names {module}.py: found {found}"
+    path = found[0]
     tree = ast.parse(path.read_text(encoding="utf-8"))
     return {n.name for n in ast.walk(tree) if isinstance(n, ast.FunctionDef)}
 

@@ -9,9 +9,22 @@ from __future__ import annotations
 
 from . import batch, examples, io, ops
 from ._core import __version__
-from .algebra import canonicalize, conjugate, exp, inverse, log, multiply, normalize, power, rotate
-from .continuity import JointContinuity, continuity
-from .convert import (
+from ._util import moved as _moved
+from ._util.simd import set_simd, simd_status
+from ._util.threads import get_num_threads, set_num_threads
+from .core.algebra import (
+    canonicalize,
+    conjugate,
+    exp,
+    inverse,
+    log,
+    multiply,
+    normalize,
+    power,
+    rotate,
+)
+from .core.averaging import MeanInfo, mean, moving_mean
+from .core.convert import (
     as_euler,
     as_matrix,
     as_rotvec,
@@ -24,7 +37,7 @@ from .convert import (
     from_xyzw,
     to_scipy,
 )
-from .dualquat import (
+from .core.dualquat import (
     dlb,
     dq_conjugate,
     dq_from_pose,
@@ -36,20 +49,14 @@ from .dualquat import (
     dq_transform_point,
     sclerp,
 )
-from .fit import FittedPose, FittedSpline, MinimumEnergySpline, fit, fit_trajectory
-from .integrate import integrate
-from .interpolate import lerp, lin_euler, lin_mat, nlerp, slerp
-from .keyframe import Hermite, KochanekBartels
-from .mean import MeanInfo, mean, moving_mean
-from .metrics import angle_between
-from .pose import PoseSpline
-from .pose_bspline import PoseBSpline
+from .core.integration import integrate
+from .core.interpolate import lerp, lin_euler, lin_mat, nlerp, slerp
+from .core.metrics import angle_between
+from .core.rigid import rotate_points
+from .fitting.smoothing import FittedPose, FittedSpline, MinimumEnergySpline, fit, fit_trajectory
+from .poses.pose_spline import PoseSpline
 from .registry import METHODS, spline
-from .retime import Reparameterized, arc_length, max_angular_rate, retime
-from .rigid import rotate_points
-from .screw import ScrewSpline
-from .simd import set_simd, simd_status
-from .spline import (
+from .splines._families import (
     BetaSpline,
     C3Spline,
     CatmullRom,
@@ -66,7 +73,13 @@ from .spline import (
     path_length,
     reparameterize,
 )
-from .threads import get_num_threads, set_num_threads
+from .splines.joints import JointContinuity, continuity
+from .splines.keyframe import Hermite, KochanekBartels
+from .splines.pose_bspline import PoseBSpline
+from .splines.screw import ScrewSpline
+from .splines.timing import Reparameterized, arc_length, max_angular_rate, retime
+
+_moved.install()
 
 __all__ = [
     "batch",

@@ -58,10 +58,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ._atomic import atomic_write, file_kind, make_directories, remove_stale_temporaries
 from ._core import __version__
+from ._util.atomic import atomic_write, file_kind, make_directories, remove_stale_temporaries
 from .io._common import open_regular
-from .ops import ParameterError
+from .ops._ops import ParameterError
 
 __all__ = ["OPERATIONS", "expand_inputs", "local_cluster", "plan", "run", "summarize"]
 
@@ -646,7 +646,7 @@ def _op_sample(task: Task, options: dict) -> dict:
 def _op_fit(task: Task, options: dict) -> dict:
     """``quatspline fit IN -o OUT``: the same read, ``fit_trajectory`` and write."""
     from . import ops
-    from .fit import fit_trajectory
+    from .fitting.smoothing import fit_trajectory
 
     traj = _read(task, options)
     smoothing = options.get("smoothing", "auto")
@@ -694,7 +694,7 @@ def _op_compare(task: Task, options: dict) -> dict:
 
 def _op_export(task: Task, options: dict) -> dict:
     """``quatspline export IN -o OUT.glb``: the library's glTF export with its error bound."""
-    from . import export
+    from .ops import _export as export
 
     traj = _read(task, options)
     opts = {k: options[k] for k in ("max_error", "interpolation", "method") if k in options}
@@ -961,7 +961,7 @@ def run(
             [force] * len(tasks),
             pure=False,
         )
-        from ._progress import progress as progress_bar
+        from ._util.progress import progress as progress_bar
 
         with progress_bar(
             len(tasks), f"batch {operation}", enabled=progress is not False, unit="file"
@@ -1013,7 +1013,7 @@ def _log_errors(out: Path, rows: list[dict]) -> None:
 def _md_cell(x) -> str:
     if isinstance(x, float):
         return "" if math.isnan(x) else f"{x:.4g}"
-    from .ops import _cell
+    from .ops._ops import _cell
 
     return _cell(x)
 
@@ -1249,7 +1249,7 @@ def cli_options(args) -> dict:
             to=args.to,
         )
         if op == "sample":
-            from .cli import _params
+            from .cli._commands import _params
 
             opts.update(method=args.method, params=_params(args.param))
         else:

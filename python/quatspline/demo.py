@@ -19,20 +19,20 @@ from pathlib import Path
 import numpy as np
 
 from . import io as qio
-from ._atomic import (
+from ._util.atomic import (
     atomic_write,
     make_directories,
     make_work_directory,
     release_work_directory,
     remove_stale_temporaries,
 )
-from .algebra import normalize
+from .core.algebra import normalize
+from .core.interpolate import slerp
 from .examples import BETA_EXAMPLE1_VERTICES, BETA_EXAMPLE2_VERTICES
-from .interpolate import slerp
 from .io._common import open_regular
 from .registry import interpolating_methods
 from .registry import spline as make_spline
-from .spline import BetaSpline
+from .splines._families import BetaSpline
 
 PLOT_HINT = "figures skipped: matplotlib is not installed (pip install 'quatspline[plot]')"
 
@@ -126,7 +126,7 @@ def _move_into(src: Path, dst: Path) -> None:
 
 
 def _run(out: Path, recording: Path | None, figures: bool) -> str:
-    from .ops import compare, format_table
+    from .ops._ops import compare, format_table
 
     if figures:
         from . import plot
@@ -153,7 +153,7 @@ def _run(out: Path, recording: Path | None, figures: bool) -> str:
             ),
             out / "sphere.png",
         )
-    from .continuity import continuity
+    from .splines.joints import continuity
 
     (j1,) = continuity(beta)
     lines.append(
@@ -207,7 +207,7 @@ def _run(out: Path, recording: Path | None, figures: bool) -> str:
             ),
             out / "rates.png",
         )
-    from .pose import PoseSpline
+    from .poses.pose_spline import PoseSpline
 
     pose = PoseSpline(traj.quats[idx], t_rel[idx], traj.positions[idx], rotation="c3")
     if figures:

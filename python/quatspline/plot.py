@@ -23,8 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ._atomic import atomic_write
-from .algebra import rotate
+from ._util.atomic import atomic_write
+from .core.algebra import rotate
 
 AXIS_COLOURS = ("#d62728", "#2ca02c", "#1f77b4")  # x red, y green, z blue
 MAX_MARKERS = 40

@@ -28,9 +28,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from . import _core
-from . import spline as sp
-from ._arrays import as_real, with_width
+from ._util.arrays import as_real, with_width
 from .io._common import open_regular
+from .splines import _families as sp
 
 __all__ = [
     "METHODS",
@@ -101,7 +101,7 @@ def float_or_auto(v):
     return float(v)
 
 
-# the control kind of each converter in the viewer (quatspline.design.method_specs)
+# the control kind of each converter in the viewer (quatspline.ops._design.method_specs)
 float_or_none.kind = "float"  # type: ignore[attr-defined]
 float_or_auto.kind = "float"  # type: ignore[attr-defined]
 int_or_none.kind = "int"  # type: ignore[attr-defined]
@@ -141,7 +141,7 @@ def rates_spec(v):
 
 
 def _hermite(q, times, p):
-    from . import keyframe as kf
+    from .splines import keyframe as kf
 
     r = p["rates"]
     if isinstance(r, str):
@@ -161,7 +161,7 @@ def _loop_times(q, times, p):
     q = np.asarray(q, dtype=float)
     if t.ndim != 1 or len(t) != len(q) or len(t) < 2:
         return times
-    from .algebra import conjugate, multiply, normalize
+    from .core.algebra import conjugate, multiply, normalize
 
     d = multiply(conjugate(normalize(q[0])), normalize(q[-1]))
     if 2 * np.arctan2(np.linalg.norm(d[1:]), abs(d[0])) <= 1e-12:
@@ -189,7 +189,7 @@ def _held_bspline(q, ends, t0, t1):
     """The registry's cubic B-spline with holds: runs of equal keys repeated (see
     ``keyframe.bspline_controls``), the end keys padded as without holds, the segments spread
     over [t0, t1]; ``hold_intervals`` set."""
-    from .keyframe import _bspline_hold_intervals, bspline_controls
+    from .splines.keyframe import _bspline_hold_intervals, bspline_controls
 
     c = bspline_controls(
         np.asarray(q, dtype=float), 4, "closed" if ends == "closed" else "open", True
@@ -223,7 +223,7 @@ def _build(name, q, times, p):
     if name == "hermite":
         return _hermite(q, times, p)
     if name == "kochanek_bartels":
-        from .keyframe import KochanekBartels
+        from .splines.keyframe import KochanekBartels
 
         return KochanekBartels(
             q,
@@ -302,7 +302,7 @@ def str_or_none(v):
 
 
 def _fitted(name, q, times, p):
-    from .fit import MinimumEnergySpline, fit
+    from .fitting.smoothing import MinimumEnergySpline, fit
 
     t = _times_or_default(times, len(q))
     if name == "fit":
@@ -585,10 +585,10 @@ def pose_spline(method: str, quats, times, positions, **params):
         valid = ", ".join(m.params) or "none"
         raise ValueError(f"{unknown[0]}: unknown parameter of {method}; valid: {valid}")
     if method in ("screw", "screw_smooth"):
-        from .screw import ScrewSpline
+        from .splines.screw import ScrewSpline
 
         return ScrewSpline(quats, times, positions, smooth=method == "screw_smooth")
-    from .pose_bspline import PoseBSpline
+    from .splines.pose_bspline import PoseBSpline
 
     q = np.asarray(quats, dtype=float)
     p = np.asarray(positions, dtype=float)

@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._atomic import file_kind
+from .._util.atomic import file_kind
 
 #: A line break and the blanks around it (messages are one line).
 _LINE_BREAKS = re.compile(r"\s*[\r\n\v\f\x1c-\x1e\x85\u2028\u2029]+\s*")
@@ -115,8 +115,8 @@ class Trajectory:
         """This trajectory's spline sampled at ``times`` (absolute, in this trajectory's time
         unit; another :class:`Trajectory` gives its times).
 
-        See :func:`quatspline.resampling.resample`."""
-        from ..resampling import resample
+        See :func:`quatspline.ops._resample.resample`."""
+        from ..ops._resample import resample
 
         return resample(self, times, method=method, extrapolate=extrapolate, **params)
 

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .._atomic import atomic_write
+from .._util.atomic import atomic_write
 from ._common import (
     Trajectory,
     TrajectoryError,
@@ -105,7 +105,7 @@ def _parse_hierarchy(path, lines):
 
 
 def _rotation(joint: Joint, frames: np.ndarray) -> np.ndarray:
-    from ..convert import from_euler
+    from ..core.convert import from_euler
 
     rot = [(c, k) for k, c in enumerate(joint.channels) if c in AXES]
     if not rot:
@@ -199,7 +199,7 @@ def read(
 
 
 def _pose(joints, chain, target, frames, world):
-    from ..algebra import multiply, rotate
+    from ..core.algebra import multiply, rotate
 
     if world:
         q = None
@@ -220,7 +220,7 @@ def _pose(joints, chain, target, frames, world):
 
 
 def write(path, traj: Trajectory, joint: str = "Root") -> None:
-    from ..convert import as_euler
+    from ..core.convert import as_euler
 
     check_for_writing(path, traj)
     refuse_extra(path, traj, "BVH")

@@ -20,8 +20,8 @@ from array import array
 
 import numpy as np
 
-from .. import _progress
-from .._atomic import atomic_write
+from .._util import progress as _progress
+from .._util.atomic import atomic_write
 from . import _fast
 from ._common import (
     Trajectory,
@@ -121,7 +121,7 @@ def read(
         raise TrajectoryError(f"{path}: no data rows")
     values = np.array(rows, dtype=float).reshape(-1, len(qi))
     if euler is not None:
-        from ..convert import from_euler
+        from ..core.convert import from_euler
 
         try:
             quats = from_euler(euler, values, degrees=degrees)
@@ -162,7 +162,7 @@ def _from_fast(path, a, ti, qi, pi, euler, degrees, sort, dedupe):
     parser (for its messages with line numbers)."""
     try:
         if euler is not None:
-            from ..convert import from_euler
+            from ..core.convert import from_euler
 
             quats = from_euler(euler, a[:, list(qi)], degrees=degrees)
         else:

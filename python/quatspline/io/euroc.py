@@ -9,8 +9,8 @@ from array import array
 
 import numpy as np
 
-from .. import _progress
-from .._atomic import atomic_write
+from .._util import progress as _progress
+from .._util.atomic import atomic_write
 from . import _fast
 from ._common import (
     Trajectory,

@@ -6,7 +6,7 @@ keys (glTF stores (x, y, z, w); CUBICSPLINE keys are the values between the tang
 translation channel with the same key times gives the positions; with other key times it is
 played back (LINEAR, STEP or CUBICSPLINE as the file says) at the rotation's times. A node
 with only a translation channel keeps its static rotation. Writing goes through
-:func:`quatspline.export.to_gltf` (an error-bounded export of a spline through the keys).
+:func:`quatspline.ops.to_gltf` (an error-bounded export of a spline through the keys).
 
 The reader checks every field it uses against the glTF 2.0 specification and refuses a file
 that breaks it with one ``ValueError`` naming the file and the field
@@ -363,7 +363,7 @@ def _play_channel(kind: str, kt, kv, t, rot: bool) -> np.ndarray:
         )
         return out / np.linalg.norm(out, axis=1)[:, None] if rot else out
     if rot:
-        from ..interpolate import slerp
+        from ..core.interpolate import slerp
 
         return slerp(v[k], v[k + 1], u[:, 0])
     return v[k] + u * (v[k + 1] - v[k])
@@ -566,9 +566,9 @@ def write(
     uniform: bool = True,
     progress: bool = False,
 ) -> None:
-    """An error-bounded export of the trajectory (see :func:`quatspline.export.to_gltf`,
+    """An error-bounded export of the trajectory (see :func:`quatspline.ops.to_gltf`,
     whose options these are)."""
-    from ..export import to_gltf
+    from ..ops._export import to_gltf
 
     to_gltf(
         traj,

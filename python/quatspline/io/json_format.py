@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from .._atomic import atomic_write
+from .._util.atomic import atomic_write
 from ._common import Trajectory, TrajectoryError, check_for_writing, finish, open_regular
 
 

@@ -7,7 +7,7 @@ The 3×3 blocks must be rotations: orthonormal within :data:`ORTHONORMAL_TOL` (t
 entry of |RᵀR − I|; a file printed with 4 significant digits is within about 1e-4) and with a
 positive determinant, else the reader names the file and line. The writer writes poses and
 times as a pair (both old or both new after a kill, see
-:func:`quatspline._atomic.atomic_write_pair`), and refuses what the format cannot hold: times
+:func:`quatspline._util.atomic.atomic_write_pair`), and refuses what the format cannot hold: times
 other than 0, 1, 2, … without a times file, and extra columns."""
 
 from __future__ import annotations
@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import _progress
-from .._atomic import atomic_write, atomic_write_pair, committed_pair
+from .._util import progress as _progress
+from .._util.atomic import atomic_write, atomic_write_pair, committed_pair
 from . import _fast
 from ._common import (
     Trajectory,
@@ -42,7 +42,7 @@ NAMES = ("r11", "r12", "r13", "tx", "r21", "r22", "r23", "ty", "r31", "r32", "r3
 
 
 def _matrices_to_quats(path, mats: np.ndarray, lines) -> np.ndarray:
-    from ..convert import from_matrix
+    from ..core.convert import from_matrix
 
     eye = np.eye(3)
     off = np.max(np.abs(np.einsum("nji,njk->nik", mats, mats) - eye), axis=(1, 2))
@@ -136,10 +136,10 @@ def write(path, traj: Trajectory, times_path=None) -> None:
     """Writes the poses (positions are required) and, with ``times_path``, the times file.
 
     The two files are replaced as a pair (both old or both new after a kill at any point,
-    as :func:`quatspline._atomic.atomic_write_pair` states). Without ``times_path`` the times
+    as :func:`quatspline._util.atomic.atomic_write_pair` states). Without ``times_path`` the times
     must be the frame numbers 0, 1, 2, … that the reader assumes without a times file;
     other times, and extra columns, are refused (one line) rather than lost."""
-    from ..convert import as_matrix
+    from ..core.convert import as_matrix
 
     if traj.positions is None:
         raise ValueError(f"{path}: KITTI poses need positions; this trajectory has none")

@@ -16,7 +16,7 @@ import zlib
 
 import numpy as np
 
-from .._atomic import atomic_write
+from .._util.atomic import atomic_write
 from ._common import Trajectory, TrajectoryError, check_for_writing, finish, open_regular
 
 #: Largest array read (declared size after decompression): 1 GiB, about 33 million keys.

@@ -8,7 +8,7 @@ from array import array
 
 import numpy as np
 
-from .. import _progress
+from .._util import progress as _progress
 from ._common import (
     Trajectory,
     TrajectoryError,
@@ -53,7 +53,7 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
 
 
 def write(path, traj: Trajectory) -> None:
-    from .._atomic import atomic_write
+    from .._util.atomic import atomic_write
 
     check_for_writing(path, traj)
     refuse_extra(path, traj, "RepoIMU", positions=False)

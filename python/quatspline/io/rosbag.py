@@ -45,7 +45,7 @@ from pathlib import Path, PurePath
 
 import numpy as np
 
-from .._atomic import (
+from .._util.atomic import (
     adopt_mode,
     make_directories,
     make_work_directory,
@@ -54,7 +54,7 @@ from .._atomic import (
     resolve_output,
     sigterm_unwinds,
 )
-from .._progress import progress
+from .._util.progress import progress
 from ._common import Trajectory, TrajectoryError, check_regular_input, finish, open_regular
 
 HINT = "ROS bags need the rosbags library: pip install 'quatspline[bag]'"

@@ -21,8 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import design
 from .. import io as qio
+from ..ops import _design as design
 from ._worker import EXPORT_FORMATS as _EXPORT_FORMATS
 
 FIRST = asyncio.FIRST_COMPLETED
@@ -402,7 +402,7 @@ def missing_assets() -> list[str]:
 
 def example_keys() -> tuple[np.ndarray, np.ndarray, str]:
     """The keys shown without a file: the Beta paper's Example 1 rotations at unit times."""
-    from ..algebra import normalize
+    from ..core.algebra import normalize
     from ..examples import BETA_EXAMPLE1_VERTICES
 
     q = normalize(BETA_EXAMPLE1_VERTICES)

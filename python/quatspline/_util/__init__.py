@@ -1,0 +1,1 @@
+"""Internal utilities: array checks, atomic output, progress bars, threads, SIMD selection."""

@@ -1,0 +1,1 @@
+"""Smoothing splines fitted to noisy samples, and minimum-energy interpolation."""

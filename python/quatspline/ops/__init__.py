@@ -1,0 +1,40 @@
+"""Library operations on recorded trajectories: sampling a spline and comparing methods.
+
+These are the functions behind ``quatspline sample`` and ``quatspline compare``; the command
+line, batch runs and viewers only call them. They take and return plain data (a
+:class:`quatspline.io.Trajectory`, lists of dicts of floats, a Markdown string) and raise
+``ValueError`` naming the argument for a bad value (:class:`ParameterError` when the value is
+an option the caller chose rather than the data) and ``TypeError`` for a wrong kind of object.
+
+Positions: when a trajectory has positions they follow every method, interpolating or
+approximating. They are always interpolated by the natural cubic spline through the key
+positions (C², the ``translation="cubic"`` construction of :class:`quatspline.PoseSpline`),
+independently of the rotation method: recorded positions are measurements to pass through,
+and the choice of rotation method is about orientation only.
+"""
+
+from __future__ import annotations
+
+from ._export import GltfReport, to_bvh, to_gltf
+from ._ops import (
+    DEFAULT_MAX_SAMPLES,
+    ParameterError,
+    build_spline,
+    compare,
+    format_table,
+    sample_times,
+    sample_trajectory,
+)
+
+__all__ = [
+    "GltfReport",
+    "to_bvh",
+    "to_gltf",
+    "DEFAULT_MAX_SAMPLES",
+    "ParameterError",
+    "build_spline",
+    "compare",
+    "format_table",
+    "sample_times",
+    "sample_trajectory",
+]

@@ -1,0 +1,780 @@
+"""Motion out to the tools animators use: glTF 2.0 (``.glb`` / ``.gltf``) with a guaranteed
+playback error, and BVH.
+
+``to_gltf(motion, path, max_error="0.01deg", max_position_error="0.1mm",
+interpolation="linear")`` writes one animated node (a small axes mesh, or an empty node)
+whose playback in a glTF player stays within ``max_error`` of the spline's orientation and
+within ``max_position_error`` of its position. The check computes as players do: the keys
+exactly as stored (float32 times and values); ``LINEAR`` rotations both as slerp (the
+specification, three.js) and as component-wise interpolation normalised (nlerp, as Blender
+plays quaternion curves), the worse of the two; ``CUBICSPLINE`` as the specification's
+normalised component-wise cubic Hermite; the error between check points estimated by the
+parabola through each sampled peak; and eight float32 units of roundoff added for the
+players' own arithmetic (so a bound below about 5e-7 rad, or 5e-7 of the largest |position|,
+is refused).
+
+Key reduction is adaptive, as animation compressors do: from each key the next one is placed
+as far ahead as the bound allows (exponential then binary search over a dense grid of
+candidate times that includes every spline joint); the bound is then verified on a grid four
+times denser, splitting any interval that fails. Where two adjacent candidates still fail,
+new candidates (and check points) are placed between them, so a tight bound gets more keys
+instead of an error; only a bound that keys at float32 time resolution cannot meet is refused,
+naming the channel's bound (``max_error`` or ``max_position_error``) and the best achievable
+error. The report gives the keys used and the number a uniform resampling needs for the same
+bound. Memory is bounded: ``samples`` is at most :data:`MAX_SAMPLES` and the verification runs
+in chunks.
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+import os
+import re
+import struct
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .._util import checks as _checks
+from .._util.atomic import atomic_write
+from ..core.interpolate import slerp
+
+__all__ = ["GltfReport", "parse_angle", "parse_length", "to_bvh", "to_gltf"]
+
+_ANGLE_UNITS = {
+    "rad": 1.0,
+    "mrad": 1e-3,
+    "urad": 1e-6,
+    "deg": np.pi / 180,
+    "°": np.pi / 180,
+    "arcmin": np.pi / 180 / 60,
+    "arcsec": np.pi / 180 / 3600,
+}
+_LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6}
+_NUM = r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*([^\s\d.+-][^\s]*)?\s*"
+
+
+def _parse(value, name: str, units: dict, default_unit: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, str, np.floating)):
+        raise TypeError(f"{name}: expected a number or a string such as '0.01{default_unit}'")
+    if isinstance(value, str):
+        m = re.fullmatch(_NUM, value)
+        if not m or (m.group(2) is not None and m.group(2) not in units):
+            raise ValueError(
+                f"{name}: cannot parse {value!r}; expected a number with a unit "
+                f"({', '.join(units)}), e.g. '0.01{default_unit}'"
+            )
+        x = float(m.group(1)) * units[m.group(2) or default_unit]
+    else:
+        x = float(value) * units[default_unit]
+    if not (np.isfinite(x) and x > 0):
+        raise ValueError(f"{name}: expected a positive finite bound, got {value!r}")
+    return x
+
+
+def parse_angle(value, name: str = "max_error") -> float:
+    """An angle bound in radians from a number (degrees) or a string with a unit.
+
+    Examples
+    --------
+    >>> round(parse_angle("0.5deg"), 9), parse_angle("2mrad"), round(parse_angle(1.0), 9)
+    (0.008726646, 0.002, 0.017453293)
+    """
+    return _parse(value, name, _ANGLE_UNITS, "deg")
+
+
+def parse_length(value, name: str = "max_position_error") -> float:
+    """A length bound in metres from a number (metres) or a string with a unit.
+
+    Examples
+    --------
+    >>> parse_length("1mm"), parse_length(0.25)
+    (0.001, 0.25)
+    """
+    return _parse(value, name, _LENGTH_UNITS, "m")
+
+
+def angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Rotation angle (radians) between quaternions a and b (q ≡ −q): the package's one
+    rotation distance, :func:`quatspline.angle_between`."""
+    from ..core.metrics import angle_between
+
+    return angle_between(a, b)
+
+
+# ---- the motion to export -------------------------------------------------------------------
+class _Motion:
+    """Uniform access to a Spline, a PoseSpline or a Trajectory (through a spline)."""
+
+    def __init__(self, motion, method: str, params: dict):
+        from ..io import Trajectory
+        from ..poses.pose_spline import PoseSpline
+        from ..registry import spline as make_spline
+        from ..splines._families import Spline
+
+        self.name = ""
+        if not isinstance(motion, Trajectory) and isinstance(motion, (Spline, PoseSpline)):
+            if params:
+                raise TypeError(
+                    f"{sorted(params)[0]}: a spline is exported as it is; a method's parameters "
+                    "apply to an io.Trajectory only"
+                )
+            if method is not None:
+                raise TypeError(
+                    "method: a spline is exported as it is; method applies to an io.Trajectory only"
+                )
+        method = "c3" if method is None else method
+        if isinstance(motion, Trajectory):
+            self.name = motion.name
+            t = motion.times
+            if motion.positions is not None:
+                motion = PoseSpline(motion.quats, t, motion.positions, rotation=method, **params)
+            else:
+                motion = make_spline(method, motion.quats, t, **params)
+        if isinstance(motion, PoseSpline):
+            self.rot, self.pos = motion.rotation, motion
+        elif isinstance(motion, Spline):
+            self.rot, self.pos = motion, None
+        else:
+            raise TypeError(
+                "motion: expected a quatspline Spline, PoseSpline or io.Trajectory, "
+                f"got {type(motion).__name__}"
+            )
+        a, b = self.rot.domain
+        if self.pos is not None:
+            a, b = max(a, self.pos.domain[0]), min(b, self.pos.domain[1])
+        if not b > a:
+            raise ValueError("motion: the domain is empty (one key?)")
+        self.t0, self.t1 = a, b
+        self.joints = np.asarray(self.rot.joints, dtype=float)
+
+    def q(self, tau):
+        return self.rot(np.clip(self.t0 + tau, self.t0, self.t1))
+
+    def dq(self, tau):
+        return self.rot.derivative(np.clip(self.t0 + tau, self.t0, self.t1), 1)
+
+    def p(self, tau):
+        return self.pos.position(np.clip(self.t0 + tau, self.t0, self.t1))
+
+    def dp(self, tau):
+        return self.pos.linear_velocity(np.clip(self.t0 + tau, self.t0, self.t1))
+
+
+def _f32(x):
+    return np.asarray(x, dtype=np.float32).astype(np.float64)
+
+
+def _sign_continuous(q: np.ndarray) -> np.ndarray:
+    """Flips signs so consecutive quaternions have a non-negative dot product."""
+    flips = np.concatenate([[False], np.sum(q[1:] * q[:-1], axis=1) < 0])
+    sign = np.where(np.cumsum(flips) % 2 == 1, -1.0, 1.0)
+    return q * sign[:, None]
+
+
+# ---- playback (the glTF 2.0 specification, Appendix C) ---------------------------------------
+#: Players interpolate in their own arithmetic (three.js in float64 with float32 results,
+#: Blender in float32): every measured error gets this many float32 units of roundoff on top
+#: (radians for rotations, times the largest |position| for translations).
+_ROUNDOFF = 8 * 2.0**-24
+#: The largest finite float32 value (glTF stores times, values and meshes as float32).
+_F32_MAX = float(np.finfo(np.float32).max)
+#: Check points evaluated at once (bounds the memory of the verification).
+_CHUNK = 1 << 18
+#: The largest ``samples``: a CUBICSPLINE pose export then peaks at about 0.8 GB (measured;
+#: the candidates' values and tangents, the check grid, chunks of it being verified).
+MAX_SAMPLES = 1_000_000
+
+
+def _nlerp(a, b, u):
+    h = a + u[:, None] * (b - a)
+    return h / np.linalg.norm(h, axis=1)[:, None]
+
+
+def _play(rot: bool, cubic: bool, kt, kv, ka, kb, t, variant: str = "slerp") -> np.ndarray:
+    """Playback at times t of keys (kt, kv) with in/out tangents (ka, kb) for CUBICSPLINE;
+    LINEAR rotations as ``variant``: "slerp" (the specification, three.js) or "nlerp"
+    (component-wise keys normalised, as Blender plays them)."""
+    k = np.clip(np.searchsorted(kt, t, side="right") - 1, 0, len(kt) - 2)
+    td = kt[k + 1] - kt[k]
+    u = np.clip((t - kt[k]) / td, 0.0, 1.0)
+    if cubic:
+        u2, u3 = u * u, u * u * u
+        h = (
+            (2 * u3 - 3 * u2 + 1)[:, None] * kv[k]
+            + (td * (u3 - 2 * u2 + u))[:, None] * kb[k]
+            + (-2 * u3 + 3 * u2)[:, None] * kv[k + 1]
+            + (td * (u3 - u2))[:, None] * ka[k + 1]
+        )
+        return h / np.linalg.norm(h, axis=1)[:, None] if rot else h
+    if rot:
+        return _nlerp(kv[k], kv[k + 1], u) if variant == "nlerp" else slerp(kv[k], kv[k + 1], u)
+    return kv[k] + u[:, None] * (kv[k + 1] - kv[k])
+
+
+@dataclass
+class _Channel:
+    rot: bool
+    cubic: bool
+    t: np.ndarray  # candidate key times (float32 values)
+    v: np.ndarray  # target values there (exact), stored as float32 when keys
+    a: np.ndarray  # in-tangents (d/dt from the left)
+    b: np.ndarray  # out-tangents (d/dt from the right)
+    f: object = None  # the motion (values at times)
+    fd: object = None  # its derivative
+    span: float = 0.0
+    roundoff: float = 0.0  # added to every measured error (players' float32 arithmetic)
+
+    def err(self, keys_t, keys_v, keys_a, keys_b, t, target) -> np.ndarray:
+        """Playback error at t, the worst of the players' interpolations, plus roundoff."""
+        variants = ("slerp", "nlerp") if self.rot and not self.cubic else ("slerp",)
+        worst = np.zeros(len(t))
+        for var in variants:
+            got = _play(self.rot, self.cubic, keys_t, keys_v, keys_a, keys_b, t, var)
+            if self.rot:
+                e = angle(got, target)
+            else:
+                e = np.linalg.norm(got - target, axis=1)
+            worst = np.maximum(worst, e)
+        return worst + self.roundoff
+
+    def keys(self, idx):
+        return self.t[idx], _f32(self.v[idx]), _f32(self.a[idx]), _f32(self.b[idx])
+
+    def interval_error(self, i: int, j: int) -> float:
+        if j - i < 2:
+            return 0.0
+        kt, kv, ka, kb = self.keys(np.array([i, j]))
+        t = self.t[i + 1 : j]
+        return float(self.err(kt, kv, ka, kb, t, self.v[i + 1 : j]).max())
+
+    def values(self, t):
+        """Values and one-sided tangents at times t, sign-continuous with the neighbours
+        given by ``ref`` (rotations) — see :meth:`insert`."""
+        v = self.f(t)
+        a, b = _tangents(self.fd, t, self.span) if self.cubic else (v, v)
+        return v, a, b
+
+    def insert(self, new_t: np.ndarray) -> np.ndarray:
+        """Adds candidate times (float32 values strictly between existing ones); returns the
+        old indices' new positions."""
+        v, a, b = self.values(new_t)
+        pos = np.searchsorted(self.t, new_t)
+        if self.rot:  # the sign of the candidate before each new time
+            sgn = np.where(np.sum(v * self.v[pos - 1], axis=1) < 0, -1.0, 1.0)[:, None]
+            v, a, b = v * sgn, a * sgn, b * sgn
+        old = np.arange(len(self.t)) + np.searchsorted(new_t, self.t, side="right")
+        self.t = np.insert(self.t, pos, new_t)
+        self.v = np.insert(self.v, pos, v, axis=0)
+        if self.cubic:
+            self.a = np.insert(self.a, pos, a, axis=0)
+            self.b = np.insert(self.b, pos, b, axis=0)
+        else:
+            self.a = self.b = self.v
+        return old
+
+
+def _greedy(ch: _Channel, tol: float) -> list[int]:
+    """From each key, the farthest candidate the bound allows (exponential, then binary
+    search); every accepted interval is checked on all candidates inside it."""
+    n = len(ch.t)
+    keys = [0]
+    i = 0
+    while i < n - 1:
+        step, good = 1, i + 1
+        while True:
+            j = min(i + step, n - 1)
+            if ch.interval_error(i, j) <= tol:
+                good = j
+                if j == n - 1:
+                    break
+                step *= 2
+            else:
+                break
+        bad = min(i + step, n - 1)
+        if good < n - 1 and bad > good:
+            lo, hi = good, bad  # lo feasible, hi not
+            while hi - lo > 1:
+                mid = (lo + hi) // 2
+                if ch.interval_error(i, mid) <= tol:
+                    lo = mid
+                else:
+                    hi = mid
+            good = lo
+        keys.append(good)
+        i = good
+    return keys
+
+
+def _tangents(f_d, t: np.ndarray, span: float):
+    """In/out derivatives at t: one-sided (evaluated just before and after each time)."""
+    eps = 1e-9 * max(span, 1e-300)
+    return f_d(t - eps), f_d(t + eps)
+
+
+def _candidate_times(m: _Motion, samples: int) -> np.ndarray:
+    span = m.t1 - m.t0
+    per = max(2, int(np.ceil(samples / max(len(m.joints) - 1, 1))))
+    j = m.joints[(m.joints >= m.t0) & (m.joints <= m.t1)] - m.t0
+    pieces = [np.linspace(a, b, per + 1)[:-1] for a, b in zip(j[:-1], j[1:]) if b > a]
+    t = np.concatenate([*pieces, [span], np.linspace(0, span, samples)])
+    return np.unique(np.minimum(_f32(np.clip(t, 0, span)), _f32_floor(span)))
+
+
+def _f32_floor(x: float) -> float:
+    """The largest float32 value ≤ x (the last key time stays inside the domain)."""
+    y = np.float32(x)
+    if float(y) > x:
+        y = np.nextafter(y, np.float32(-np.inf))
+    return float(y)
+
+
+def _dense(t: np.ndarray, factor: int = 4) -> np.ndarray:
+    """``factor`` − 1 extra points inside every interval of t."""
+    f = np.arange(1, factor) / factor
+    inner = (t[:-1, None] + np.diff(t)[:, None] * f[None, :]).ravel()
+    return np.sort(np.concatenate([t, inner]))
+
+
+def _peaks(t: np.ndarray, e: np.ndarray) -> np.ndarray:
+    """The error between check points: at each sampled local maximum, the vertex of the
+    parabola through it and its two neighbours (exact for the quadratic bump of an
+    interpolation error; never below the sample, capped as said below)."""
+    out = e.copy()
+    if len(e) < 3:
+        return out
+    e0, e1, e2 = e[:-2], e[1:-1], e[2:]
+    h0, h1 = t[1:-1] - t[:-2], t[2:] - t[1:-1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d0, d1 = (e1 - e0) / h0, (e2 - e1) / h1
+        c = (d1 - d0) / (h0 + h1)  # half the second derivative
+        slope = d0 + c * h0  # the derivative at the middle point
+        top = e1 - slope * slope / (4 * c)
+    peak = (e1 >= e0) & (e1 >= e2) & (c < 0) & np.isfinite(top)
+    # An exact parabola sampled evenly overshoots its middle sample by at most a quarter of
+    # the rise from the lower neighbour; half of it caps wild fits through uneven spacing
+    # or roundoff noise.
+    top = np.minimum(top, e1 + 0.5 * (e1 - np.minimum(e0, e2)))
+    out[1:-1] = np.where(peak, np.maximum(e1, top), e1)
+    return out
+
+
+def _check(ch: _Channel, keys, check_t) -> np.ndarray:
+    """Estimated continuous-time error at the check points, in chunks of :data:`_CHUNK`
+    points so that memory does not grow with the grid."""
+    kt, kv, ka, kb = ch.keys(np.array(keys))
+    n = len(check_t)
+    out = np.empty(n)
+    for s in range(0, n, _CHUNK):
+        m = min(_CHUNK, n - s)
+        lo, hi = max(s - 1, 0), min(s + m + 1, n)  # a neighbour each side for the parabola
+        tt = check_t[lo:hi]
+        e = _peaks(tt, ch.err(kt, kv, ka, kb, tt, ch.f(tt)))
+        out[s : s + m] = e[s - lo : s - lo + m]
+    return out
+
+
+def _refuse(name: str, tol: float, best: float, why: str):
+    unit, scale = ("°", 180 / np.pi) if name == "max_error" else (" m", 1.0)
+    raise ValueError(
+        f"{name}: the bound {tol * scale:.3g}{unit} cannot be met {why} (best achievable "
+        f"error {best * scale:.3g}{unit} where it fails); use a larger bound"
+    )
+
+
+def _fit(ch: _Channel, tol: float, check_t, name: str, max_candidates: int):
+    """Keys meeting the bound on the check grid: the greedy placement, then every failing key
+    interval split at its middle candidate; an interval between adjacent candidates that
+    still fails gets new candidates (and check points) inside it, up to ``max_candidates``.
+    Returns (keys, measured error, check points)."""
+    keys = _greedy(ch, tol)
+    for _ in range(200):
+        kt = ch.t[np.array(keys)]
+        e = _check(ch, keys, check_t)
+        seg = np.clip(np.searchsorted(kt, check_t, side="right") - 1, 0, len(kt) - 2)
+        fail = np.unique(seg[~(e <= tol)])  # NaN fails too
+        if len(fail) == 0:
+            return keys, float(e.max()), check_t
+        new, refine = set(keys), []
+        for s in fail:
+            a, b = keys[s], keys[s + 1]
+            if b - a >= 2:
+                new.add((a + b) // 2)
+            else:
+                refine.append(s)
+        if refine:
+            lo = ch.t[[keys[s] for s in refine]]
+            hi = ch.t[[keys[s + 1] for s in refine]]
+            mid = _f32((lo + hi) / 2)
+            ok = (mid > lo) & (mid < hi)
+            if not ok.all() or len(ch.t) + len(mid) > max_candidates:
+                why = (
+                    "even with keys at float32 time resolution"
+                    if not ok.all()
+                    else f"with {max_candidates} candidate key times"
+                )
+                _refuse(name, tol, float(e[np.isin(seg, refine)].max()), why)
+            old = ch.insert(mid)
+            added = np.flatnonzero(np.isin(ch.t, mid))
+            keys = sorted({int(old[k]) for k in new} | {int(k) for k in added})
+            around = np.sort(np.concatenate([lo, mid, hi]))
+            check_t = np.union1d(check_t, _dense(around, 4))
+        else:
+            keys = sorted(new)
+    _refuse(name, tol, float(e.max()), "after 200 rounds of adding keys")
+
+
+def _uniform_keys(ch: _Channel, tol: float, check_t, start: int) -> int:
+    """The smallest number of evenly spaced keys meeting the same bound (doubling, then
+    bisection), capped at 8× the adaptive count."""
+
+    def ok(n):
+        kt = np.unique(np.minimum(_f32(np.linspace(0, ch.span, n)), _f32_floor(ch.span)))
+        v, a, b = ch.values(kt)
+        if ch.rot:
+            sgn = np.sign(np.sum(_sign_continuous(v) * v, axis=1))[:, None]
+            v, a, b = v * sgn, a * sgn, b * sgn
+        u = _Channel(ch.rot, ch.cubic, kt, v, a, b, ch.f, ch.fd, ch.span, ch.roundoff)
+        return _check(u, np.arange(len(kt)), check_t).max() <= tol
+
+    lo, hi = 1, max(2, start // 2)
+    cap = 8 * start + 16
+    while not ok(hi):
+        lo, hi = hi, hi * 2
+        if hi > cap:
+            return -1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if ok(mid):
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
+# ---- the file -------------------------------------------------------------------------------
+@dataclass
+class GltfReport:
+    """What ``to_gltf`` wrote and measured (angles in radians, lengths in metres)."""
+
+    path: str
+    interpolation: str
+    duration: float
+    rotation_keys: int
+    rotation_uniform_keys: int
+    rotation_error: float
+    rotation_bound: float
+    translation_keys: int = 0
+    translation_uniform_keys: int = 0
+    translation_error: float = 0.0
+    translation_bound: float = 0.0
+    check_points: int = 0
+
+    def summary(self) -> str:
+        deg = np.degrees
+        s = (
+            f"{self.path}: {self.interpolation}, {self.duration:.6g} s; rotation "
+            f"{self.rotation_keys} keys (uniform needs {self._u(self.rotation_uniform_keys)}), "
+            f"max error {deg(self.rotation_error):.3g}° ≤ {deg(self.rotation_bound):.3g}°"
+        )
+        if self.translation_keys:
+            s += (
+                f"; translation {self.translation_keys} keys (uniform needs "
+                f"{self._u(self.translation_uniform_keys)}), max error "
+                f"{self.translation_error:.3g} m ≤ {self.translation_bound:.3g} m"
+            )
+        return s + f" (checked at {self.check_points} times)"
+
+    @staticmethod
+    def _u(n):
+        return str(n) if n > 0 else "more than 8×"
+
+
+def _axes_mesh(size: float):
+    """Three boxes along +x, +y, +z (red, green, blue), 8 vertices and 12 triangles each."""
+    w = size * 0.04
+    prims = []
+    for k in range(3):
+        lo, hi = np.full(3, -w), np.full(3, w)
+        hi[k] = size
+        c = np.array(
+            [[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
+        )
+        faces = [
+            (0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
+            (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3),
+        ]  # fmt: skip
+        prims.append((c.astype(np.float32), np.array(faces, dtype=np.uint16).ravel()))
+    return prims
+
+
+class _Builder:
+    def __init__(self):
+        self.blob = bytearray()
+        self.views, self.accessors = [], []
+
+    def add(self, arr: np.ndarray, kind: str, target=None, minmax: bool = False) -> int:
+        arr = np.ascontiguousarray(arr)
+        while len(self.blob) % 4:
+            self.blob.append(0)
+        view = {"buffer": 0, "byteOffset": len(self.blob), "byteLength": arr.nbytes}
+        if target:
+            view["target"] = target
+        self.blob += arr.tobytes()
+        self.views.append(view)
+        comp = {np.dtype(np.float32): 5126, np.dtype(np.uint16): 5123}[arr.dtype]
+        width = {"SCALAR": 1, "VEC3": 3, "VEC4": 4}[kind]
+        acc = {
+            "bufferView": len(self.views) - 1,
+            "componentType": comp,
+            "count": int(arr.size // width),
+            "type": kind,
+        }
+        if minmax:
+            a2 = arr.reshape(-1, width)
+            acc["min"] = [float(x) for x in a2.min(axis=0)]
+            acc["max"] = [float(x) for x in a2.max(axis=0)]
+        self.accessors.append(acc)
+        return len(self.accessors) - 1
+
+
+def _write_file(path: Path, doc: dict, blob: bytes) -> None:
+    if path.suffix.lower() == ".gltf":
+        doc["buffers"] = [
+            {
+                "byteLength": len(blob),
+                "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode(),
+            }
+        ]
+        with atomic_write(path, encoding="utf-8") as f:
+            json.dump(doc, f, separators=(",", ":"))
+        return
+    doc["buffers"] = [{"byteLength": len(blob)}]
+    js = json.dumps(doc, separators=(",", ":")).encode()
+    js += b" " * (-len(js) % 4)
+    bin_ = bytes(blob) + b"\0" * (-len(blob) % 4)
+    total = 12 + 8 + len(js) + 8 + len(bin_)
+    with atomic_write(path, mode="wb") as f:
+        f.write(struct.pack("<4sII", b"glTF", 2, total))
+        f.write(struct.pack("<I4s", len(js), b"JSON") + js)
+        f.write(struct.pack("<I4s", len(bin_), b"BIN\0") + bin_)
+
+
+def to_gltf(
+    motion,
+    path,
+    *,
+    max_error="0.01deg",
+    max_position_error="0.1mm",
+    interpolation: str = "linear",
+    node: str = "body",
+    mesh: str | None = "axes",
+    size: float = 0.1,
+    samples: int | None = None,
+    method: str | None = None,
+    uniform: bool = True,
+    progress: bool = True,
+    **params,
+) -> GltfReport:
+    """Writes ``motion`` as a glTF 2.0 animation whose playback stays within the bounds.
+
+    Parameters
+    ----------
+    motion : Spline, PoseSpline or io.Trajectory
+        The motion; a Trajectory goes through ``method`` (and ``params``) first, with a
+        cubic position spline when it has positions. Times start at 0 in the file.
+    path : path-like
+        ``.glb`` (binary) or ``.gltf`` (JSON with the data embedded). Written atomically.
+    max_error : float or str
+        Orientation bound: a number in degrees, or a string with a unit (``"0.01deg"``,
+        ``"0.2mrad"``, ``"30arcsec"``). Must be positive.
+    max_position_error : float or str
+        Position bound: metres, or ``"0.1mm"``, ``"1cm"``.
+    interpolation : {"linear", "cubicspline"}
+        The glTF sampler interpolation. CUBICSPLINE keys carry the spline's one-sided
+        derivatives as in/out tangents.
+    node : str
+        The animated node's name (any non-empty Unicode text).
+    mesh : {"axes", None}
+        A small red/green/blue axes mesh of length ``size`` (metres, positive and within
+        float32 range), or an empty node.
+    samples : int, optional
+        Candidate key times (default: 16 per spline segment, at least 2000, at most 200000;
+        at most :data:`MAX_SAMPLES` = 1,000,000); the bound is verified on a grid four times
+        denser, and candidates are added where adjacent ones cannot meet it.
+    method : str, optional
+        For a Trajectory: the registry method its spline is built with (default ``"c3"``),
+        with ``params``; a spline is exported as it is (giving ``method`` or parameters with
+        one is a ``TypeError``).
+    uniform : bool
+        Also find how many evenly spaced keys the same bound needs (for the report).
+    progress : bool
+        Show a progress bar.
+
+    Returns
+    -------
+    GltfReport
+        Keys used, the uniform count, the measured maximum errors and the bounds.
+
+    Raises
+    ------
+    ValueError
+        A bound that is not positive or cannot be parsed, an unknown interpolation,
+        ``samples`` outside [2, MAX_SAMPLES], a bound no keys can meet (the message names
+        ``max_error`` or ``max_position_error`` and the best achievable error), positions
+        beyond float32 range.
+    TypeError
+        A motion or an option of the wrong kind.
+
+    Examples
+    --------
+    >>> import numpy as np, tempfile, os, quatspline as qs
+    >>> q = qs.from_axis_angle([0, 0, 1], np.linspace(0, 3, 6))
+    >>> s = qs.C3Spline(q, np.arange(6.0))
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     r = to_gltf(s, os.path.join(d, "m.glb"), max_error="0.1deg", progress=False)
+    >>> r.rotation_error <= r.rotation_bound, r.rotation_keys < r.rotation_uniform_keys
+    (True, True)
+    """
+    tol_r = parse_angle(max_error, "max_error")
+    tol_p = parse_length(max_position_error, "max_position_error")
+    if interpolation not in ("linear", "cubicspline"):
+        raise ValueError(
+            f"interpolation: expected 'linear' or 'cubicspline', got {interpolation!r}"
+        )
+    if mesh not in ("axes", None):
+        raise ValueError(f"mesh: expected 'axes' or None, got {mesh!r}")
+    if not isinstance(node, str):
+        raise TypeError(f"node: expected a string, got {type(node).__name__}")
+    if not node:
+        raise ValueError("node: expected a non-empty name")
+    try:
+        node.encode("utf-8")
+    except UnicodeEncodeError:
+        raise ValueError("node: not valid Unicode text (a lone surrogate)") from None
+    size = _checks.real(size, "size", positive=True)
+    if not size <= _F32_MAX:
+        raise ValueError(f"size: {size:g} m is beyond float32 range (glTF stores float32)")
+    for flag_name, flag_value in (("uniform", uniform), ("progress", progress)):
+        if not isinstance(flag_value, (bool, np.bool_)):
+            raise TypeError(f"{flag_name}: expected True or False, got {type(flag_value).__name__}")
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path: expected a file path, got {type(path).__name__}")
+    path = Path(path)
+    if path.suffix.lower() not in (".glb", ".gltf"):
+        raise ValueError(f"{path}: expected a .glb or .gltf output")
+    m = _Motion(motion, method, params)
+    cubic = interpolation == "cubicspline"
+    span = m.t1 - m.t0
+    if samples is None:
+        samples = int(min(max(16 * (len(m.joints) - 1), 2000), 200_000))
+    if not (
+        isinstance(samples, (int, np.integer))
+        and not isinstance(samples, bool)
+        and 2 <= samples <= MAX_SAMPLES
+    ):
+        raise ValueError(f"samples: expected an integer in [2, {MAX_SAMPLES}], got {samples!r}")
+
+    from .._util.progress import progress as bar
+
+    chans = [("rotation", "max_error", m.q, m.dq, tol_r, True)]
+    if m.pos is not None:
+        chans.append(("translation", "max_position_error", m.p, m.dp, tol_p, False))
+    t = _candidate_times(m, samples)
+    results = {}
+    with bar(total=len(chans) * (2 if uniform else 1), desc="export glTF", enabled=progress) as pb:
+        for name, bound, f, fd, tol, rot in chans:
+            ch = _Channel(rot, cubic, t, None, None, None, f, fd, span)
+            v, a, b = ch.values(t)
+            if rot:
+                sgn = np.sign(np.sum(_sign_continuous(v) * v, axis=1))[:, None]
+                v, a, b = v * sgn, a * sgn, b * sgn
+                ch.roundoff = _ROUNDOFF
+            else:
+                ch.roundoff = _ROUNDOFF * float(np.abs(v).max(initial=0.0)) * np.sqrt(3)
+            ch.v, ch.a, ch.b = v, a, b
+            if not rot and not np.abs(v).max(initial=0.0) <= _F32_MAX:
+                raise ValueError(
+                    f"motion: positions reach {float(np.abs(v).max()):.3g} m, beyond the float32 "
+                    "range of glTF (3.4e38)"
+                )
+            if ch.roundoff >= tol:
+                _refuse(bound, tol, ch.roundoff, "by float32 keys (players' roundoff)")
+            keys, err, check_t = _fit(ch, tol, _dense(ch.t), bound, 2 * MAX_SAMPLES)
+            pb.update(1)
+            nu = 0
+            if uniform:
+                nu = _uniform_keys(ch, tol, check_t, len(keys))
+                pb.update(1)
+            idx = np.array(keys)  # keep the keys only: the candidates' memory is released
+            kept = (rot, ch.t[idx], ch.v[idx], ch.a[idx], ch.b[idx])
+            results[name] = (kept, keys, err, nu, tol, len(check_t))
+            del ch, check_t, v, a, b
+
+    # a name from a file name may hold lone surrogates (undecodable bytes): JSON needs Unicode
+    label = m.name.encode("utf-8", "replace").decode("utf-8") if m.name else ""
+    b = _Builder()
+    doc: dict = {
+        "asset": {"version": "2.0", "generator": "quatspline"},
+        "scene": 0,
+        "scenes": [{"name": label or "quatspline", "nodes": [0]}],
+        "nodes": [{"name": node}],
+    }
+    if mesh == "axes":
+        colours = ([0.84, 0.15, 0.16, 1.0], [0.17, 0.63, 0.17, 1.0], [0.12, 0.47, 0.71, 1.0])
+        prims = []
+        for k, (pts, idx) in enumerate(_axes_mesh(float(size))):
+            pa = b.add(pts, "VEC3", target=34962, minmax=True)
+            ia = b.add(idx, "SCALAR", target=34963)
+            prims.append({"attributes": {"POSITION": pa}, "indices": ia, "material": k})
+        doc["materials"] = [
+            {"name": f"axis {'xyz'[k]}", "pbrMetallicRoughness": {"baseColorFactor": c}}
+            for k, c in enumerate(colours)
+        ]
+        doc["meshes"] = [{"name": "axes", "primitives": prims}]
+        doc["nodes"][0]["mesh"] = 0
+    channels, samplers = [], []
+    for name, ((rot, kt, kv, ka, kb), *_) in results.items():
+        if rot:
+            kv, ka, kb = kv[:, [1, 2, 3, 0]], ka[:, [1, 2, 3, 0]], kb[:, [1, 2, 3, 0]]
+        if cubic:
+            out = np.stack([ka, kv, kb], axis=1).reshape(-1, kv.shape[1])
+        else:
+            out = kv
+        ia = b.add(kt.astype(np.float32), "SCALAR", minmax=True)
+        oa = b.add(out.astype(np.float32), "VEC4" if rot else "VEC3")
+        samplers.append({"input": ia, "output": oa, "interpolation": interpolation.upper()})
+        channels.append({"sampler": len(samplers) - 1, "target": {"node": 0, "path": name}})
+        first = kv[0].astype(np.float32).astype(float).tolist()
+        doc["nodes"][0][name] = first
+    doc["animations"] = [{"name": label or "motion", "channels": channels, "samplers": samplers}]
+    doc["accessors"], doc["bufferViews"] = b.accessors, b.views
+    _write_file(path, doc, bytes(b.blob))
+    r = results["rotation"]
+    rep = GltfReport(
+        str(path),
+        interpolation,
+        float(span),
+        len(r[1]),
+        r[3],
+        r[2],
+        r[4],
+        check_points=max(r[5] for r in results.values()),
+    )
+    if "translation" in results:
+        p = results["translation"]
+        rep.translation_keys, rep.translation_uniform_keys = len(p[1]), p[3]
+        rep.translation_error, rep.translation_bound = p[2], p[4]
+    return rep
+
+
+def to_bvh(trajectory, path, *, joint: str = "Root") -> None:
+    """Writes a trajectory as a BVH joint named ``joint`` (the trajectory's name when it has
+    one; see :mod:`quatspline.io.bvh`)."""
+    from ..io import bvh
+
+    if not isinstance(joint, str):
+        raise TypeError(f"joint: expected a string, got {type(joint).__name__}")
+    bvh.write(Path(path), trajectory, joint=joint)

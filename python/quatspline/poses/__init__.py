@@ -1,0 +1,1 @@
+"""Pose trajectories: a rotation spline of any registered method plus a translation spline."""

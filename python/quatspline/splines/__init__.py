@@ -1,0 +1,1 @@
+"""Rotation and pose splines, one module per family, with joint continuity and retiming."""

@@ -1,0 +1,473 @@
+"""Keyframe control: Hermite keys with angular rates, Kochanek–Bartels, closed loops, holds.
+
+Closed loops (``ends="closed"``) take n keys at n + 1 times: the last time closes the loop
+(the segment from the last key back to the first). If the last key given equals the first
+(q or −q, within 1e-12 rad) it is the closing key: it is dropped and its time closes the loop,
+so keys ``A B C A`` at 0 1 2 3 and ``A B C`` at 0 1 2 3 are the same loop. Without times the
+keys are at 0, 1, …, n. ``extrapolate="periodic"`` repeats a closed loop smoothly.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .. import _core
+from .._util.arrays import as_real, with_width
+from ._families import Spline, _keys, _per, _times
+
+__all__ = [
+    "Hermite",
+    "KochanekBartels",
+    "bessel_rates",
+    "bspline_controls",
+    "c3_speed_matched_alpha",
+]
+
+
+def _rows3(v, name: str, n: int) -> np.ndarray:
+    a = with_width(v, name, 3)
+    if a.ndim != 2 or a.shape[0] != n:
+        raise ValueError(f"{name}: expected shape ({n}, 3) (one row per key), got {a.shape}")
+    return np.ascontiguousarray(a, dtype=np.float64)
+
+
+def _per_key(v, name: str, n: int) -> np.ndarray:
+    a = np.atleast_1d(as_real(v, name)).astype(np.float64)
+    if a.ndim != 1 or len(a) not in (1, n):
+        raise ValueError(
+            f"{name}: expected a scalar or {n} values (one per key), got shape {np.shape(v)}"
+        )
+    bad = ~np.isfinite(a)
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise ValueError(f"{name}: non-finite value (NaN or inf) at index {k}")
+    return np.ascontiguousarray(np.broadcast_to(a, (n,)) if len(a) == 1 else a)
+
+
+class Hermite(Spline):
+    """Keys with angular velocities (C¹ cubic) and optionally accelerations (C² quintic).
+
+    Segment i is qᵢ exp(½ rᵢ(s)), s = t − tᵢ, with rᵢ a cubic (quintic) rotation-vector
+    polynomial matching the key orientations and the given rates (accelerations) at both ends
+    — the segment form of scipy's ``RotationSpline`` with the rates given instead of solved.
+
+    Holds and rest ends override the given rates: with ``holds=True`` (default) the keys
+    bounding a hold (consecutive equal keys, q or −q) get zero angular velocity (and zero
+    acceleration for the quintic) whatever rows were given there, so the hold is exactly
+    constant and the curve stays C¹ (C²); ``ends="rest"`` does the same at the first and
+    last key. The given rows at those keys are ignored, not checked (``holds=False`` and
+    ``ends="open"`` use every given row).
+
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Key orientations (w, x, y, z); normalised, and made shortest-path unless
+        ``canonicalize=False``.
+    times : array_like, shape (N,) or (N + 1,), optional
+        Key times (default 0, 1, …); a closed curve takes one more, closing the loop.
+    angular_velocity : array_like, shape (N, 3)
+        Angular velocity at each key, rad per time unit, in ``frame``.
+    angular_acceleration : array_like, shape (N, 3), optional
+        Angular acceleration at each key; gives the C² quintic.
+    frame : {"world", "body"}
+        Frame of the given rates.
+    ends : {"open", "rest", "closed"}
+        ``"rest"``: zero angular velocity (and acceleration) at the first and last key,
+        overriding the given rows there; ``"closed"``: the last key joins the first (see the
+        module doc).
+    canonicalize : bool
+        Flip keys so consecutive ones are in the same hemisphere.
+    extrapolate : {"raise", "clamp", "linear", "periodic"}
+        Rule outside the domain.
+    holds : bool
+        Consecutive equal keys hold exactly still: zero rate (and acceleration) at both ends
+        of every hold, overriding the given rows there (default True).
+
+    Raises
+    ------
+    ValueError
+        Rates of the wrong shape or non-finite (named with the row), bad times or keys,
+        an unsupported ``ends``.
+
+    Examples
+    --------
+    >>> import numpy as np, quatspline as qs
+    >>> q = qs.from_rotvec([[0, 0, 0], [0, 0, 0.5], [0, 0, 1.0]])
+    >>> s = qs.Hermite(q, [0, 1, 2], angular_velocity=[[0, 0, 0.5]] * 3)
+    >>> bool(np.allclose(s.angular_velocity(0.7), [0, 0, 0.5]))
+    True
+    >>> s.continuity
+    1
+    """
+
+    def __init__(
+        self,
+        quats,
+        times=None,
+        angular_velocity=None,
+        angular_acceleration=None,
+        frame: str = "world",
+        ends: str = "open",
+        canonicalize: bool = True,
+        extrapolate: str = "raise",
+        holds: bool = True,
+    ):
+        q = _keys(quats, "quats")
+        t = _times(times, len(q))
+        if angular_velocity is None:
+            raise ValueError("angular_velocity: required (one row of 3 per key)")
+        w = _rows3(angular_velocity, "angular_velocity", len(q))
+        a = None
+        if angular_acceleration is not None:
+            a = _rows3(angular_acceleration, "angular_acceleration", len(q))
+        super().__init__(
+            _core.hermite(q, t, w, a, str(frame), str(ends), bool(canonicalize), bool(holds)),
+            extrapolate,
+            quats=q,
+            times=t,
+            angular_velocity=w,
+            angular_acceleration=a,
+            frame=frame,
+            ends=ends,
+            canonicalize=canonicalize,
+            holds=holds,
+        )
+
+
+def _alpha(alpha):
+    if alpha is None:
+        return None
+    a = as_real(alpha, "alpha")
+    if a.ndim != 0:
+        raise ValueError(f"alpha: expected a scalar in [0, 1], got shape {a.shape}")
+    a = float(a)
+    if not (0.0 <= a <= 1.0):
+        raise ValueError(f"alpha: expected a value in [0, 1], got {a}")
+    return a
+
+
+class KochanekBartels(Spline):
+    """Kochanek–Bartels (tension, continuity, bias) on the rotation group.
+
+    Cubic spherical Bézier segments whose key rates are the KB tangents lifted to the group
+    (see ``kochanek_bartels.rs``): at (0, 0, 0) exactly ``CatmullRom``; equal to the
+    ``splines`` package's ``KochanekBartels`` wherever the two neighbouring logs of each key
+    share an axis. C¹ in time at keys with ``continuity = 0``; a corner (C⁰) where it is not.
+
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Key orientations (w, x, y, z).
+    times : array_like, shape (N,) or (N + 1,), optional
+        Key times; a closed curve takes one more, closing the loop. Times take precedence
+        over ``alpha``.
+    tension, continuity, bias : float or array_like of shape (N,)
+        One value or one per key (as given; a dropped closing key's value must equal the
+        first). Finite, ``|value| ≤ 1e6``.
+    alpha : float in [0, 1], optional
+        Parametrisation when ``times`` is None: key spacing θ^α (θ the angle between keys):
+        0 uniform, 0.5 centripetal, 1 chordal — as ``splines.quaternion.KochanekBartels``.
+    ends : {"reflect", "duplicate", "rest", "closed"}
+        Open ends by a mirrored (default) or repeated phantom key, zero rates at both ends
+        (``"rest"``), or a closed loop.
+    holds : bool
+        Consecutive equal keys (q or −q) hold exactly still, with zero rates at both ends
+        (default True).
+    canonicalize : bool
+        Flip keys so consecutive ones are in the same hemisphere.
+    extrapolate : {"raise", "clamp", "linear", "periodic"}
+        Rule outside the domain.
+
+    Raises
+    ------
+    ValueError
+        Non-finite or wrongly sized tension/continuity/bias (named with the index), ``alpha``
+        outside [0, 1], too few keys for a closed curve, an unsupported ``ends``.
+
+    Examples
+    --------
+    >>> import numpy as np, quatspline as qs
+    >>> q = qs.from_rotvec([[0, 0, 0], [0.4, 0, 0], [0.4, 0.5, 0], [0, 0.5, 0.3]])
+    >>> kb = qs.KochanekBartels(q, tension=0.0, continuity=0.0, bias=0.0)
+    >>> bool(np.allclose(kb(np.linspace(0, 3, 7)), qs.CatmullRom(q)(np.linspace(0, 3, 7))))
+    True
+    >>> qs.KochanekBartels(q, continuity=0.5).continuity
+    0
+    """
+
+    def __init__(
+        self,
+        quats,
+        times=None,
+        tension=0.0,
+        continuity=0.0,
+        bias=0.0,
+        alpha=None,
+        ends: str = "reflect",
+        holds: bool = True,
+        canonicalize: bool = True,
+        extrapolate: str = "raise",
+    ):
+        q = _keys(quats, "quats")
+        t = _times(times, len(q))
+        a = _alpha(alpha)
+        core = _core.kochanek_bartels(
+            q,
+            t,
+            a,
+            _per(tension, "tension"),
+            _per(continuity, "continuity"),
+            _per(bias, "bias"),
+            str(ends),
+            bool(holds),
+            bool(canonicalize),
+        )
+        super().__init__(
+            core,
+            extrapolate,
+            quats=q,
+            times=t,
+            tension=tension,
+            continuity=continuity,
+            bias=bias,
+            alpha=alpha,
+            ends=ends,
+            holds=holds,
+            canonicalize=canonicalize,
+        )
+
+
+def bessel_rates(quats, times=None) -> np.ndarray:
+    """Body angular velocities at keys estimated from the keys alone (Bessel's rule).
+
+    At an interior key the time-weighted average (hᵢ mᵢ₋₁ + hᵢ₋₁ mᵢ)/(hᵢ₋₁ + hᵢ) of the
+    neighbouring chord rates mₖ = rotvec(qₖ* qₖ₊₁)/hₖ (each is the same vector in the body
+    frames of both its keys); at the ends the end chord rate. Exact for a constant-speed
+    great circle. The registry's default rates for ``hermite``.
+
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Keys, N ≥ 2.
+    times : array_like, shape (N,), optional
+        Key times (default 0, 1, …).
+
+    Returns
+    -------
+    numpy.ndarray, shape (N, 3)
+        Body-frame rates, rad per time unit.
+
+    Examples
+    --------
+    >>> import numpy as np, quatspline as qs
+    >>> from quatspline.splines import keyframe as kf
+    >>> q = qs.from_rotvec([[0, 0, 0], [0, 0, 0.2], [0, 0, 0.4]])
+    >>> bool(np.allclose(kf.bessel_rates(q, [0, 1, 2]), [0, 0, 0.2]))
+    True
+    """
+    from ..core.algebra import canonicalize, conjugate, multiply, normalize
+    from ..core.convert import as_rotvec
+
+    q = canonicalize(normalize(_keys(quats, "quats")))
+    n = len(q)
+    if n < 2:
+        raise ValueError(f"quats: needs at least 2 keys, got {n}")
+    t = np.arange(n, dtype=float) if times is None else as_real(times, "times")
+    if t.shape != (n,):
+        raise ValueError(f"times: expected shape ({n},), got {t.shape}")
+    h = np.diff(t)
+    if not np.all(h > 0):
+        raise ValueError("times: not strictly increasing")
+    m = as_rotvec(multiply(conjugate(q[:-1]), q[1:])) / h[:, None]
+    w = np.empty((n, 3))
+    w[0], w[-1] = m[0], m[-1]
+    w[1:-1] = (h[1:, None] * m[:-1] + h[:-1, None] * m[1:]) / (h[1:] + h[:-1])[:, None]
+    return w
+
+
+def _same_rotations(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise, the core's hold test: the angle between a and b (q ≡ −q) is ≤ 1e-12 rad."""
+    a = a / np.linalg.norm(a, axis=-1, keepdims=True)
+    b = b / np.linalg.norm(b, axis=-1, keepdims=True)
+    d = np.abs(np.sum(a * b, axis=-1))
+    v = a[..., :1] * b[..., 1:] - b[..., :1] * a[..., 1:] - np.cross(a[..., 1:], b[..., 1:])
+    return 2.0 * np.arctan2(np.linalg.norm(v, axis=-1), d) <= 1e-12
+
+
+def _same_rotation(a: np.ndarray, b: np.ndarray) -> bool:
+    return bool(_same_rotations(a, b))
+
+
+def bspline_controls(q: np.ndarray, order: int, ends: str, holds: bool) -> np.ndarray:
+    """Control rotations of a uniform cumulative B-spline with holds and rest ends.
+
+    A segment of the order-k B-spline is constant exactly when its k control rotations are
+    equal, and its first k − 2 derivatives vanish at its start (end) when its first (last)
+    k − 1 control rotations are equal. So:
+
+    - **holds**: every run of m ≥ 2 consecutive equal control rotations (q or −q, within
+      1e-12 rad) is replaced by m + k − 2 exact copies of its first rotation: the curve is
+      exactly constant on m − 1 whole segments (one per equal pair) and its first k − 2
+      derivatives vanish at both ends of the hold. For a closed curve a run may wrap across
+      the seam.
+    - **rest** (``ends="rest"``, order k ≥ 3): copies of the first and of the last control
+      rotation are added at the ends until k − 1 of them are equal (k − 2 copies unless a
+      hold is there already), so the curve starts and ends exactly on them
+      with zero angular velocity, acceleration, … up to derivative k − 2 (ω and α for the
+      cubic; the jerk of a cubic cannot vanish without stopping the whole segment).
+
+    Each added copy lengthens the domain by one ``dt`` (the spacing is kept).
+
+    Parameters
+    ----------
+    q : numpy.ndarray, shape (n, 4)
+        Control rotations as given.
+    order : int
+        B-spline order k.
+    ends : {"open", "rest", "closed"}
+        End condition.
+    holds : bool
+        Whether runs of equal rotations are turned into exact holds.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n', 4)
+        The control rotations to build the spline from.
+
+    Examples
+    --------
+    >>> import numpy as np, quatspline as qs
+    >>> from quatspline.splines import keyframe as kf
+    >>> a, b = qs.from_rotvec([[0, 0, 0.3], [0.4, 0, 0]])
+    >>> kf.bspline_controls(np.array([a, a, b]), 4, "open", True).shape
+    (5, 4)
+    """
+    q = np.asarray(q, dtype=np.float64)
+    n = len(q)
+    # the core's checks, before anything divides by a norm
+    bad = ~np.all(np.isfinite(q), axis=1)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise ValueError(f"control_quats: non-finite value (NaN or inf) at element {i}")
+    zero = ~(np.linalg.norm(q, axis=1) > 1e-300)
+    if zero.any():
+        raise ValueError(
+            f"control_quats: quaternion {int(np.argmax(zero))} has zero (or denormal) norm"
+        )
+    extra = order - 2
+    if ends == "rest" and order < 3:
+        raise ValueError(
+            "ends: rest needs order ≥ 3 (an order-2 B-spline is piecewise geodesic: its "
+            "velocity cannot vanish at an end without the end segment standing still)"
+        )
+    same = []
+    if holds and n >= 2:
+        nxt = np.roll(q, -1, axis=0) if ends == "closed" else q[1:]
+        same = _same_rotations(q[: len(nxt)], nxt).tolist()
+    if same and all(same):  # every control rotation the same: one constant curve
+        q = np.repeat(q[:1], n, axis=0)
+    elif same:
+        # start at a key that begins a run (or stands alone), so no run is split
+        start = 0
+        if ends == "closed":
+            while same[(start - 1) % n]:
+                start += 1
+        order_idx = [(start + i) % n for i in range(n)] if ends == "closed" else list(range(n))
+        out: list[np.ndarray] = []
+        label: list[int] = []  # the given index of each output row (-1: an added copy)
+        i = 0
+        while i < n:
+            j = i
+            while j + 1 < n and same[order_idx[j]]:
+                j += 1
+            first = q[order_idx[i]]
+            m = j - i + 1
+            out.extend([first] * (m + extra if m >= 2 else 1))
+            label.extend(order_idx[i : j + 1] + ([-1] * extra if m >= 2 else []))
+            i = j + 1
+        # a closed run wrapping the seam: rotate so that the given first rotation leads
+        q = np.roll(np.array(out), -label.index(0), axis=0)
+    if ends == "rest":
+        # the first (last) k − 1 rows equal: add only the copies a run there lacks
+        def lead(r: np.ndarray) -> int:
+            return next((i for i in range(1, len(r)) if not np.array_equal(r[i], r[0])), len(r))
+
+        a, b = max(0, order - 1 - lead(q)), max(0, order - 1 - lead(q[::-1]))
+        q = np.vstack([np.repeat(q[:1], a, axis=0), q, np.repeat(q[-1:], b, axis=0)])
+    return np.ascontiguousarray(q)
+
+
+def c3_speed_matched_alpha(quats, times=None, closed: bool = False) -> np.ndarray:
+    """Per-key α of the C³ knot spline whose key speed is the mean of the neighbouring chords'.
+
+    The knot variant's body rate at key k is α_k (m_l + m_r), with m_l = rotvec(Q_{k−1}* Q_k)/h_l
+    and m_r = rotvec(Q_k* Q_{k+1})/h_r the chord rates on either side (both in key k's body
+    frame). This rule takes α_k = ½ (|m_l| + |m_r|) / |m_l + m_r|, clipped to [0, 1], so the
+    speed at every key is the mean of the two chord speeds also where the path turns
+    (α_k = ½ where it does not); the paired β_k = −6 α_k keeps the key jerk at zero. At
+    open end keys (one chord) α = ½, and where both chords vanish (holds) α = ½ as well.
+
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Keys (w, x, y, z).
+    times : array_like, shape (N,) or, closed, (N + 1,), optional
+        Key times (default 0, 1, …).
+    closed : bool
+        Keys of a closed loop (the last time closes it; a last key equal to the first is
+        dropped as the closing key).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,)
+        α per key (n distinct keys of a closed loop).
+
+    Examples
+    --------
+    >>> import numpy as np, quatspline as qs
+    >>> from quatspline.splines import keyframe as kf
+    >>> q = qs.from_rotvec([[0, 0, 0], [0, 0, 0.5], [0.5, 0, 0.5]])
+    >>> np.round(kf.c3_speed_matched_alpha(q), 4)
+    array([0.5   , 0.6998, 0.5   ])
+    """
+    from ..core.algebra import canonicalize, conjugate, multiply, normalize
+    from ..core.convert import as_rotvec
+
+    q = canonicalize(normalize(_keys(quats, "quats")))
+    if closed and len(q) >= 2 and _same_rotation(q[0], q[-1]):
+        q = q[:-1]
+    n = len(q)
+    m = n + 1 if closed else n
+    t = np.arange(m, dtype=float) if times is None else np.asarray(times, dtype=float)
+    if t.shape != (m,) or not np.all(np.diff(t) > 0):
+        raise ValueError(f"times: expected {m} strictly increasing times, got shape {t.shape}")
+    nxt = np.roll(q, -1, axis=0) if closed else q[1:]
+    chords = as_rotvec(multiply(conjugate(q[: len(nxt)]), nxt)) / np.diff(t)[:, None]
+    left = np.roll(chords, 1, axis=0) if closed else np.vstack([np.zeros(3), chords])
+    right = chords if closed else np.vstack([chords, np.zeros(3)])
+    both = np.linalg.norm(left + right, axis=1)
+    mean = 0.5 * (np.linalg.norm(left, axis=1) + np.linalg.norm(right, axis=1))
+    alpha = np.full(n, 0.5)
+    inner = np.ones(n, bool) if closed else np.r_[False, np.ones(n - 2, bool), False]
+    ok = inner & (both > 1e-300) & (mean > 0)
+    alpha[ok] = np.clip(mean[ok] / both[ok], 0.0, 1.0)
+    return alpha
+
+
+def _bspline_hold_intervals(q, order: int, closed: bool, dt: float, t0: float):
+    """Time spans on which a uniform B-spline with control rotations q is exactly constant
+    (segment i is when its k control rotations are identical), adjacent spans merged."""
+    m = len(q)
+    segs = m if closed else m - order + 1
+    ext = np.vstack([q, q[: order - 1]]) if closed else q
+    equal = np.all(ext[1:] == ext[:-1], axis=1)  # equal[i]: rows i and i + 1 identical
+    # segment i: rows i … i + k − 1 identical, i.e. equal[i … i + k − 2] all true
+    c = np.r_[0, np.cumsum(~equal)]
+    held = c[order - 1 : order - 1 + segs] - c[:segs] == 0
+    out: list[tuple[float, float]] = []
+    for i in np.flatnonzero(held):
+        a, b = t0 + i * dt, t0 + (i + 1) * dt
+        if out and out[-1][1] == a:
+            a = out.pop()[0]
+        out.append((float(a), float(b)))
+    return out
