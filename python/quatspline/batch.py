@@ -961,7 +961,7 @@ def run(
             [force] * len(tasks),
             pure=False,
         )
-        from ._util.progress import progress as progress_bar
+        from ._util.progress_bars import progress as progress_bar
 
         with progress_bar(
             len(tasks), f"batch {operation}", enabled=progress is not False, unit="file"

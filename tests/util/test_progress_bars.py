@@ -8,7 +8,7 @@ import pytest
 import quatspline as qs
 import quatspline.io as qio
 import tqdm as tqdm_mod
-from quatspline._util import progress as _progress
+from quatspline._util import progress_bars as _progress
 from quatspline.io import _fast
 from quatspline.ops._export import to_gltf
 from quatspline.ops._resample import resample

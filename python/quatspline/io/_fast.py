@@ -14,7 +14,7 @@ import warnings
 
 import numpy as np
 
-from .._util import progress as _progress
+from .._util import progress_bars as _progress
 from ._common import MAX_LINE, open_regular
 
 #: below this size the careful parser is fast enough and pandas' import is not worth it

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._util import progress as _progress
+from .._util import progress_bars as _progress
 from .._util.atomic import atomic_write, atomic_write_pair, committed_pair
 from . import _fast
 from ._common import (

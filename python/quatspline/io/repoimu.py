@@ -8,7 +8,7 @@ from array import array
 
 import numpy as np
 
-from .._util import progress as _progress
+from .._util import progress_bars as _progress
 from ._common import (
     Trajectory,
     TrajectoryError,

@@ -54,7 +54,7 @@ from .._util.atomic import (
     resolve_output,
     sigterm_unwinds,
 )
-from .._util.progress import progress
+from .._util.progress_bars import progress
 from ._common import Trajectory, TrajectoryError, check_regular_input, finish, open_regular
 
 HINT = "ROS bags need the rosbags library: pip install 'quatspline[bag]'"

@@ -7,7 +7,7 @@ from array import array
 
 import numpy as np
 
-from .._util import progress as _progress
+from .._util import progress_bars as _progress
 from .._util.atomic import atomic_write
 from . import _fast
 from ._common import (

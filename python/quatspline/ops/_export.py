@@ -677,7 +677,7 @@ def to_gltf(
     ):
         raise ValueError(f"samples: expected an integer in [2, {MAX_SAMPLES}], got {samples!r}")
 
-    from .._util.progress import progress as bar
+    from .._util.progress_bars import progress as bar
 
     chans = [("rotation", "max_error", m.q, m.dq, tol_r, True)]
     if m.pos is not None:

@@ -8,7 +8,7 @@ import numbers
 import numpy as np
 
 from .._util.checks import short
-from .._util.progress import progress as _progress_bar
+from .._util.progress_bars import progress as _progress_bar
 from ..core.metrics import angle_between
 from ..io import Trajectory
 from ..registry import METHODS, interpolating_methods
@@ -187,7 +187,7 @@ SAMPLE_CHUNK = 1 << 18
 def _evaluate(s, t: np.ndarray, derivatives: bool):
     """Orientations (and ω, α, jerk) at ``t``, in chunks under a progress bar (shown on a
     terminal once sampling takes more than a second)."""
-    from .._util.progress import progress
+    from .._util.progress_bars import progress
 
     names = ("omega", "alpha", "jerk") if derivatives else ()
     fns = {"omega": s.angular_velocity, "alpha": s.angular_acceleration, "jerk": s.jerk}

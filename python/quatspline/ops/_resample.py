@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._util.progress import progress
+from .._util.progress_bars import progress
 
 __all__ = ["resample"]
 
