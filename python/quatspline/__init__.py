@@ -7,7 +7,9 @@ broadcasting, conversions, the CLI, file I/O and plots.
 
 from __future__ import annotations
 
-from . import batch, examples, io, ops
+import importlib
+
+from . import examples, io, ops
 from ._core import __version__
 from ._util import moved as _moved
 from ._util.simd import set_simd, simd_status
@@ -80,6 +82,14 @@ from .splines.screw import ScrewSpline
 from .splines.timing import Reparameterized, arc_length, max_angular_rate, retime
 
 _moved.install()
+
+
+def __getattr__(name: str) -> object:
+    # quatspline.batch (the Dask front end) is imported on first use, not by `import quatspline`
+    if name == "batch":
+        return importlib.import_module(f"{__name__}.batch")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 __all__ = [
     "batch",
