@@ -18,6 +18,18 @@ approximating methods are adapted to keys at times as follows (documented choice
 Closed loops (``ends="closed"``) from N keys at N times: if the last key equals the first it
 is the closing key (dropped, its time closes the loop); otherwise the loop closes one mean key
 spacing, (t_last − t_first)/(N − 1), after the last key.
+
+Each row of :data:`METHODS` carries everything its readers need: the builder and every
+parameter with its converter, default, help, choices and range check. ``quatspline.spline``,
+the operations, the command line and the viewer read the rows, so a new method is one class
+plus one row. The registry checks the parameters against the row before building and raises
+:class:`~quatspline.ops.ParameterError` itself for an unknown method or parameter or a value
+the method does not accept; an error of the keys or times stays a plain ``ValueError``.
+
+>>> from quatspline.registry import METHODS
+>>> ends = METHODS["squad"].params["ends"]
+>>> ends.default, ends.choices, ends.kind
+('open', ('open', 'rest', 'closed'), 'str')
 """
 
 from __future__ import annotations
@@ -790,7 +802,7 @@ def spline(
     >>> qs.spline("cubic", keys)
     Traceback (most recent call last):
     ...
-    quatspline._util.errors.ParameterError: method: unknown method 'cubic'; valid: slerp, ...
+    quatspline.ops.ParameterError: method: unknown method 'cubic'; valid: slerp, ...
     """
     m = _method(METHODS, method)
     p = m.values(params)

@@ -21,3 +21,7 @@ class ParameterError(ValueError):
     ... except ParameterError as e:
     ...     print(isinstance(e, ValueError))
     True"""
+
+
+# Shown (in tracebacks and documentation) and pickled under its public name.
+ParameterError.__module__ = "quatspline.ops"
