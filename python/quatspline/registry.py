@@ -303,7 +303,7 @@ class Method:
     params: dict = field(default_factory=dict)
     build: Callable | None = None
 
-    def values(self, params: dict) -> dict:
+    def resolve(self, params: dict) -> dict:
         """Every parameter of the method, from ``params`` or its default, converted and
         checked (a :class:`ParameterError` names an unknown or bad one)."""
         unknown = sorted(set(params) - set(self.params))
@@ -805,7 +805,7 @@ def spline(
     quatspline.ops.ParameterError: method: unknown method 'cubic'; valid: slerp, ...
     """
     m = _method(METHODS, method)
-    p = m.values(params)
+    p = m.resolve(params)
     q = with_width(quats, "quats", 4)
     return m.build(q, _loop_times(q, times, p), p)
 
@@ -857,4 +857,4 @@ def pose_spline(method: str, quats, times, positions, **params):
     """Builds the pose method ``method`` (see ``POSE_METHODS``) through pose keys at times;
     unknown names and parameters raise a :class:`ParameterError` listing the valid ones."""
     m = _method(POSE_METHODS, method, "pose method")
-    return m.build(quats, times, positions, m.values(params))
+    return m.build(quats, times, positions, m.resolve(params))
