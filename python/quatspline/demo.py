@@ -32,7 +32,7 @@ from .examples import BETA_EXAMPLE1_VERTICES, BETA_EXAMPLE2_VERTICES
 from .io._common import open_regular
 from .registry import interpolating_methods
 from .registry import spline as make_spline
-from .splines._families import BetaSpline
+from .splines import BetaSpline
 
 PLOT_HINT = "figures skipped: matplotlib is not installed (pip install 'quatspline[plot]')"
 

@@ -28,9 +28,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from . import _core
+from . import splines as sp
 from ._util.arrays import as_real, with_width
 from .io._common import open_regular
-from .splines import _families as sp
 
 __all__ = [
     "METHODS",
@@ -141,7 +141,7 @@ def rates_spec(v):
 
 
 def _hermite(q, times, p):
-    from .splines import keyframe as kf
+    from . import splines as kf
 
     r = p["rates"]
     if isinstance(r, str):
@@ -187,9 +187,9 @@ def _closed_bspline(q, times, p):
 
 def _held_bspline(q, ends, t0, t1):
     """The registry's cubic B-spline with holds: runs of equal keys repeated (see
-    ``keyframe.bspline_controls``), the end keys padded as without holds, the segments spread
+    ``splines.bspline_controls``), the end keys padded as without holds, the segments spread
     over [t0, t1]; ``hold_intervals`` set."""
-    from .splines.keyframe import _bspline_hold_intervals, bspline_controls
+    from .splines.keys import _bspline_hold_intervals, bspline_controls
 
     c = bspline_controls(
         np.asarray(q, dtype=float), 4, "closed" if ends == "closed" else "open", True
@@ -223,7 +223,7 @@ def _build(name, q, times, p):
     if name == "hermite":
         return _hermite(q, times, p)
     if name == "kochanek_bartels":
-        from .splines.keyframe import KochanekBartels
+        from .splines import KochanekBartels
 
         return KochanekBartels(
             q,
@@ -302,7 +302,7 @@ def str_or_none(v):
 
 
 def _fitted(name, q, times, p):
-    from .fitting.smoothing import MinimumEnergySpline, fit
+    from .fitting import MinimumEnergySpline, fit
 
     t = _times_or_default(times, len(q))
     if name == "fit":
