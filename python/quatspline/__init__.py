@@ -55,15 +55,18 @@ from .core.integration import integrate
 from .core.interpolate import lerp, lin_euler, lin_mat, nlerp, slerp
 from .core.metrics import angle_between
 from .core.rigid import rotate_points
-from .fitting.smoothing import FittedPose, FittedSpline, MinimumEnergySpline, fit, fit_trajectory
+from .fitting import FittedPose, FittedSpline, MinimumEnergySpline, fit
+from .fitting.smoothing import fit_trajectory
 from .poses.pose_spline import PoseSpline
 from .registry import METHODS, spline
-from .splines._families import (
+from .splines import (
     BetaSpline,
     C3Spline,
     CatmullRom,
     CumulativeBezier,
     CumulativeBSpline,
+    Hermite,
+    KochanekBartels,
     NaturalSpline,
     PiecewiseLinEuler,
     PiecewiseLinMat,
@@ -76,7 +79,6 @@ from .splines._families import (
     reparameterize,
 )
 from .splines.joints import JointContinuity, continuity
-from .splines.keyframe import Hermite, KochanekBartels
 from .splines.pose_bspline import PoseBSpline
 from .splines.screw import ScrewSpline
 from .splines.timing import Reparameterized, arc_length, max_angular_rate, retime

@@ -35,8 +35,7 @@ from .ops import compare, format_table
 from .poses.pose_spline import PoseSpline
 from .registry import interpolating_methods
 from .registry import spline as make_spline
-from .splines._families import BetaSpline
-from .splines.joints import continuity
+from .splines import BetaSpline, continuity
 
 PLOT_HINT = "figures skipped: matplotlib is not installed (pip install 'quatspline[plot]')"
 

@@ -46,7 +46,7 @@ from . import _core
 from ._util.arrays import as_real, with_width
 from ._util.errors import ParameterError
 from .core.algebra import conjugate, multiply, normalize
-from .fitting.smoothing import MinimumEnergySpline, fit
+from .fitting import MinimumEnergySpline, fit
 from .io._common import open_regular
 from .splines import (
     BetaSpline,
@@ -67,7 +67,7 @@ from .splines import (
     Spline,
     Squad,
 )
-from .splines.keyframe import _bspline_hold_intervals, bessel_rates, bspline_controls
+from .splines.keys import bessel_rates, bspline_controls, bspline_hold_intervals
 
 __all__ = [
     "EULER_SEQUENCES",
@@ -406,7 +406,7 @@ def _closed_bspline(q, times, p):
 
 def _held_bspline(q, ends, t0, t1):
     """The registry's cubic B-spline with holds: runs of equal keys repeated (see
-    ``keyframe.bspline_controls``), the end keys padded as without holds, the segments spread
+    ``splines.keys.bspline_controls``), the end keys padded as without holds, the segments spread
     over [t0, t1]; ``hold_intervals`` set."""
     c = bspline_controls(
         np.asarray(q, dtype=float), 4, "closed" if ends == "closed" else "open", True
@@ -416,7 +416,7 @@ def _held_bspline(q, ends, t0, t1):
     segs = len(c) if ends == "closed" else len(c) - 3
     dt = (t1 - t0) / segs
     s = CumulativeBSpline(c, dt=dt, t0=t0, order=4, ends="closed" if ends == "closed" else "open")
-    s.hold_intervals = _bspline_hold_intervals(c, 4, ends == "closed", dt, t0)
+    s.hold_intervals = bspline_hold_intervals(c, 4, ends == "closed", dt, t0)
     return s
 
 

@@ -112,7 +112,7 @@ class _Motion:
         from ..io import Trajectory
         from ..poses.pose_spline import PoseSpline
         from ..registry import spline as make_spline
-        from ..splines._families import Spline
+        from ..splines import Spline
 
         self.name = ""
         if not isinstance(motion, Trajectory) and isinstance(motion, (Spline, PoseSpline)):

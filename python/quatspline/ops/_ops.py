@@ -14,7 +14,7 @@ from ..core.metrics import angle_between
 from ..io import Trajectory
 from ..registry import METHODS, interpolating_methods
 from ..registry import spline as make_spline
-from ..splines._families import DEFAULT_MAX_SAMPLES, path_length
+from ..splines import DEFAULT_MAX_SAMPLES, path_length
 from ..splines.joints import continuity
 
 __all__ = [
@@ -258,7 +258,7 @@ def sample_trajectory(
         raise TypeError(f"derivatives: expected a bool, got {type(derivatives).__name__}")
     t0 = float(traj.times[0])
     s = _build(method, traj, traj.times - t0, dict(params or {}))
-    from ..splines._families import _EXTRAPOLATE
+    from ..splines import EXTRAPOLATE as _EXTRAPOLATE
 
     if extrapolate not in _EXTRAPOLATE:
         raise ParameterError(f"extrapolate: expected one of {_EXTRAPOLATE}, got {extrapolate!r}")
