@@ -31,7 +31,9 @@ from urllib.parse import unquote
 
 import numpy as np
 
-from ._common import Trajectory, TrajectoryError, check_regular_input, finish
+from ..core.interpolate import slerp
+from ._common import check_regular_input
+from .trajectory import Trajectory, TrajectoryError, finish
 
 #: component type → numpy dtype (little-endian, as the specification stores them)
 _COMP = {
@@ -363,8 +365,6 @@ def _play_channel(kind: str, kt, kv, t, rot: bool) -> np.ndarray:
         )
         return out / np.linalg.norm(out, axis=1)[:, None] if rot else out
     if rot:
-        from ..core.interpolate import slerp
-
         return slerp(v[k], v[k + 1], u[:, 0])
     return v[k] + u * (v[k + 1] - v[k])
 

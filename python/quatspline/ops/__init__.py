@@ -15,6 +15,8 @@ and the choice of rotation method is about orientation only.
 
 from __future__ import annotations
 
+from ..io.trajectory import set_sampler
+from . import _resample
 from ._export import GltfReport, to_bvh, to_gltf
 from ._ops import (
     DEFAULT_MAX_SAMPLES,
@@ -38,3 +40,6 @@ __all__ = [
     "sample_times",
     "sample_trajectory",
 ]
+
+# the one sampling route behind io.Trajectory.resample (io lies below ops)
+set_sampler(_resample.resample)
