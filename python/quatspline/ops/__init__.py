@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from ..io.trajectory import set_sampler
 from . import _resample
-from ._export import GltfReport, to_bvh, to_gltf
+from ._export import BvhReport, GltfReport, export, to_bvh, to_gltf
 from ._ops import (
     DEFAULT_MAX_SAMPLES,
     ParameterError,
@@ -29,7 +29,9 @@ from ._ops import (
 )
 
 __all__ = [
+    "BvhReport",
     "GltfReport",
+    "export",
     "to_bvh",
     "to_gltf",
     "DEFAULT_MAX_SAMPLES",
