@@ -613,17 +613,18 @@ def to_gltf(
                 nu = _uniform_keys(ch, tol, check_t, len(keys))
                 pb.update(1)
             idx = np.array(keys)  # keep the keys only: the candidates' memory is released
-            kept = (rot, ch.t[idx], ch.v[idx], ch.a[idx], ch.b[idx])
+            kept = (ch.t[idx], ch.v[idx], ch.a[idx], ch.b[idx])
             results[name] = (kept, keys, err, nu, tol, len(check_t))
             del ch, check_t, v, a, b
 
-    keys = {}
-    for name, ((_rot, kt, kv, ka, kb), *_) in results.items():
-        keys[name] = gltf.Keys(kt, kv, ka if cubic else None, kb if cubic else None)
+    # the format's writer stores the chosen keys (one document builder for every glTF route)
+    chosen = {}
+    for name, ((kt, kv, ka, kb), *_) in results.items():
+        chosen[name] = gltf.Keys(kt, kv, ka if cubic else None, kb if cubic else None)
     gltf.write_animation(
         path,
-        keys["rotation"],
-        keys.get("translation"),
+        chosen["rotation"],
+        chosen.get("translation"),
         interpolation=interpolation,
         node=node,
         mesh=mesh,
