@@ -45,6 +45,7 @@ MOVED: dict[str, tuple[str, ...]] = {
     "quatspline.resampling": ("quatspline.ops._resample",),
     "quatspline.export": ("quatspline.ops._export",),
     "quatspline.design": ("quatspline.ops._design",),
+    "quatspline.io.pandas_bridge": ("quatspline.io.trajectory",),
 }
 
 

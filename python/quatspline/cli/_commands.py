@@ -317,45 +317,22 @@ def cmd_plot(args) -> int:
 
 # ---- export ---------------------------------------------------------------------------------
 def cmd_export(args) -> int:
-    from ..ops._export import parse_angle, parse_length, to_gltf
-
     traj = _read(args)
-    try:
-        parse_angle(args.max_error, "--max-error")
-        parse_length(args.max_position_error, "--max-position-error")
-    except (TypeError, ValueError) as e:
-        raise UsageError(str(e)) from None
     out = Path(args.output)
     _guard_output(out, args)
-    if out.suffix.lower() == ".bvh":
-        from ..ops._resample import resample
-
-        fps = args.fps if args.fps is not None else 1.0 / float(np.median(np.diff(traj.times)))
-        if not (np.isfinite(fps) and 0 < fps <= 10_000):
-            raise UsageError(f"--fps: expected a frame rate in (0, 10000], got {fps}")
-        n = int(np.floor((traj.times[-1] - traj.times[0]) * fps + 1e-9)) + 1
-        frames = resample(
-            traj,
-            np.minimum(traj.times[0] + np.arange(n) / fps, traj.times[-1]),
-            method=args.method,
-            **_params(args.param, args.method),
-        )
-        frames.times = np.arange(n) / fps  # BVH frames: uniform from 0
-        qio.write(out, frames, format="bvh")
-        print(f"wrote {out}: BVH joint, {n} frames at {fps:.6g} fps ({args.method} spline)")
-        return 0
-    rep = to_gltf(
+    rep = ops.export(
         traj,
         out,
+        method=args.method,
         max_error=args.max_error,
         max_position_error=args.max_position_error,
         interpolation=args.interpolation,
         node=args.node,
         mesh=None if args.empty else "axes",
-        method=args.method,
+        fps=args.fps,
         **_params(args.param, args.method),
     )
-    print(rep.summary())
+    print(rep.summary() if isinstance(rep, ops.GltfReport) else f"wrote {rep.summary()}")
     return 0
 
 
@@ -557,6 +534,9 @@ _CLI_NAMES = {
     "holdout": "--holdout",
     "max_samples": "--max-samples",
     "workers": "--workers",
+    "fps": "--fps",
+    "max_error": "--max-error",
+    "max_position_error": "--max-position-error",
 }
 
 
