@@ -53,7 +53,8 @@ from .core.integration import integrate
 from .core.interpolate import lerp, lin_euler, lin_mat, nlerp, slerp
 from .core.metrics import angle_between
 from .core.rigid import rotate_points
-from .fitting.smoothing import FittedPose, FittedSpline, MinimumEnergySpline, fit, fit_trajectory
+from .fitting.smoothing import FittedPose, FittedSpline, MinimumEnergySpline, fit
+from .ops import fit_trajectory
 from .poses.pose_spline import PoseSpline
 from .registry import METHODS, spline
 from .splines._families import (

@@ -126,7 +126,7 @@ def _move_into(src: Path, dst: Path) -> None:
 
 
 def _run(out: Path, recording: Path | None, figures: bool) -> str:
-    from .ops._ops import compare, format_table
+    from .ops._compare import compare, format_table
 
     if figures:
         from . import plot
