@@ -170,9 +170,14 @@ def _given_times(times) -> tuple[np.ndarray, np.ndarray | None]:
             f"times: expected an array of times or a Trajectory, got {type(times).__name__} "
             "(read a file of times with quatspline.ops.times_from_file)"
         )
-    t = as_real(times, "times")
-    if t.dtype.kind == "b":
+    flags = (bool, np.bool_)
+    if (
+        isinstance(times, flags)
+        or getattr(getattr(times, "dtype", None), "kind", "") == "b"
+        or (isinstance(times, (list, tuple)) and any(isinstance(x, flags) for x in times))
+    ):
         raise TypeError("times: expected real numbers, got dtype bool")
+    t = as_real(times, "times")
     if t.ndim > 1:
         raise ValueError(f"times: expected a 1-D array of times, got shape {t.shape}")
     t = t.reshape(-1)
