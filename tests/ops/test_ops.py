@@ -394,6 +394,12 @@ def test_times_from_file_reads_a_times_file_or_any_trajectory_file(tmp_path):
         times_from_file(empty)
     with pytest.raises(TypeError, match=r"^times: expected a file path, got list"):
         times_from_file([1.0])
+    with pytest.raises(ValueError, match=r"^times: .*missing\.txt: no such file$"):
+        times_from_file(tmp_path / "missing.txt")
+    with pytest.raises(
+        ValueError, match=r"^times: .*: is a directory; only regular files are read$"
+    ):
+        times_from_file(tmp_path)
 
 
 def test_compare_is_the_route_of_the_cli(tmp_path, capsys, monkeypatch):

@@ -408,6 +408,8 @@ def times_from_file(path) -> np.ndarray:
     try:
         t = read_trajectory(p).times
     except ValueError as first:
+        if not p.is_file():  # missing, a directory, a FIFO: the reader's message says it all
+            raise ValueError(f"times: {first}") from None
         try:
             t = read_times(p)
         except ValueError:
