@@ -15,9 +15,9 @@ from ..splines._families import DEFAULT_MAX_SAMPLES
 
 __all__ = ["DEFAULT_MAX_SAMPLES", "ParameterError", "build_spline"]
 
-#: Default bound on the number of samples one call may produce. Measured peak memory of
-#: ``quatspline sample --derivatives`` on a recording with positions: 0.27 GB (NPZ) and 0.37 GB
-#: (CSV) for 1,000,000 samples, i.e. about 300 bytes a sample: about 3 GB at this bound.
+# DEFAULT_MAX_SAMPLES bounds the number of samples one call may produce. Measured peak memory
+# of ``quatspline sample --derivatives`` on a recording with positions: 0.27 GB (NPZ) and
+# 0.37 GB (CSV) for 1,000,000 samples, i.e. about 300 bytes a sample: about 3 GB at this bound.
 
 
 class ParameterError(ValueError):
