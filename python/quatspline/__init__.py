@@ -56,7 +56,7 @@ from .core.interpolate import lerp, lin_euler, lin_mat, nlerp, slerp
 from .core.metrics import angle_between
 from .core.rigid import rotate_points
 from .fitting import FittedPose, FittedSpline, MinimumEnergySpline, fit
-from .fitting.smoothing import fit_trajectory
+from .ops import fit_trajectory
 from .poses.pose_spline import PoseSpline
 from .registry import METHODS, spline
 from .splines import (

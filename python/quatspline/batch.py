@@ -646,7 +646,7 @@ def _op_sample(task: Task, options: dict) -> dict:
 def _op_fit(task: Task, options: dict) -> dict:
     """``quatspline fit IN -o OUT``: the same read, ``fit_trajectory`` and write."""
     from . import ops
-    from .fitting.smoothing import fit_trajectory
+    from .ops import fit_trajectory
 
     traj = _read(task, options)
     smoothing = options.get("smoothing", "auto")
@@ -1013,7 +1013,7 @@ def _log_errors(out: Path, rows: list[dict]) -> None:
 def _md_cell(x) -> str:
     if isinstance(x, float):
         return "" if math.isnan(x) else f"{x:.4g}"
-    from .ops._ops import _cell
+    from .ops._compare import _cell
 
     return _cell(x)
 

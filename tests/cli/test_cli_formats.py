@@ -82,8 +82,9 @@ def test_sample_at_outside_names_the_first_time(tmp_path, capsys):
     out = tmp_path / "x.tum"
     assert main(["sample", str(src), "--at", str(tmp_path / "gt.tum"), "-o", str(out)]) == 1
     err = capsys.readouterr().err
-    # the wording of every sampling route (ops.sample_trajectory), --at and --count alike
-    assert "times[0] = 1305031107.0 is outside the recording's time range" in err
+    # the wording of every sampling route (ops.check_times): sample, fit and resample alike
+    assert "--at: times[0] = 1305031107.0 is after the trajectory's last time" in err
+    assert "(all of them are outside)" in err
     assert not out.exists()
     argv = ["sample", str(src), "--at", str(tmp_path / "gt.tum"), "-o", str(out)]
     assert main([*argv, "--extrapolate", "clamp"]) == 0

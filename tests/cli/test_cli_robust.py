@@ -103,7 +103,7 @@ def test_unexpected_errors_are_one_line_and_debug_shows_the_traceback(
     def boom(*a, **k):
         raise MemoryError("Unable to allocate 7.28 TiB")
 
-    monkeypatch.setattr(ops, "sample_trajectory", boom)
+    monkeypatch.setattr(ops, "sample", boom)
     args = ["sample", str(keys_csv), "-o", str(tmp_path / "o.csv"), "--count", "5"]
     assert main(args) == 1
     err = capsys.readouterr().err
@@ -115,7 +115,7 @@ def test_unexpected_errors_are_one_line_and_debug_shows_the_traceback(
     def bug(*a, **k):
         raise KeyError("x")
 
-    monkeypatch.setattr(ops, "sample_trajectory", bug)
+    monkeypatch.setattr(ops, "sample", bug)
     assert main(args) == 1
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "KeyError" in err and "--debug" in err

@@ -20,20 +20,15 @@ def test_minimum_energy_spline_has_its_own_module_beside_the_smoothing_fit():
         assert name in fitting.__all__ and getattr(fitting, name) is getattr(qs, name)
 
 
-def test_fitting_imports_our_modules_at_the_top_except_in_fit_trajectory():
+def test_fitting_imports_our_modules_at_the_top_and_never_ops():
     for path in sorted(PKG.glob("*.py")):
         tree = ast.parse(path.read_text(encoding="utf-8"))
         top = {id(n) for n in tree.body}
-        allowed = {
-            id(n)
-            for f in tree.body
-            if isinstance(f, ast.FunctionDef) and f.name == "fit_trajectory"
-            for n in ast.walk(f)
-        }
         for node in ast.walk(tree):
             if not isinstance(node, ast.ImportFrom) or node.level == 0:
                 continue
-            assert id(node) in top or id(node) in allowed, f"{path.name}:{node.lineno}"
+            assert id(node) in top, f"{path.name}:{node.lineno}"
+            assert node.module != "ops" and not (node.module or "").startswith("ops."), path.name
             assert node.module != "splines._families", f"{path.name}:{node.lineno}"
 
 

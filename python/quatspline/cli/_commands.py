@@ -18,8 +18,9 @@ import numpy as np
 
 from .. import __version__, ops
 from .. import io as qio
+from .._util.atomic import resolve_output
 from ..io.kitti import read_times
-from ..registry import METHODS, interpolating_methods
+from ..registry import METHODS
 
 
 class UsageError(Exception):
@@ -84,8 +85,6 @@ def _read(args) -> qio.Trajectory:
 
 def _check_output(args) -> None:
     """Refuses a bad output before any work: unknown extension, a device/FIFO/directory."""
-    from .._util.atomic import resolve_output
-
     if args.output == "-":
         return
     if getattr(args, "format", None) is None:
@@ -119,21 +118,6 @@ def _write_trajectory(args, traj: qio.Trajectory) -> None:
                 ) from None
             sys.stdout.write(text)
             sys.stdout.flush()
-
-
-def _times_of(path: str) -> np.ndarray:
-    """The times of any trajectory file, or of a one-column file of times (``--at``)."""
-    p = Path(path)
-    try:
-        return qio.read(p).times
-    except ValueError as first:
-        try:
-            t = read_times(p)
-        except ValueError:
-            raise ValueError(f"--at: {first} (and not a one-column file of times either)") from None
-    if t.size == 0:
-        raise ValueError(f"--at {p}: the file holds no times")
-    return t
 
 
 def _input_files(args) -> list[tuple[str, Path]]:
@@ -175,8 +159,8 @@ def cmd_sample(args) -> int:
     _check_output(args)
     _guard_output(Path(args.output), args)
     traj = _read(args)
-    times = None if args.at is None else _times_of(args.at)
-    out = ops.sample_trajectory(
+    times = None if args.at is None else ops.times_from_file(args.at)
+    out = ops.sample(
         traj,
         args.method,
         rate=args.rate,
@@ -205,15 +189,11 @@ def _knot_file(path: Path) -> np.ndarray:
 
 def cmd_fit(args) -> int:
     """``quatspline fit``: least-squares fitting spline through noisy measurements (thin: the
-    work is :func:`quatspline.fit_trajectory`)."""
-    from ..fitting.smoothing import fit_trajectory
-
+    work is :func:`quatspline.ops.fit_trajectory`)."""
     _check_output(args)
     _guard_output(Path(args.output), args)
     traj = _read(args)
-    times = None
-    if args.at is not None:
-        times = _times_of(args.at)
+    times = None if args.at is None else ops.times_from_file(args.at)
     knots = None
     if args.knots is not None:
         try:
@@ -226,7 +206,7 @@ def cmd_fit(args) -> int:
             smoothing = float(smoothing)
         except ValueError:
             raise UsageError(f"--smoothing: expected auto or a number, got {smoothing!r}") from None
-    out, f = fit_trajectory(
+    out, f = ops.fit_trajectory(
         traj,
         rate=args.rate,
         count=args.count,
@@ -237,10 +217,11 @@ def cmd_fit(args) -> int:
         knots=knots,
         derivatives=args.derivatives,
         max_samples=args.max_samples,
+        extrapolate=args.extrapolate,
         progress=True if len(traj) >= 20_000 else None,
     )
     _write_trajectory(args, out)
-    rms = float(np.degrees(np.sqrt(np.mean(f.residuals**2))))
+    rms = ops.rms_residual_deg(f)
     print(
         f"wrote {'standard output' if args.output == '-' else args.output}: {len(out)} samples "
         f"of a fit to {len(traj)} measurements (λ = {f.smoothing:.4g}, effective dof "
@@ -253,7 +234,7 @@ def cmd_fit(args) -> int:
 # ---- compare --------------------------------------------------------------------------------
 def cmd_compare(args) -> int:
     traj = _read(args)
-    methods = args.methods.split(",") if args.methods else interpolating_methods()
+    methods = args.methods.split(",") if args.methods else None  # None: the library's default
     rows = ops.compare(traj, methods, args.holdout, progress=True)
     if args.json:
         print(json.dumps(rows, indent=1))
@@ -456,7 +437,9 @@ def build_parser() -> argparse.ArgumentParser:
     g = ft.add_mutually_exclusive_group(required=True)
     g.add_argument("--rate", type=float, help="samples per time unit")
     g.add_argument("--count", type=int, help="number of samples")
-    g.add_argument("--at", metavar="TIMES_FILE", help="file of times to sample at")
+    g.add_argument(
+        "--at", metavar="FILE", help="sample at the times of a trajectory file (or one-column file)"
+    )
     ft.add_argument("--derivatives", action="store_true", help="add ω, α and jerk columns")
     ft.add_argument(
         "--max-samples",
@@ -464,6 +447,12 @@ def build_parser() -> argparse.ArgumentParser:
         default=ops.DEFAULT_MAX_SAMPLES,
         metavar="N",
         help="refuse to write more than N samples",
+    )
+    ft.add_argument(
+        "--extrapolate",
+        choices=("raise", "clamp"),
+        default="raise",
+        help="times outside the recording (--at): raise (default) or clamp (hold the end pose)",
     )
     ft.add_argument("--force", action="store_true", help="allow overwriting the input file")
     ft.set_defaults(func=cmd_fit)

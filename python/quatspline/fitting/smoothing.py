@@ -29,7 +29,7 @@ from .._util.arrays import as_real, with_width
 from ..core.algebra import rotate
 from ..splines import Spline, describe
 
-__all__ = ["FittedPose", "FittedSpline", "fit", "fit_trajectory"]
+__all__ = ["FittedPose", "FittedSpline", "fit"]
 
 _PENALTIES = ("acceleration", "jerk")
 _ROBUST = (None, "huber", "cauchy")
@@ -507,103 +507,3 @@ def _warn_capped(res: dict, name: str) -> None:
             RuntimeWarning,
             stacklevel=3,
         )
-
-
-def fit_trajectory(
-    traj,
-    *,
-    rate: float | None = None,
-    count: int | None = None,
-    times=None,
-    smoothing="auto",
-    penalty: str = "acceleration",
-    robust: str | None = None,
-    knots=None,
-    derivatives: bool = False,
-    max_samples: int | None = None,
-    progress=None,
-):
-    """Fits a recorded trajectory and samples the fit: the operation behind ``quatspline fit``.
-
-    Parameters
-    ----------
-    traj : quatspline.io.Trajectory
-        The measurements (times, orientations, optional positions — fitted too).
-    rate, count, times
-        Where to sample: exactly one of a rate, a count over the time range, or times on the
-        recording's clock (see :func:`quatspline.ops.sample_times`).
-    smoothing, penalty, robust
-        As :func:`fit`.
-    knots : None, float or array_like
-        As :func:`fit`; an array holds knot times on the recording's clock (as ``times``).
-    derivatives : bool
-        Add ``omega``, ``alpha`` and ``jerk`` columns (world frame).
-    max_samples : int, optional
-        Refuse to produce more samples (default :data:`quatspline.ops.DEFAULT_MAX_SAMPLES`).
-    progress : None, True or callable
-        As :func:`fit`.
-
-    Returns
-    -------
-    (quatspline.io.Trajectory, FittedSpline or FittedPose)
-        The samples and the fit (with ``smoothing``, ``effective_dof``, ``residuals``, …).
-
-    Examples
-    --------
-    >>> import numpy as np, quatspline as qs
-    >>> from quatspline.io import Trajectory
-    >>> t = 100.0 + np.linspace(0, 2, 41)
-    >>> traj = Trajectory(t, qs.from_rotvec(np.outer(t - 100, [0.1, 0.2, 0.0])))
-    >>> out, f = qs.fit_trajectory(traj, count=5, smoothing=1e-6)
-    >>> out.times.tolist()
-    [100.0, 100.5, 101.0, 101.5, 102.0]
-    """
-    from .. import ops
-    from ..io import Trajectory
-
-    if not isinstance(traj, Trajectory):
-        raise TypeError(f"traj: expected a quatspline.io.Trajectory, got {type(traj).__name__}")
-    if max_samples is None:
-        max_samples = ops.DEFAULT_MAX_SAMPLES
-    if sum(x is not None for x in (rate, count, times)) != 1:
-        raise ops.ParameterError("rate, count, times: give exactly one of them")
-    t0 = float(traj.times[0])
-    spacing, array = _knots(knots)
-    if array is not None:
-        knots = array - t0  # knot times on the recording's clock, as ``times``
-    f = fit(
-        traj.times - t0,
-        traj.quats,
-        positions=traj.positions,
-        smoothing=smoothing,
-        penalty=penalty,
-        robust=robust,
-        knots=knots,
-        progress=progress,
-    )
-    if times is not None:
-        t = as_real(times, "times").reshape(-1)
-        if len(t) > max_samples:
-            raise ops.ParameterError(f"times: {len(t)} samples is more than {max_samples}")
-        lo, hi = t0, float(traj.times[-1])
-        bad = ~np.isfinite(t) | (t < lo) | (t > hi)
-        if np.any(bad):
-            k = int(np.argmax(bad))
-            raise ValueError(
-                f"times: times[{k}] = {float(t[k])!r} is outside the recording's time range "
-                f"[{lo!r}, {hi!r}]"
-            )
-        t = t - t0
-    else:
-        t = ops.sample_times(f.domain, rate=rate, count=count, max_samples=max_samples)
-    extra = {}
-    if derivatives:
-        extra = {
-            "omega": f.angular_velocity(t),
-            "alpha": f.angular_acceleration(t),
-            "jerk": f.jerk(t),
-        }
-    pos = f.position(t) if isinstance(f, FittedPose) else None
-    return Trajectory(
-        t + t0, f.orientation(t) if pos is not None else f(t), pos, extra=extra, name=traj.name
-    ), f

@@ -1,10 +1,14 @@
-"""Library operations on recorded trajectories: sampling a spline and comparing methods.
+"""Library operations on recorded trajectories: sampling a spline, fitting, comparing methods
+and exporting.
 
-These are the functions behind ``quatspline sample`` and ``quatspline compare``; the command
-line, batch runs and viewers only call them. They take and return plain data (a
-:class:`quatspline.io.Trajectory`, lists of dicts of floats, a Markdown string) and raise
-``ValueError`` naming the argument for a bad value (:class:`ParameterError` when the value is
-an option the caller chose rather than the data) and ``TypeError`` for a wrong kind of object.
+These are the functions behind ``quatspline sample``, ``fit``, ``compare`` and ``export``; the
+command line, batch runs and viewers only call them, one operation each: :func:`sample` is the
+only sampling route (``--rate``, ``--count``, ``--at``; :meth:`quatspline.io.Trajectory.resample`
+too), :func:`fit_trajectory` the only fitting route, :func:`compare` the only comparison.
+They take and return plain data (a :class:`quatspline.io.Trajectory`, lists of dicts of
+floats, a Markdown string) and raise ``ValueError`` naming the argument for a bad value
+(:class:`ParameterError` when the value is an option the caller chose rather than the data)
+and ``TypeError`` for a wrong kind of object.
 
 Positions: when a trajectory has positions they follow every method, interpolating or
 approximating. They are always interpolated by the natural cubic spline through the key
@@ -17,30 +21,36 @@ from __future__ import annotations
 
 from ..io.trajectory import set_sampler
 from . import _resample
+from ._compare import compare, format_table
 from ._export import BvhReport, GltfReport, export, to_bvh, to_gltf
-from ._ops import (
-    DEFAULT_MAX_SAMPLES,
-    ParameterError,
-    build_spline,
-    compare,
-    format_table,
+from ._fit import fit_trajectory, rms_residual_deg
+from ._ops import DEFAULT_MAX_SAMPLES, ParameterError, build_spline
+from ._sample import (
+    check_times,
+    sample,
     sample_times,
     sample_trajectory,
+    times_from_file,
 )
 
 __all__ = [
     "BvhReport",
-    "GltfReport",
     "export",
+    "GltfReport",
     "to_bvh",
     "to_gltf",
     "DEFAULT_MAX_SAMPLES",
     "ParameterError",
     "build_spline",
+    "check_times",
     "compare",
+    "fit_trajectory",
     "format_table",
+    "rms_residual_deg",
+    "sample",
     "sample_times",
     "sample_trajectory",
+    "times_from_file",
 ]
 
 # the one sampling route behind io.Trajectory.resample (io lies below ops)
