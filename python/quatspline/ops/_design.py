@@ -35,6 +35,8 @@ from ..registry import (
 )
 from ..splines.joints import continuity
 from ._export import to_gltf
+from ._sample import evaluate as evaluate_samples
+from ._sample import sample_times
 
 __all__ = [
     "EXPORT_OPTIONS",
@@ -372,11 +374,10 @@ def evaluate(
     _check_work(method, params, t)
     s = spline(method, q, t, **params)
     a, b = s.domain
-    ts = np.linspace(a, b, int(samples))
-    qs_ = s(ts)
-    w = np.linalg.norm(s.angular_velocity(ts), axis=1)
-    acc = np.linalg.norm(s.angular_acceleration(ts), axis=1)
-    jerk = np.linalg.norm(s.jerk(ts), axis=1)
+    # the one sampling route of ops (the times and the evaluation `quatspline sample` uses)
+    ts = sample_times((a, b), count=int(samples))
+    qs_, _, rates = evaluate_samples(s, ts, derivatives=True)
+    w, acc, jerk = (np.linalg.norm(rates[k], axis=1) for k in ("omega", "alpha", "jerk"))
     key_quats = s(np.clip(t, a, b))
     joints = [
         {
