@@ -11,7 +11,7 @@ from quatspline import ops, registry
 from quatspline._util.errors import ParameterError
 from quatspline.cli import main
 from quatspline.cli._commands import build_parser
-from quatspline.ops import _design as design
+from quatspline.ops import design
 from quatspline.registry import METHODS, Method, Param
 
 KEYS = qs.from_rotvec([[0, 0, 0], [0, 0, 0.6], [0.3, 0.2, 1.1], [0.5, -0.2, 1.4], [0.2, 0.1, 2]])

@@ -12,7 +12,7 @@ import warnings
 import numpy as np
 import pytest
 import quatspline as qs
-from quatspline.ops import _design as design
+from quatspline.ops import design
 from scipy.spatial.transform import Rotation
 
 SEQS = [

@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 import quatspline as qs
 import quatspline.io as qio
-from quatspline.ops import _design as design
+from quatspline.ops import design
 
 ROOT = Path(__file__).resolve().parents[2]
 TUM = ROOT / "data" / "tum_rgbd_fr1_xyz" / "freiburg1_xyz-groundtruth.txt"

@@ -44,7 +44,7 @@ MOVED: dict[str, tuple[str, ...]] = {
     "quatspline.pose": ("quatspline.poses.pose_spline",),
     "quatspline.resampling": ("quatspline.ops._resample",),
     "quatspline.export": ("quatspline.ops._export",),
-    "quatspline.design": ("quatspline.ops._design",),
+    "quatspline.design": ("quatspline.ops.design",),
     "quatspline.io.pandas_bridge": ("quatspline.io.trajectory",),
 }
 

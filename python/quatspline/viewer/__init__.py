@@ -1,7 +1,7 @@
 """``quatspline view``: attitude design in the browser.
 
 A small local web application (Starlette served by uvicorn) around
-:func:`quatspline.ops._design.evaluate`: the rigid body moving along the spline in 3D, the traces
+:func:`quatspline.ops.design.evaluate`: the rigid body moving along the spline in 3D, the traces
 of its body axes on the unit sphere, live controls for the method's parameters, the sizes of
 ω, α and jerk against time, the continuity certificate per joint, a second method to compare,
 key editing with undo and redo, and export (CSV, JSON, glTF) with the Python call that

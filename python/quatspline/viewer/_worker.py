@@ -18,7 +18,7 @@ import signal
 import struct
 import sys
 
-from ..ops import _design as design
+from ..ops import design
 
 #: Fields a request body may hold, per endpoint (anything else is refused, naming it).
 FIELDS = {

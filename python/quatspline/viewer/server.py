@@ -30,7 +30,7 @@ from .. import io as qio
 from .._util.optional import hint, need
 from ..core.algebra import normalize
 from ..examples import BETA_EXAMPLE1_VERTICES
-from ..ops import _design as design
+from ..ops import design
 from ._worker import EXPORT_FORMATS as _EXPORT_FORMATS
 
 FIRST = asyncio.FIRST_COMPLETED

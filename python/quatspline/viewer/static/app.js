@@ -1,5 +1,5 @@
 // quatspline view: the page. Every number it shows comes from the server's
-// quatspline.ops._design.evaluate; this file only draws and edits.
+// quatspline.ops.design.evaluate; this file only draws and edits.
 import * as THREE from "three";
 
 const TOKEN = document.querySelector('meta[name="quatspline-token"]').content;

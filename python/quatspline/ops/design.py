@@ -75,7 +75,7 @@ def method_specs() -> list[dict]:
 
     Examples
     --------
-    >>> from quatspline.ops._design import method_specs
+    >>> from quatspline.ops.design import method_specs
     >>> c3 = next(m for m in method_specs() if m["name"] == "c3")
     >>> [(p["name"], p["kind"]) for p in c3["params"]]
     [('alpha', 'float'), ('beta', 'float'), ('variant', 'str'), ('ends', 'str'), ('holds', 'bool')]
@@ -303,7 +303,7 @@ def python_call(method: str, quats, times, params: dict | None = None) -> str:
 
     Examples
     --------
-    >>> from quatspline.ops._design import python_call
+    >>> from quatspline.ops.design import python_call
     >>> code = python_call("c3", [[1, 0, 0, 0], [0, 0, 0, 1]], [0, 1], {"alpha": 0.25})
     >>> namespace = {}
     >>> exec(code, namespace)
@@ -362,7 +362,7 @@ def evaluate(
     Examples
     --------
     >>> import quatspline as qs
-    >>> from quatspline.ops._design import evaluate
+    >>> from quatspline.ops.design import evaluate
     >>> keys = qs.from_euler("xyz", [[0, 0, 0], [0, 0, 90], [90, 0, 90]], degrees=True)
     >>> d = evaluate("c3", keys, [0.0, 1.0, 2.0], {"alpha": 0.3}, samples=5)
     >>> d["t"].tolist(), [j["order"] for j in d["joints"]]
@@ -455,7 +455,7 @@ def export_bytes(
 
     Examples
     --------
-    >>> from quatspline.ops._design import export_bytes
+    >>> from quatspline.ops.design import export_bytes
     >>> blob = export_bytes("csv", "slerp", [[1, 0, 0, 0], [0, 0, 0, 1]], [0, 1], samples=3)
     >>> blob.decode().splitlines()[0].split(",")[:5]
     ['t', 'qw', 'qx', 'qy', 'qz']
