@@ -8,6 +8,7 @@ import numbers
 import numpy as np
 
 from .._util.checks import short
+from .._util.errors import ParameterError
 from .._util.progress_bars import progress as _progress_bar
 from ..core.metrics import angle_between
 from ..io import Trajectory
@@ -29,20 +30,6 @@ __all__ = [
 #: Default bound on the number of samples one call may produce. Measured peak memory of
 #: ``quatspline sample --derivatives`` on a recording with positions: 0.27 GB (NPZ) and 0.37 GB
 #: (CSV) for 1,000,000 samples, i.e. about 300 bytes a sample: about 3 GB at this bound.
-
-
-class ParameterError(ValueError):
-    """A bad option value chosen by the caller (method, parameter, rate, count, holdout), as
-    opposed to bad data. The command line maps it to exit code 2.
-
-    Examples
-    --------
-    >>> from quatspline.ops import ParameterError, sample_times
-    >>> try:
-    ...     sample_times((0.0, 1.0), rate=-1.0)
-    ... except ParameterError as e:
-    ...     print(isinstance(e, ValueError))
-    True"""
 
 
 def _check_trajectory(traj) -> None:
