@@ -29,6 +29,7 @@ from numpy.typing import ArrayLike
 
 from . import _core
 from ._util.arrays import as_real, with_width
+from ._util.options import parse_smoothing
 from .io._common import open_regular
 from .splines import _families as sp
 
@@ -289,9 +290,7 @@ def _build(name, q, times, p):
 
 def smoothing_spec(v):
     """λ of ``fit``: "auto" or a number ≥ 0 (CLI strings converted)."""
-    if isinstance(v, str) and v.strip().lower() == "auto":
-        return "auto"
-    return float(v)
+    return parse_smoothing(v)
 
 
 def str_or_none(v):

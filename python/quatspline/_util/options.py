@@ -120,7 +120,7 @@ def parse_smoothing(value, name: str = "smoothing"):
     >>> parse_smoothing("lots", "--smoothing")
     Traceback (most recent call last):
     ...
-    quatspline._util.errors.ParameterError: --smoothing: expected auto or a number ≥ 0, got 'lots'
+    quatspline._util.errors.ParameterError: --smoothing: expected 'auto' or a number ≥ 0, got 'lots'
     """
     if isinstance(value, str):
         text = value.strip()
@@ -129,13 +129,15 @@ def parse_smoothing(value, name: str = "smoothing"):
         try:
             x = float(text)
         except ValueError:
-            raise ParameterError(f"{name}: expected auto or a number ≥ 0, got {value!r}") from None
+            raise ParameterError(
+                f"{name}: expected 'auto' or a number ≥ 0, got {value!r}"
+            ) from None
     elif _is_real(value):
         x = float(value)
     else:
-        raise TypeError(f"{name}: expected 'auto' or a number, got {type(value).__name__}")
+        raise TypeError(f"{name}: expected a number or 'auto', got {type(value).__name__}")
     if not (math.isfinite(x) and x >= 0):
-        raise ParameterError(f"{name}: expected auto or a finite number ≥ 0, got {x:.6g}")
+        raise ParameterError(f"{name}: expected 'auto' or a finite λ ≥ 0, got {x:.6g}")
     return x
 
 
