@@ -899,10 +899,18 @@ def run(
         ``False`` hides the progress bar over files; otherwise it shows on a terminal once
         the batch has run for a second (the package's shared progress helper).
     **options
-        The operation's options, as for the single-file command (``method``, ``rate``,
-        ``count``, ``params``, ``methods``, ``holdout``, ``smoothing``, …), the reading options
-        (``format``, ``joint``, …), ``to`` (output format of sample/fit, default ``"csv"``)
-        and ``max_file_bytes`` (per-task input size limit, default 1 GiB).
+        The keyword arguments of the operation's library call, as the single-file command
+        gives them (:mod:`quatspline.cli.options` translates ``quatspline batch``'s arguments
+        into these): sample — those of :func:`quatspline.ops.sample_trajectory`
+        (:data:`SAMPLE_OPTIONS`); fit — those of :func:`quatspline.fit_trajectory`
+        (:data:`FIT_OPTIONS`); compare — ``methods``, ``holdout`` (default: none, as
+        ``quatspline compare``); export — those of :func:`quatspline.ops.to_gltf` and the
+        method's ``params`` (:data:`EXPORT_OPTIONS`). An option not given takes the library's
+        default, which is the command's. Also the reading options of
+        :func:`quatspline.cli.options.read_input` (``format``, ``euler``, ``degrees``,
+        ``joint``, ``world``, ``skip_frames``, ``topic``, ``frame``, ``node_in``,
+        ``times_file``, ``sort``, ``dedupe``), ``to`` (output format of sample/fit, default
+        ``"csv"``) and ``max_file_bytes`` (per-task input size limit, default 1 GiB).
 
     Returns
     -------

@@ -110,8 +110,10 @@ def test_batch_sample_reads_euler_columns_as_sample_does(tmp_path, client):
     angles = np.degrees(np.column_stack([np.sin(t), 0.5 * t, np.cos(2 * t) - 1]))
     src = tmp_path / "in" / "euler.csv"
     src.parent.mkdir()
-    src.write_text("t,e1,e2,e3\n" + "".join(f"{float(a)!r},{float(b)!r},{float(c)!r},{float(d)!r}\n" for a, (b, c, d) in
-                                         zip(t, angles)))  # fmt: skip
+    rows = np.column_stack([t, angles])
+    src.write_text(
+        "t,e1,e2,e3\n" + "".join(",".join(map(repr, map(float, r))) + "\n" for r in rows)
+    )
     options = ["--euler", "ZYX", "--degrees", "--method", "natural", "--count", "17"]
     out = tmp_path / "out"
     _batch(client, "sample", [src], out, options)
