@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import batch, demo, ops, plot
+from .. import batch, demo, ops, plot, viewer
 from .. import io as qio
 from .._core import __version__
 from .._util.atomic import resolve_output
@@ -274,10 +274,7 @@ def cmd_batch(args) -> int:
 
 # ---- view -----------------------------------------------------------------------------------
 def cmd_view(args) -> int:
-    # the web server (asyncio and its dependencies) is imported only for this command
-    from ..viewer import serve
-
-    serve(args.input, port=args.port, open_browser=not args.no_browser)
+    viewer.serve(args.input, port=args.port, open_browser=not args.no_browser)
     return 0
 
 
