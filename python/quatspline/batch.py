@@ -64,7 +64,7 @@ from ._core import __version__
 from ._util.atomic import atomic_write, file_kind, make_directories, remove_stale_temporaries
 from ._util.errors import ParameterError
 from ._util.optional import MissingDependency, need
-from ._util.options import parse_smoothing
+from ._util.options import parse_positive_int, parse_smoothing
 from ._util.progress_bars import progress as progress_bar
 from .cli.options import (
     add_compare_options,
@@ -1276,11 +1276,7 @@ def cli_options(args) -> dict:
     file's library call gets the same arguments."""
     opts: dict = {k: v for k, v in read_options(args).items() if v not in (None, False, 0)}
     if args.max_file_size is not None:
-        if args.max_file_size < 1:
-            raise ParameterError(
-                f"--max-file-size: expected a positive size, got {args.max_file_size}"
-            )
-        opts["max_file_bytes"] = args.max_file_size
+        opts["max_file_bytes"] = parse_positive_int(args.max_file_size, "--max-file-size")
     op = args.operation
     if op == "sample":
         opts.update(method_options(args), **sampling_options(args), to=args.to)
