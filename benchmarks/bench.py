@@ -18,7 +18,7 @@ from collections.abc import Callable
 import engine_bench
 import numpy as np
 import quatspline as qs
-from quatspline.splines.keyframe import bessel_rates
+from quatspline.splines import bessel_rates
 
 
 def median_ns(fn: Callable[[], object], n: int, repeat: int) -> float:

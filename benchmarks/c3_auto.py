@@ -1,6 +1,6 @@
 """The C³ spline's default shape (α, β) = (5/16, 0) against the two candidate "auto" rules —
 the fixed pair (1/2, −3) and the per-key speed-matched α_k (β_k = −6 α_k,
-``quatspline.splines.keyframe.c3_speed_matched_alpha``): speed ripple on a constant-speed
+``quatspline.splines.c3_speed_matched_alpha``): speed ripple on a constant-speed
 great circle
 (max/min |ω| over the interior segments, uniform and non-uniform keys; also on a great circle
 whose speed varies) and held-out accuracy (every K-th frame a key) with RMS jerk on the bundled
@@ -21,7 +21,7 @@ from quatspline import angle_between
 
 
 def _per_key(q, t):
-    a = qs.splines.keyframe.c3_speed_matched_alpha(q, t)
+    a = qs.splines.c3_speed_matched_alpha(q, t)
     return {"alpha": a, "beta": -6 * a}
 
 

@@ -70,7 +70,7 @@ def test_demo_failure_leaves_output_untouched(tmp_path, monkeypatch):
         raise RuntimeError("disk full")
 
     monkeypatch.setattr(demo, "_have_matplotlib", lambda: False)
-    monkeypatch.setattr("quatspline.ops._ops.compare", boom)
+    monkeypatch.setattr(demo, "compare", boom)
     with pytest.raises(RuntimeError, match="disk full"):
         demo.run(out)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]

@@ -7,7 +7,9 @@ broadcasting, conversions, the CLI, file I/O and plots.
 
 from __future__ import annotations
 
-from . import batch, examples, io, ops
+import importlib
+
+from . import examples, io, ops
 from ._core import __version__
 from ._util import moved as _moved
 from ._util.simd import set_simd, simd_status
@@ -53,15 +55,18 @@ from .core.integration import integrate
 from .core.interpolate import lerp, lin_euler, lin_mat, nlerp, slerp
 from .core.metrics import angle_between
 from .core.rigid import rotate_points
-from .fitting.smoothing import FittedPose, FittedSpline, MinimumEnergySpline, fit, fit_trajectory
+from .fitting import FittedPose, FittedSpline, MinimumEnergySpline, fit
+from .fitting.smoothing import fit_trajectory
 from .poses.pose_spline import PoseSpline
 from .registry import METHODS, spline
-from .splines._families import (
+from .splines import (
     BetaSpline,
     C3Spline,
     CatmullRom,
     CumulativeBezier,
     CumulativeBSpline,
+    Hermite,
+    KochanekBartels,
     NaturalSpline,
     PiecewiseLinEuler,
     PiecewiseLinMat,
@@ -74,12 +79,19 @@ from .splines._families import (
     reparameterize,
 )
 from .splines.joints import JointContinuity, continuity
-from .splines.keyframe import Hermite, KochanekBartels
 from .splines.pose_bspline import PoseBSpline
 from .splines.screw import ScrewSpline
 from .splines.timing import Reparameterized, arc_length, max_angular_rate, retime
 
 _moved.install()
+
+
+def __getattr__(name: str) -> object:
+    # quatspline.batch (the Dask front end) is imported on first use, not by `import quatspline`
+    if name == "batch":
+        return importlib.import_module(f"{__name__}.batch")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 __all__ = [
     "batch",

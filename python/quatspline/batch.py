@@ -655,6 +655,7 @@ EXPORT_OPTIONS = (
     "node",
     "mesh",
     "method",
+    "fps",
 )
 #: The reading options (:func:`quatspline.cli.options.read_options`).
 READ_OPTIONS = (
@@ -728,12 +729,12 @@ def _op_compare(task: Task, options: dict) -> dict:
 
 
 def _op_export(task: Task, options: dict) -> dict:
-    """``quatspline export IN -o OUT.glb``: the library's glTF export with its error bounds."""
+    """``quatspline export IN -o OUT.glb``: the library's export (glTF, error-bounded)."""
     traj = _read(task, options)
     kwargs = _given(options, EXPORT_OPTIONS)
     if "mesh" in options:  # None: an empty node (``--empty``)
         kwargs["mesh"] = options["mesh"]
-    report = ops.to_gltf(
+    report = ops.export(
         traj, task.output, progress=False, **kwargs, **(options.get("params") or {})
     )
     return {
@@ -904,9 +905,10 @@ def run(
         into these): sample — those of :func:`quatspline.ops.sample_trajectory`
         (:data:`SAMPLE_OPTIONS`); fit — those of :func:`quatspline.fit_trajectory`
         (:data:`FIT_OPTIONS`); compare — ``methods``, ``holdout`` (default: none, as
-        ``quatspline compare``); export — those of :func:`quatspline.ops.to_gltf` and the
-        method's ``params`` (:data:`EXPORT_OPTIONS`). An option not given takes the library's
-        default, which is the command's. Also the reading options of
+        ``quatspline compare``); export — those of :func:`quatspline.ops.export` and the
+        method's ``params`` (:data:`EXPORT_OPTIONS`; ``fps`` is for BVH, unused in glTF). An
+        option not given takes the library's default, which is the command's. Also the
+        reading options of
         :func:`quatspline.cli.options.read_input` (``format``, ``euler``, ``degrees``,
         ``joint``, ``world``, ``skip_frames``, ``topic``, ``frame``, ``node_in``,
         ``times_file``, ``sort``, ``dedupe``), ``to`` (output format of sample/fit, default
@@ -1285,7 +1287,5 @@ def cli_options(args) -> dict:
     elif op == "compare":
         opts.update(compare_options(args))
     else:
-        exported = export_options(args)
-        exported.pop("fps")  # a BVH frame rate: the batch writes glTF
-        opts.update(exported, **method_options(args))
+        opts.update(export_options(args), **method_options(args))
     return {k: v for k, v in opts.items() if v is not None or k == "mesh"}

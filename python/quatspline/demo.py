@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from . import io as qio
+from . import plot
 from ._util.atomic import (
     atomic_write,
     make_directories,
@@ -28,11 +29,13 @@ from ._util.atomic import (
 )
 from .core.algebra import normalize
 from .core.interpolate import slerp
-from .examples import BETA_EXAMPLE1_VERTICES, BETA_EXAMPLE2_VERTICES
+from .examples import BETA_EXAMPLE1_VERTICES, BETA_EXAMPLE2_VERTICES, RECORDING, load_recording
 from .io._common import open_regular
+from .ops import compare, format_table
+from .poses.pose_spline import PoseSpline
 from .registry import interpolating_methods
 from .registry import spline as make_spline
-from .splines._families import BetaSpline
+from .splines import BetaSpline, continuity
 
 PLOT_HINT = "figures skipped: matplotlib is not installed (pip install 'quatspline[plot]')"
 
@@ -126,10 +129,6 @@ def _move_into(src: Path, dst: Path) -> None:
 
 
 def _run(out: Path, recording: Path | None, figures: bool) -> str:
-    from .ops._ops import compare, format_table
-
-    if figures:
-        from . import plot
     start = time.perf_counter()
     (out / "samples").mkdir(exist_ok=True)
     lines = []
@@ -153,8 +152,6 @@ def _run(out: Path, recording: Path | None, figures: bool) -> str:
             ),
             out / "sphere.png",
         )
-    from .splines.joints import continuity
-
     (j1,) = continuity(beta)
     lines.append(
         f"Beta Example 1: G¹ residual {j1.beta_g1_residual:.1e}, G² residual "
@@ -177,8 +174,6 @@ def _run(out: Path, recording: Path | None, figures: bool) -> str:
 
     # 3. A real recording through every interpolating method
     if recording is None:
-        from .examples import RECORDING, load_recording
-
         traj = load_recording()
         rec_name, rec_title = RECORDING, "TUM RGB-D fr1/xyz"
     else:
@@ -207,8 +202,6 @@ def _run(out: Path, recording: Path | None, figures: bool) -> str:
             ),
             out / "rates.png",
         )
-    from .poses.pose_spline import PoseSpline
-
     pose = PoseSpline(traj.quats[idx], t_rel[idx], traj.positions[idx], rotation="c3")
     if figures:
         plot.save(

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 from importlib.resources import as_file, files
-from typing import TYPE_CHECKING
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from .io import Trajectory
+from . import io
+from .io import Trajectory
 
 __all__ = ["BETA_EXAMPLE1_VERTICES", "BETA_EXAMPLE2_VERTICES", "RECORDING", "load_recording"]
 
@@ -38,8 +37,6 @@ def load_recording() -> Trajectory:
     >>> round(float(rec.times[-1] - rec.times[0]), 2)
     30.1
     """
-    from . import io
-
     with as_file(files("quatspline") / "data" / RECORDING) as path:
         return io.read(path, format="tum")
 

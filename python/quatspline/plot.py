@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ._util.atomic import atomic_write
+from ._util.optional import need
 from .core.algebra import rotate
 
 AXIS_COLOURS = ("#d62728", "#2ca02c", "#1f77b4")  # x red, y green, z blue
@@ -31,13 +32,10 @@ MAX_MARKERS = 40
 
 
 def _mpl():
-    try:
-        import matplotlib
-        from matplotlib.figure import Figure
-        from matplotlib.lines import Line2D
-    except ImportError as e:  # pragma: no cover - depends on the environment
-        raise ImportError("plots need matplotlib: pip install 'quatspline[plot]'") from e
-    return matplotlib, Figure, Line2D
+    matplotlib = need("matplotlib", extra="plot", what="plots")
+    figure = need("matplotlib.figure", extra="plot", what="plots")
+    lines = need("matplotlib.lines", extra="plot", what="plots")
+    return matplotlib, figure.Figure, lines.Line2D
 
 
 def _axes(ax, fig, figsize, projection=None):

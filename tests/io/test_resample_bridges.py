@@ -142,3 +142,33 @@ def test_linear_extrapolation_continues_at_the_end_rate():
     v = ps.linear_velocity(t_end - e.times[0])
     dt = (out.times[1] - e.times[0]) - (out.times[0] - e.times[0])  # the step as computed
     np.testing.assert_allclose(out.positions[1] - out.positions[0], dt * v, atol=1e-12)
+
+
+def test_trajectory_resample_is_the_ops_sampling_route():
+    """``Trajectory.resample`` imported the operation inside the method (io reaching up to
+    ops); it now calls the route ops registers, with the same answers."""
+    e = est()
+    gt = qio.Trajectory(np.linspace(e.times[0] - 0.1, e.times[-1], 33), random_walk(33, 2))
+    for method, params in (("c3", {}), ("squad", {}), ("kochanek_bartels", {"tension": 0.3})):
+        got = e.resample(gt, method=method, extrapolate="clamp", **params)
+        want = resample(e, gt, method=method, extrapolate="clamp", **params)
+        np.testing.assert_array_equal(got.times, want.times)
+        np.testing.assert_array_equal(got.quats, want.quats)
+        np.testing.assert_array_equal(got.positions, want.positions)
+
+
+def test_trajectory_resample_without_a_registered_sampler_says_so(monkeypatch):
+    monkeypatch.setattr(qio.trajectory, "_sampler", [])
+    with pytest.raises(RuntimeError, match=r"^Trajectory\.resample: no sampler is registered"):
+        est().resample([T0])
+    with pytest.raises(TypeError, match=r"^fn: expected a function, got int"):
+        qio.trajectory.set_sampler(5)
+
+
+def test_dataframe_bridge_without_pandas_names_the_extra(monkeypatch):
+    """The one hint of a missing optional package (``need``), naming the pip extra."""
+    monkeypatch.setitem(__import__("sys").modules, "pandas", None)
+    with pytest.raises(ImportError, match=r'needs pandas: pip install "quatspline\[pandas\]"'):
+        est().to_dataframe()
+    with pytest.raises(ImportError, match=r'needs pandas: pip install "quatspline\[pandas\]"'):
+        qio.from_dataframe(None)

@@ -5,12 +5,9 @@ between any two check points), and ``samples`` is bounded."""
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 import pytest
 import quatspline as qs
-import quatspline.io as qio
 from quatspline.ops._export import MAX_SAMPLES, parse_angle, to_gltf
 
 from ..splinekit import random_walk
@@ -103,16 +100,6 @@ def test_export_refuses_samples_beyond_the_bounded_maximum(tmp_path, samples):
     with pytest.raises(ValueError, match=rf"^samples: expected an integer in \[2, {MAX_SAMPLES}\]"):
         to_gltf(s, tmp_path / "s.glb", samples=samples)
     assert not (tmp_path / "s.glb").exists()
-
-
-def test_io_write_passes_the_export_options_to_gltf(tmp_path):
-    """``io.write(…, mesh=None)`` reached the exporter's options (was refused as unknown)."""
-    tr = qio.Trajectory([0.0, 1.0, 2.0], random_walk(3, 1, step=0.3))
-    qio.write(tmp_path / "w.gltf", tr, mesh=None, max_error="0.5deg", interpolation="linear")
-    doc = json.loads((tmp_path / "w.gltf").read_text())
-    assert "meshes" not in doc
-    back = qio.read(tmp_path / "w.gltf")
-    assert back.times[0] == 0.0 and back.times[-1] == 2.0
 
 
 def test_export_meets_a_bound_near_float32_resolution_with_more_keys(tmp_path):

@@ -8,7 +8,7 @@ import warnings
 import numpy as np
 import pytest
 import quatspline as qs
-import quatspline.splines.keyframe as kf
+import quatspline.splines.keys as kf
 import splines.quaternion as sq
 
 from ..splinekit import random_times, random_walk

@@ -348,7 +348,7 @@ def test_c3_speed_matched_alpha_matches_the_mean_chord_speed_at_every_key():
     rng = np.random.default_rng(15)
     q = qs.canonicalize(qs.from_rotvec(rng.normal(size=(8, 3)) * 0.3))
     t = np.cumsum(np.r_[0.0, rng.uniform(0.5, 1.5, 7)])
-    a = qs.splines.keyframe.c3_speed_matched_alpha(q, t)
+    a = qs.splines.c3_speed_matched_alpha(q, t)
     s = qs.C3Spline(q, t, alpha=a, beta=-6 * a)
     speed = np.linalg.norm(s.angular_velocity(t), axis=1)
     c = np.linalg.norm(as_rotvec(qs.multiply(qs.conjugate(q[:-1]), q[1:])), axis=1) / np.diff(t)
@@ -359,9 +359,7 @@ def test_c3_speed_matched_alpha_matches_the_mean_chord_speed_at_every_key():
     assert np.all(a[1:-1] >= 0.5 - 1e-15) and a[0] == a[-1] == 0.5
     # closed: one α per distinct key, a repeated closing key dropped
     tc = np.r_[t, t[-1] + 0.7]
-    assert (
-        len(qs.splines.keyframe.c3_speed_matched_alpha(np.vstack([q, q[:1]]), tc, closed=True)) == 8
-    )
+    assert len(qs.splines.c3_speed_matched_alpha(np.vstack([q, q[:1]]), tc, closed=True)) == 8
 
 
 def test_registry_and_cli_reach_the_new_cells(tmp_path):

@@ -32,7 +32,12 @@ MOVED: dict[str, tuple[str, ...]] = {
     "quatspline.threads": ("quatspline._util.threads",),
     "quatspline.simd": ("quatspline._util.simd",),
     "quatspline.bspline": ("quatspline.splines.knots",),
-    "quatspline.keyframe": ("quatspline.splines.keyframe",),
+    "quatspline.keyframe": (
+        "quatspline.splines",
+        "quatspline.splines.hermite",
+        "quatspline.splines.catmull_rom",
+        "quatspline.splines.keys",
+    ),
     "quatspline.se3": ("quatspline.splines.se3",),
     "quatspline.screw": ("quatspline.splines.screw",),
     "quatspline.pose_bspline": ("quatspline.splines.pose_bspline",),
@@ -40,6 +45,7 @@ MOVED: dict[str, tuple[str, ...]] = {
     "quatspline.resampling": ("quatspline.ops._resample",),
     "quatspline.export": ("quatspline.ops._export",),
     "quatspline.design": ("quatspline.ops._design",),
+    "quatspline.io.pandas_bridge": ("quatspline.io.trajectory",),
 }
 
 

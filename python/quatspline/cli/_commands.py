@@ -220,29 +220,11 @@ def cmd_plot(args) -> int:
 def cmd_export(args) -> int:
     traj = _read(args)
     exported = options.export_options(args)
-    fps = exported.pop("fps")
     method = options.method_options(args)
     out = Path(args.output)
     _guard_output(out, args)
-    if out.suffix.lower() == ".bvh":
-        from ..ops._resample import resample
-
-        fps = fps if fps is not None else 1.0 / float(np.median(np.diff(traj.times)))
-        if not (np.isfinite(fps) and 0 < fps <= 10_000):
-            raise UsageError(f"--fps: expected a frame rate in (0, 10000], got {fps}")
-        n = int(np.floor((traj.times[-1] - traj.times[0]) * fps + 1e-9)) + 1
-        frames = resample(
-            traj,
-            np.minimum(traj.times[0] + np.arange(n) / fps, traj.times[-1]),
-            method=method["method"],
-            **method["params"],
-        )
-        frames.times = np.arange(n) / fps  # BVH frames: uniform from 0
-        qio.write(out, frames, format="bvh")
-        print(f"wrote {out}: BVH joint, {n} frames at {fps:.6g} fps ({args.method} spline)")
-        return 0
-    rep = ops.to_gltf(traj, out, **exported, method=method["method"], **method["params"])
-    print(rep.summary())
+    rep = ops.export(traj, out, method=method["method"], **exported, **method["params"])
+    print(rep.summary() if isinstance(rep, ops.GltfReport) else f"wrote {rep.summary()}")
     return 0
 
 
@@ -366,6 +348,9 @@ _CLI_NAMES = {
     "holdout": "--holdout",
     "max_samples": "--max-samples",
     "workers": "--workers",
+    "fps": "--fps",
+    "max_error": "--max-error",
+    "max_position_error": "--max-position-error",
 }
 
 

@@ -18,15 +18,9 @@ import zlib
 from pathlib import Path
 
 from . import bvh, csv_format, euroc, gltf, json_format, kitti, npz_format, repoimu, rosbag, tum
-from ._common import (
-    MAX_SNIFF_LINE,
-    Trajectory,
-    TrajectoryError,
-    check_regular_input,
-    open_regular,
-)
+from ._common import MAX_SNIFF_LINE, check_regular_input, open_regular
 from .evo_bridge import from_evo, to_evo
-from .pandas_bridge import from_dataframe, to_dataframe
+from .trajectory import Trajectory, TrajectoryError, from_dataframe, to_dataframe
 
 __all__ = [
     "FORMATS",

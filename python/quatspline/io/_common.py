@@ -1,18 +1,16 @@
-"""The trajectory record and the checks every reader shares."""
+"""What every reader and writer shares: opening only regular files, bounded lines, numbers as
+files write them, and the checks before a trajectory is written. The record itself is
+:mod:`quatspline.io.trajectory`."""
 
 from __future__ import annotations
 
 import os
-import re
 import stat
-from dataclasses import dataclass, field
 
 import numpy as np
 
 from .._util.atomic import file_kind
-
-#: A line break and the blanks around it (messages are one line).
-_LINE_BREAKS = re.compile(r"\s*[\r\n\v\f\x1c-\x1e\x85\u2028\u2029]+\s*")
+from .trajectory import MIN_QUAT_NORM, Trajectory, TrajectoryError, quat_norms
 
 #: Longest first line read while guessing a format.
 MAX_SNIFF_LINE = 1 << 16
@@ -21,195 +19,6 @@ MAX_SNIFF_LINE = 1 << 16
 #: well under 1 KB; a longer line is refused as soon as this much of it has been read, before
 #: it is split into cells (a 2 GB line of ``0 0 0 …`` would otherwise cost tens of GB).
 MAX_LINE = 1 << 20
-
-
-class TrajectoryError(ValueError):
-    """A file that cannot be read as a trajectory; the message names file, line and column.
-
-    A subclass of ``ValueError``: ``except ValueError`` catches it.
-
-    Examples
-    --------
-    >>> import tempfile, pathlib
-    >>> from quatspline import io
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "bad.csv"
-    >>> _ = path.write_text("t,qw,qx,qy,qz\\n0,1,0,0,zero\\n")
-    >>> try:
-    ...     io.read(path)
-    ... except io.TrajectoryError as e:
-    ...     print(str(e).split("bad.csv:")[1])
-    2: column 5 ('qz'): not a number: 'zero'
-    """
-
-    def __init__(self, message: object = "", *args: object) -> None:
-        # One line whatever it quotes (a parser's multi-line message, a cell with a newline).
-        super().__init__(_LINE_BREAKS.sub(" ", str(message)), *args)
-
-
-@dataclass
-class Trajectory:
-    """A recorded or sampled motion: times, orientations, optional positions.
-
-    Parameters
-    ----------
-    times : array_like, shape (N,)
-        Times (seconds for every reader).
-    quats : array_like, shape (N, 4)
-        Unit quaternions (w, x, y, z).
-    positions : array_like, shape (N, 3), optional
-        Positions.
-    extra : dict of str to numpy.ndarray, optional
-        Extra columns, each (N,) or (N, k), e.g. angular velocity.
-    name : str, optional
-        A label (the file name for readers).
-    stamps_ns : array_like of int64, shape (N,), optional
-        Integer nanosecond stamps kept exactly (EuRoC, ROS bags), so a round trip does not
-        pass them through float64 seconds; ``times`` is then ``stamps_ns / 1e9``.
-
-    Raises
-    ------
-    ValueError
-        If the lengths of times, quaternions, positions or stamps differ.
-
-    Examples
-    --------
-    >>> from quatspline import io
-    >>> q, x = [[1, 0, 0, 0], [0, 1, 0, 0]], [[0, 0, 0], [1, 0, 0]]
-    >>> tr = io.Trajectory([0.0, 0.5], q, positions=x)
-    >>> len(tr), tr.quats.dtype, tr.positions.shape
-    (2, dtype('float64'), (2, 3))
-    """
-
-    times: np.ndarray
-    quats: np.ndarray
-    positions: np.ndarray | None = None
-    extra: dict[str, np.ndarray] = field(default_factory=dict)
-    name: str = ""
-    stamps_ns: np.ndarray | None = None
-
-    def __post_init__(self):
-        self.times = np.asarray(self.times, dtype=float).reshape(-1)
-        self.quats = np.asarray(self.quats, dtype=float).reshape(-1, 4)
-        if self.positions is not None:
-            self.positions = np.asarray(self.positions, dtype=float).reshape(-1, 3)
-        if len(self.times) != len(self.quats):
-            raise ValueError(
-                f"trajectory: {len(self.times)} times but {len(self.quats)} quaternions"
-            )
-        if self.positions is not None and len(self.positions) != len(self.times):
-            raise ValueError(
-                f"trajectory: {len(self.times)} times but {len(self.positions)} positions"
-            )
-
-        if self.stamps_ns is not None:
-            self.stamps_ns = np.asarray(self.stamps_ns, dtype=np.int64).reshape(-1)
-            if len(self.stamps_ns) != len(self.times):
-                raise ValueError(
-                    f"trajectory: {len(self.times)} times but {len(self.stamps_ns)} stamps_ns"
-                )
-
-    def __len__(self) -> int:
-        return len(self.times)
-
-    def resample(self, times, method: str = "c3", extrapolate: str = "raise", **params):
-        """This trajectory's spline sampled at ``times`` (absolute, in this trajectory's time
-        unit; another :class:`Trajectory` gives its times).
-
-        See :func:`quatspline.ops._resample.resample`."""
-        from ..ops._resample import resample
-
-        return resample(self, times, method=method, extrapolate=extrapolate, **params)
-
-    def to_dataframe(self):
-        """A pandas DataFrame: columns t, qw, qx, qy, qz (x, y, z; t_ns; extra columns)."""
-        from .pandas_bridge import to_dataframe
-
-        return to_dataframe(self)
-
-    @classmethod
-    def from_dataframe(cls, df, name: str = ""):
-        """The inverse of :meth:`to_dataframe` (column names as in the CSV reader)."""
-        from .pandas_bridge import from_dataframe
-
-        return from_dataframe(df, name=name)
-
-
-#: Quaternions shorter than this are refused by the readers (and so by the writers).
-MIN_QUAT_NORM = 1e-12
-
-
-def quat_norms(quats: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(norms, unit quaternions) of finite quaternions (N, 4), scaled first so that components
-    up to 1.8e308 (whose squares overflow) give the right unit quaternion; a norm beyond the
-    float range is inf. Zero rows give norm 0 (and a meaningless unit row)."""
-    scale = np.max(np.abs(quats), axis=1)
-    safe = np.where(scale > 0, scale, 1.0)
-    scaled = quats / safe[:, None]
-    n = np.linalg.norm(scaled, axis=1)
-    with np.errstate(over="ignore"):
-        norm = scale * n
-    return norm, scaled / np.where(n > 0, n, 1.0)[:, None]
-
-
-def finish(
-    path,
-    times,
-    quats,
-    positions=None,
-    lines=None,
-    sort: bool = False,
-    dedupe: bool = False,
-    name: str = "",
-    stamps_ns=None,
-) -> Trajectory:
-    """Validates what a reader parsed: finite values, non-zero quaternions (normalised),
-    strictly increasing times (or sorted / de-duplicated on request). ``lines`` gives the file
-    line of each row for messages."""
-    times = np.asarray(times, dtype=float)
-    quats = np.asarray(quats, dtype=float).reshape(-1, 4)
-    pos = None if positions is None else np.asarray(positions, dtype=float).reshape(-1, 3)
-    lines = np.arange(1, len(times) + 1) if lines is None else np.asarray(lines)
-    ns = None if stamps_ns is None else np.asarray(stamps_ns, dtype=np.int64)
-    if len(times) == 0:
-        raise TrajectoryError(f"{path}: no data rows")
-    bad = ~np.isfinite(times) | ~np.all(np.isfinite(quats), axis=1)
-    if pos is not None:
-        bad |= ~np.all(np.isfinite(pos), axis=1)
-    if np.any(bad):
-        k = int(np.argmax(bad))
-        raise TrajectoryError(f"{path}:{lines[k]}: NaN or inf in this row")
-    norm, unit = quat_norms(quats)
-    if np.any(norm < MIN_QUAT_NORM):
-        k = int(np.argmax(norm < MIN_QUAT_NORM))
-        raise TrajectoryError(f"{path}:{lines[k]}: quaternion of zero norm")
-    quats = unit
-    if sort:
-        order = np.argsort(times, kind="stable")
-        times, quats, lines = times[order], quats[order], lines[order]
-        pos = None if pos is None else pos[order]
-        ns = None if ns is None else ns[order]
-    if dedupe:
-        keep = np.concatenate([[True], np.diff(times) != 0])
-        times, quats, lines = times[keep], quats[keep], lines[keep]
-        pos = None if pos is None else pos[keep]
-        ns = None if ns is None else ns[keep]
-    dt = np.diff(times)
-    if np.any(dt <= 0):
-        k = int(np.argmax(dt <= 0)) + 1
-        what = "duplicate" if dt[k - 1] == 0 else "decreasing"
-        if ns is not None and ns[k] > ns[k - 1]:
-            res = float(np.spacing(abs(times[k]))) * 1e9
-            raise TrajectoryError(
-                f"{path}:{lines[k]}: stamps {int(ns[k - 1])} and {int(ns[k])} ns are "
-                f"{int(ns[k] - ns[k - 1])} ns apart, closer than float64 seconds resolve at "
-                f"this time ({res:.3g} ns); use dedupe=True (--dedupe) to drop such rows"
-            )
-        raise TrajectoryError(
-            f"{path}:{lines[k]}: {what} timestamp {float(times[k])!r} after "
-            f"{float(times[k - 1])!r} "
-            "(use --sort / --dedupe, or sort=True / dedupe=True)"
-        )
-    return Trajectory(times, quats, pos, name=name, stamps_ns=ns)
 
 
 def _require_regular(path, mode: int) -> None:

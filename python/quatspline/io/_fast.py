@@ -15,6 +15,7 @@ import warnings
 import numpy as np
 
 from .._util import progress_bars as _progress
+from .._util.optional import need
 from ._common import MAX_LINE, open_regular
 
 #: below this size the careful parser is fast enough and pandas' import is not worth it
@@ -34,9 +35,9 @@ def table(path, sep: str, ncols: int | None, skip: int = 0, int_first: bool = Fa
     if not _lines_within_limit(path):
         return None  # the careful parser reads at most MAX_LINE of a line and names it
     try:
-        import pandas as pd
+        pd = need("pandas", extra="pandas", what="the fast text reader")
     except ImportError:
-        return None
+        return None  # the careful parser reads without pandas
     # header lines, then comment lines at the top; a comment further down makes a ragged or
     # non-numeric row, which sends the caller to the careful parser
     lines = head.split(b"\n")

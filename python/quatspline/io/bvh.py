@@ -10,23 +10,24 @@ Frame i is at time i × Frame Time.
 
 from __future__ import annotations
 
+import numbers
 from array import array
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .._util.atomic import atomic_write
+from ..core.algebra import multiply, rotate
+from ..core.convert import as_euler, from_euler
 from ._common import (
-    Trajectory,
-    TrajectoryError,
     bounded_lines,
     check_for_writing,
-    finish,
     open_regular,
     parse_float,
     plain_number,
     refuse_extra,
 )
+from .trajectory import Trajectory, TrajectoryError, finish
 
 AXES = {"Xrotation": "X", "Yrotation": "Y", "Zrotation": "Z"}
 POS = ("Xposition", "Yposition", "Zposition")
@@ -105,8 +106,6 @@ def _parse_hierarchy(path, lines):
 
 
 def _rotation(joint: Joint, frames: np.ndarray) -> np.ndarray:
-    from ..core.convert import from_euler
-
     rot = [(c, k) for k, c in enumerate(joint.channels) if c in AXES]
     if not rot:
         q = np.zeros((len(frames), 4))
@@ -142,8 +141,6 @@ def read(
     sort=False,
     dedupe=False,
 ) -> Trajectory:
-    import numbers
-
     if isinstance(skip_frames, bool) or not isinstance(skip_frames, numbers.Integral):
         raise TypeError(f"skip_frames: expected an integer, got {type(skip_frames).__name__}")
     if skip_frames < 0:
@@ -199,8 +196,6 @@ def read(
 
 
 def _pose(joints, chain, target, frames, world):
-    from ..core.algebra import multiply, rotate
-
     if world:
         q = None
         pos = None
@@ -220,8 +215,6 @@ def _pose(joints, chain, target, frames, world):
 
 
 def write(path, traj: Trajectory, joint: str = "Root") -> None:
-    from ..core.convert import as_euler
-
     check_for_writing(path, traj)
     refuse_extra(path, traj, "BVH")
     name = traj.name or joint

@@ -15,42 +15,17 @@ Delimiter: ``,``, ``;`` or tab, from the header. A UTF-8 BOM and CRLF line ends 
 from __future__ import annotations
 
 import csv
-import re
 from array import array
 
 import numpy as np
 
 from .._util import progress_bars as _progress
 from .._util.atomic import atomic_write
+from ..core.convert import from_euler
 from . import _fast
-from ._common import (
-    Trajectory,
-    TrajectoryError,
-    bounded_lines,
-    check_for_writing,
-    finish,
-    fmt,
-    open_regular,
-    parse_float,
-    read_line,
-)
-
-TIME = ("t", "time", "timestamp", "times", "sec", "seconds")
-QUATS = (("qw", "qx", "qy", "qz"), ("w", "x", "y", "z"), ("q_w", "q_x", "q_y", "q_z"))
-EULER = (("roll", "pitch", "yaw"), ("rx", "ry", "rz"), ("e1", "e2", "e3"), ("a1", "a2", "a3"))
-POSITIONS = (("tx", "ty", "tz"), ("px", "py", "pz"), ("x", "y", "z"))
-
-
-def _clean(name: str) -> str:
-    name = re.sub(r"\[.*?\]", "", name).strip().lstrip("#").strip().lower()
-    return name
-
-
-def _find(names: list[str], groups) -> tuple[int, ...] | None:
-    for group in groups:
-        if all(g in names for g in group):
-            return tuple(names.index(g) for g in group)
-    return None
+from ._columns import EULER, POSITIONS, QUATS, TIME, clean, find, positions_for
+from ._common import bounded_lines, check_for_writing, fmt, open_regular, parse_float, read_line
+from .trajectory import Trajectory, TrajectoryError, finish
 
 
 def read(
@@ -66,7 +41,7 @@ def read(
             raise TrajectoryError(f"{path}:1: empty file or empty header")
         delim = max((",", ";", "\t"), key=header_line.count)
         header = next(csv.reader([header_line], delimiter=delim))
-        names = [_clean(h) for h in header]
+        names = [clean(h) for h in header]
         ti = next((names.index(n) for n in TIME if n in names), None)
         if ti is None:
             raise TrajectoryError(
@@ -74,21 +49,20 @@ def read(
                 f"got {', '.join(header)}"
             )
         if euler is not None:
-            qi = _find(names, EULER)
+            qi = find(names, EULER)
             if qi is None:
                 raise TrajectoryError(
                     f"{path}:1: bad header: --euler needs angle columns "
                     f"({'; '.join(' '.join(g) for g in EULER)})"
                 )
         else:
-            qi = _find(names, QUATS)
+            qi = find(names, QUATS)
             if qi is None:
                 raise TrajectoryError(
                     f"{path}:1: bad header: no quaternion columns (qw qx qy qz or w x y z), "
                     "and no --euler SEQ given for angle columns"
                 )
-        pos_groups = POSITIONS if names[qi[0]] != "w" else POSITIONS[:2]
-        pi = _find(names, pos_groups)
+        pi = find(names, positions_for(names, qi))
         ncol = len(header)
         fast = _fast.table(path, delim, ncol, skip=1)
         if fast is not None:
@@ -121,8 +95,6 @@ def read(
         raise TrajectoryError(f"{path}: no data rows")
     values = np.array(rows, dtype=float).reshape(-1, len(qi))
     if euler is not None:
-        from ..core.convert import from_euler
-
         try:
             quats = from_euler(euler, values, degrees=degrees)
         except ValueError as e:
@@ -162,8 +134,6 @@ def _from_fast(path, a, ti, qi, pi, euler, degrees, sort, dedupe):
     parser (for its messages with line numbers)."""
     try:
         if euler is not None:
-            from ..core.convert import from_euler
-
             quats = from_euler(euler, a[:, list(qi)], degrees=degrees)
         else:
             quats = a[:, list(qi)]
@@ -186,7 +156,7 @@ def write(path, traj: Trajectory) -> None:
         blocks.append(a)
     seen = set()
     for c in cols[5 + 3 * (traj.positions is not None) :]:
-        key = _clean(c)
+        key = clean(c)
         if key in RESERVED or key in seen:
             raise ValueError(
                 f"{path}: extra column {c!r} would be read as (or collide with) a time, "

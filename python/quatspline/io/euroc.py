@@ -13,17 +13,15 @@ from .._util import progress_bars as _progress
 from .._util.atomic import atomic_write
 from . import _fast
 from ._common import (
-    Trajectory,
-    TrajectoryError,
     bounded_lines,
     check_for_writing,
-    finish,
     open_regular,
     parse_float,
     plain_number,
     read_line,
     refuse_extra,
 )
+from .trajectory import Trajectory, TrajectoryError, finish
 
 NAMES = ("timestamp", "p_x", "p_y", "p_z", "q_w", "q_x", "q_y", "q_z")
 

@@ -7,17 +7,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._common import Trajectory, finish
-
-HINT = "the evo bridge needs evo: pip install 'quatspline[evo]'"
+from .._util.optional import need
+from .trajectory import Trajectory, finish
 
 
 def _trajectory_module():
-    try:
-        from evo.core import trajectory
-    except ImportError as e:
-        raise ImportError(HINT) from e
-    return trajectory
+    """``evo.core.trajectory``; without evo, one ``ImportError`` naming the pip extra."""
+    need("evo", extra="evo", what="the evo bridge")
+    return need("evo.core.trajectory", extra="evo", what="the evo bridge")
 
 
 def to_evo(traj: Trajectory):

@@ -5,8 +5,13 @@ The trajectory's times are the rotation channel's key times (seconds) and its qu
 keys (glTF stores (x, y, z, w); CUBICSPLINE keys are the values between the tangents). A
 translation channel with the same key times gives the positions; with other key times it is
 played back (LINEAR, STEP or CUBICSPLINE as the file says) at the rotation's times. A node
-with only a translation channel keeps its static rotation. Writing goes through
-:func:`quatspline.ops.to_gltf` (an error-bounded export of a spline through the keys).
+with only a translation channel keeps its static rotation.
+
+Writing: :func:`write_animation` builds the document (one buffer, a bufferView and accessor
+per array, one sampler and channel per path of one node, an optional axes mesh) from key
+times and values and writes it atomically as ``.glb`` or ``.gltf``. :func:`write` (as
+``io.write``) gives it a trajectory's own samples as LINEAR keys, exact at every sample;
+:func:`quatspline.ops.to_gltf` gives it the keys of an error-bounded export of a spline.
 
 The reader checks every field it uses against the glTF 2.0 specification and refuses a file
 that breaks it with one ``ValueError`` naming the file and the field
@@ -26,12 +31,17 @@ import math
 import os
 import re
 import struct
+from dataclasses import dataclass
 from pathlib import Path
 from urllib.parse import unquote
 
 import numpy as np
 
-from ._common import Trajectory, TrajectoryError, check_regular_input, finish
+from .._util import checks as _checks
+from .._util.atomic import atomic_write
+from ..core.interpolate import slerp
+from ._common import check_for_writing, check_regular_input, refuse_extra
+from .trajectory import Trajectory, TrajectoryError, finish, quat_norms
 
 #: component type → numpy dtype (little-endian, as the specification stores them)
 _COMP = {
@@ -363,8 +373,6 @@ def _play_channel(kind: str, kt, kv, t, rot: bool) -> np.ndarray:
         )
         return out / np.linalg.norm(out, axis=1)[:, None] if rot else out
     if rot:
-        from ..core.interpolate import slerp
-
         return slerp(v[k], v[k + 1], u[:, 0])
     return v[k] + u * (v[k + 1] - v[k])
 
@@ -552,35 +560,313 @@ def read(
         )
 
 
-def write(
+# ---- writing ------------------------------------------------------------------------------
+#: The largest finite float32 value (glTF stores times, values and meshes as float32).
+F32_MAX = float(np.finfo(np.float32).max)
+
+
+def sign_continuous(q: np.ndarray) -> np.ndarray:
+    """Flips signs so consecutive quaternions have a non-negative dot product (players
+    interpolate component-wise or by slerp between the stored keys, so ``q`` and ``−q`` are
+    not the same key to them)."""
+    flips = np.concatenate([[False], np.sum(q[1:] * q[:-1], axis=1) < 0])
+    sign = np.where(np.cumsum(flips) % 2 == 1, -1.0, 1.0)
+    return q * sign[:, None]
+
+
+@dataclass
+class Keys:
+    """One channel's keys as the document stores them.
+
+    ``times`` (N,) in seconds from 0; ``values`` (N, 4) rotations (w, x, y, z) or (N, 3)
+    translations; for CUBICSPLINE the one-sided derivatives ``in_tangents`` and
+    ``out_tangents`` (per second, same shape as ``values``). Stored as float32.
+    """
+
+    times: np.ndarray
+    values: np.ndarray
+    in_tangents: np.ndarray | None = None
+    out_tangents: np.ndarray | None = None
+
+
+def check_options(path, interpolation: str, node, mesh, size) -> tuple[Path, float]:
+    """Refuses an option of the document before anything is computed or written; returns the
+    output path and the mesh size as a float."""
+    if interpolation not in ("linear", "cubicspline"):
+        raise ValueError(
+            f"interpolation: expected 'linear' or 'cubicspline', got {interpolation!r}"
+        )
+    if mesh not in ("axes", None):
+        raise ValueError(f"mesh: expected 'axes' or None, got {mesh!r}")
+    if not isinstance(node, str):
+        raise TypeError(f"node: expected a string, got {type(node).__name__}")
+    if not node:
+        raise ValueError("node: expected a non-empty name")
+    try:
+        node.encode("utf-8")
+    except UnicodeEncodeError:
+        raise ValueError("node: not valid Unicode text (a lone surrogate)") from None
+    size = _checks.real(size, "size", positive=True)
+    if not size <= F32_MAX:
+        raise ValueError(f"size: {size:g} m is beyond float32 range (glTF stores float32)")
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path: expected a file path, got {type(path).__name__}")
+    path = Path(path)
+    if path.suffix.lower() not in (".glb", ".gltf"):
+        raise ValueError(f"{path}: expected a .glb or .gltf output")
+    return path, size
+
+
+def _axes_mesh(size: float):
+    """Three boxes along +x, +y, +z (red, green, blue), 8 vertices and 12 triangles each."""
+    w = size * 0.04
+    prims = []
+    for k in range(3):
+        lo, hi = np.full(3, -w), np.full(3, w)
+        hi[k] = size
+        c = np.array(
+            [[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
+        )
+        faces = [
+            (0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
+            (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3),
+        ]  # fmt: skip
+        prims.append((c.astype(np.float32), np.array(faces, dtype=np.uint16).ravel()))
+    return prims
+
+
+class _Builder:
+    """The binary buffer and its bufferViews and accessors, each view 4-byte aligned."""
+
+    def __init__(self):
+        self.blob = bytearray()
+        self.views, self.accessors = [], []
+
+    def add(self, arr: np.ndarray, kind: str, target=None, minmax: bool = False) -> int:
+        arr = np.ascontiguousarray(arr)
+        while len(self.blob) % 4:
+            self.blob.append(0)
+        view = {"buffer": 0, "byteOffset": len(self.blob), "byteLength": arr.nbytes}
+        if target:
+            view["target"] = target
+        self.blob += arr.tobytes()
+        self.views.append(view)
+        comp = {np.dtype(np.float32): 5126, np.dtype(np.uint16): 5123}[arr.dtype]
+        width = {"SCALAR": 1, "VEC3": 3, "VEC4": 4}[kind]
+        acc = {
+            "bufferView": len(self.views) - 1,
+            "componentType": comp,
+            "count": int(arr.size // width),
+            "type": kind,
+        }
+        if minmax:
+            a2 = arr.reshape(-1, width)
+            acc["min"] = [float(x) for x in a2.min(axis=0)]
+            acc["max"] = [float(x) for x in a2.max(axis=0)]
+        self.accessors.append(acc)
+        return len(self.accessors) - 1
+
+
+def _check_keys(path: Path, channel: str, keys: Keys, width: int, cubic: bool):
+    """The keys as float32 arrays (times, values, in/out tangents), refused with a one-line
+    error naming the file and the channel unless glTF can hold them: finite, within float32,
+    times non-negative and strictly increasing once stored as float32."""
+    where = f"{path}: {channel} keys"
+    t = np.asarray(keys.times, dtype=float).reshape(-1)
+    arrays = [("values", keys.values)]
+    if cubic:
+        arrays += [("in_tangents", keys.in_tangents), ("out_tangents", keys.out_tangents)]
+    out = []
+    for what, v in arrays:
+        if v is None:
+            raise ValueError(f"{where}: CUBICSPLINE needs {what}")
+        v = np.asarray(v, dtype=float)
+        if v.shape != (len(t), width):
+            raise ValueError(f"{where}: {what} of shape {v.shape}, expected ({len(t)}, {width})")
+        if not np.all(np.isfinite(v)) or np.abs(v).max(initial=0.0) > F32_MAX:
+            raise ValueError(f"{where}: {what} hold NaN, inf or values beyond float32 range")
+        out.append(v)
+    if len(t) == 0 or (cubic and len(t) < 2):
+        raise ValueError(f"{where}: {len(t)} keys (glTF needs {2 if cubic else 1} or more)")
+    with np.errstate(over="ignore"):
+        t32 = t.astype(np.float32)
+    bad = ~np.isfinite(t32) | (t32 < 0)
+    if np.any(bad):
+        k = int(np.argmax(bad))
+        raise ValueError(
+            f"{where}: time {float(t[k])!r} (key {k}) is not a float32 time ≥ 0 (glTF stores "
+            "key times as float32 seconds from 0)"
+        )
+    same = t32[1:] <= t32[:-1]
+    if np.any(same):
+        k = int(np.argmax(same)) + 1
+        raise ValueError(
+            f"{where}: times {float(t[k - 1])!r} and {float(t[k])!r} (keys {k - 1} and {k}) "
+            "are not increasing once stored as float32, as glTF stores key times"
+        )
+    return t, out
+
+
+def write_animation(
     path,
-    traj: Trajectory,
-    max_error="0.01deg",
-    max_position_error="0.1mm",
+    rotation: Keys,
+    translation: Keys | None = None,
+    *,
     interpolation: str = "linear",
     node: str = "body",
     mesh: str | None = "axes",
     size: float = 0.1,
-    samples: int | None = None,
-    method: str = "c3",
-    uniform: bool = True,
-    progress: bool = False,
+    name: str = "",
 ) -> None:
-    """An error-bounded export of the trajectory (see :func:`quatspline.ops.to_gltf`,
-    whose options these are)."""
-    from ..ops._export import to_gltf
+    """Writes one animated node as a glTF 2.0 document, atomically.
 
-    to_gltf(
-        traj,
-        path,
-        max_error=max_error,
-        max_position_error=max_position_error,
-        interpolation=interpolation,
-        node=node,
-        mesh=mesh,
-        size=size,
-        samples=samples,
-        method=method,
-        uniform=uniform,
-        progress=progress,
-    )
+    The format's writer: the keys are stored as they are given (float32), in one buffer with
+    a bufferView and accessor each, one sampler and channel per path of the node; the node's
+    static rotation and translation are the first keys. :func:`write` gives it a
+    trajectory's samples, :func:`quatspline.ops.to_gltf` the error-bounded keys of a spline.
+
+    Parameters
+    ----------
+    path : path-like
+        ``.glb`` (binary) or ``.gltf`` (JSON with the data embedded as a base64 data URI).
+    rotation : Keys
+        Rotation keys, (w, x, y, z) values (stored (x, y, z, w) as glTF does).
+    translation : Keys, optional
+        Translation keys (metres).
+    interpolation : {"linear", "cubicspline"}
+        The samplers' interpolation (CUBICSPLINE keys need their tangents).
+    node : str
+        The node's name (any non-empty Unicode text).
+    mesh : {"axes", None}
+        A small red/green/blue axes mesh of length ``size`` (metres), or an empty node.
+    name : str, optional
+        The scene's and the animation's name (a trajectory's name).
+
+    Raises
+    ------
+    ValueError
+        An option, or keys glTF cannot hold (the message names the file and the channel).
+    TypeError
+        An option of the wrong kind.
+    """
+    path, size = check_options(path, interpolation, node, mesh, size)
+    cubic = interpolation == "cubicspline"
+    channels = [("rotation", rotation, 4)]
+    if translation is not None:
+        channels.append(("translation", translation, 3))
+    checked = []
+    for channel, keys, width in channels:
+        if not isinstance(keys, Keys):
+            raise TypeError(f"{channel}: expected gltf.Keys, got {type(keys).__name__}")
+        checked.append((channel, *_check_keys(path, channel, keys, width, cubic)))
+    # a name from a file name may hold lone surrogates (undecodable bytes): JSON needs Unicode
+    label = name.encode("utf-8", "replace").decode("utf-8") if name else ""
+    b = _Builder()
+    doc: dict = {
+        "asset": {"version": "2.0", "generator": "quatspline"},
+        "scene": 0,
+        "scenes": [{"name": label or "quatspline", "nodes": [0]}],
+        "nodes": [{"name": node}],
+    }
+    if mesh == "axes":
+        colours = ([0.84, 0.15, 0.16, 1.0], [0.17, 0.63, 0.17, 1.0], [0.12, 0.47, 0.71, 1.0])
+        prims = []
+        for k, (pts, idx) in enumerate(_axes_mesh(float(size))):
+            pa = b.add(pts, "VEC3", target=34962, minmax=True)
+            ia = b.add(idx, "SCALAR", target=34963)
+            prims.append({"attributes": {"POSITION": pa}, "indices": ia, "material": k})
+        doc["materials"] = [
+            {"name": f"axis {'xyz'[k]}", "pbrMetallicRoughness": {"baseColorFactor": c}}
+            for k, c in enumerate(colours)
+        ]
+        doc["meshes"] = [{"name": "axes", "primitives": prims}]
+        doc["nodes"][0]["mesh"] = 0
+    gl_channels, samplers = [], []
+    for channel, kt, values in checked:
+        if channel == "rotation":
+            values = [v[:, [1, 2, 3, 0]] for v in values]  # glTF stores (x, y, z, w)
+        kv = values[0]
+        out = np.stack([values[1], kv, values[2]], axis=1).reshape(-1, kv.shape[1]) if cubic else kv
+        ia = b.add(kt.astype(np.float32), "SCALAR", minmax=True)
+        oa = b.add(out.astype(np.float32), "VEC4" if channel == "rotation" else "VEC3")
+        samplers.append({"input": ia, "output": oa, "interpolation": interpolation.upper()})
+        gl_channels.append({"sampler": len(samplers) - 1, "target": {"node": 0, "path": channel}})
+        doc["nodes"][0][channel] = kv[0].astype(np.float32).astype(float).tolist()
+    doc["animations"] = [{"name": label or "motion", "channels": gl_channels, "samplers": samplers}]
+    doc["accessors"], doc["bufferViews"] = b.accessors, b.views
+    _write_file(path, doc, bytes(b.blob))
+
+
+def _write_file(path: Path, doc: dict, blob: bytes) -> None:
+    """The document as ``.gltf`` (JSON, the buffer as a data URI) or ``.glb`` (binary),
+    written atomically."""
+    if path.suffix.lower() == ".gltf":
+        doc["buffers"] = [
+            {
+                "byteLength": len(blob),
+                "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode(),
+            }
+        ]
+        with atomic_write(path, encoding="utf-8") as f:
+            json.dump(doc, f, separators=(",", ":"))
+        return
+    doc["buffers"] = [{"byteLength": len(blob)}]
+    js = json.dumps(doc, separators=(",", ":")).encode()
+    js += b" " * (-len(js) % 4)
+    bin_ = bytes(blob) + b"\0" * (-len(blob) % 4)
+    total = 12 + 8 + len(js) + 8 + len(bin_)
+    with atomic_write(path, mode="wb") as f:
+        f.write(struct.pack("<4sII", b"glTF", 2, total))
+        f.write(struct.pack("<I4s", len(js), b"JSON") + js)
+        f.write(struct.pack("<I4s", len(bin_), b"BIN\0") + bin_)
+
+
+def write(
+    path, traj: Trajectory, node: str = "body", mesh: str | None = "axes", size: float = 0.1
+) -> None:
+    """Writes the trajectory's samples as the LINEAR keys of one node, exact at every sample.
+
+    Each sample is a key: its time (from the first sample's, which is 0 in the file), its
+    orientation (normalised, signs made continuous so players interpolate the short way) and
+    its position, all as glTF stores them (float32). Between samples players interpolate
+    linearly (slerp). This writes what the trajectory holds, like every other writer; an
+    export of a spline through the samples with a guaranteed playback error between them
+    is :func:`quatspline.ops.to_gltf` (``quatspline export``).
+
+    Parameters
+    ----------
+    path : path-like
+        A ``.glb`` or ``.gltf`` file.
+    traj : Trajectory
+        The samples (no extra columns: glTF has no place for them).
+    node : str
+        The animated node's name.
+    mesh : {"axes", None}
+        A small axes mesh of length ``size`` (metres), or an empty node.
+
+    Raises
+    ------
+    ValueError
+        What the reader would reject (no rows, NaN, repeated times), extra columns, times that
+        float32 cannot tell apart, positions beyond float32 range.
+
+    Examples
+    --------
+    >>> import tempfile, os, numpy as np
+    >>> from quatspline import io
+    >>> tr = io.Trajectory([10.0, 10.5, 11.0], [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]])
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     io.write(os.path.join(d, "m.glb"), tr)
+    ...     back = io.read(os.path.join(d, "m.glb"))
+    >>> back.times, np.abs(back.quats).round(6).tolist()
+    (array([0. , 0.5, 1. ]), [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]])
+    """
+    path, _ = check_options(path, "linear", node, mesh, size)
+    check_for_writing(path, traj)
+    refuse_extra(path, traj, "glTF")
+    with np.errstate(over="ignore", invalid="ignore"):
+        t = traj.times - traj.times[0]
+    _, unit = quat_norms(traj.quats)
+    rotation = Keys(t, sign_continuous(unit))
+    translation = None if traj.positions is None else Keys(t, traj.positions)
+    write_animation(path, rotation, translation, node=node, mesh=mesh, size=size, name=traj.name)

@@ -9,7 +9,8 @@ import math
 import numpy as np
 
 from .._util.atomic import atomic_write
-from ._common import Trajectory, TrajectoryError, check_for_writing, finish, open_regular
+from ._common import check_for_writing, open_regular
+from .trajectory import Trajectory, TrajectoryError, finish
 
 
 def _parse_int(s: str) -> float:

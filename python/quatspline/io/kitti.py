@@ -20,18 +20,10 @@ import numpy as np
 
 from .._util import progress_bars as _progress
 from .._util.atomic import atomic_write, atomic_write_pair, committed_pair
+from ..core.convert import as_matrix, from_matrix
 from . import _fast
-from ._common import (
-    Trajectory,
-    TrajectoryError,
-    bounded_lines,
-    check_for_writing,
-    finish,
-    fmt,
-    open_regular,
-    parse_float,
-    refuse_extra,
-)
+from ._common import bounded_lines, check_for_writing, fmt, open_regular, parse_float, refuse_extra
+from .trajectory import Trajectory, TrajectoryError, finish
 
 #: Largest entry of |RᵀR − I| accepted in a 3×3 block: real KITTI files print 6–9
 #: significant digits (|RᵀR − I| ≲ 1e-6); 1e-3 also admits files printed with 4 digits and
@@ -42,8 +34,6 @@ NAMES = ("r11", "r12", "r13", "tx", "r21", "r22", "r23", "ty", "r31", "r32", "r3
 
 
 def _matrices_to_quats(path, mats: np.ndarray, lines) -> np.ndarray:
-    from ..core.convert import from_matrix
-
     eye = np.eye(3)
     off = np.max(np.abs(np.einsum("nji,njk->nik", mats, mats) - eye), axis=(1, 2))
     det = np.linalg.det(mats)
@@ -139,7 +129,6 @@ def write(path, traj: Trajectory, times_path=None) -> None:
     as :func:`quatspline._util.atomic.atomic_write_pair` states). Without ``times_path`` the times
     must be the frame numbers 0, 1, 2, … that the reader assumes without a times file;
     other times, and extra columns, are refused (one line) rather than lost."""
-    from ..core.convert import as_matrix
 
     if traj.positions is None:
         raise ValueError(f"{path}: KITTI poses need positions; this trajectory has none")

@@ -17,7 +17,8 @@ import zlib
 import numpy as np
 
 from .._util.atomic import atomic_write
-from ._common import Trajectory, TrajectoryError, check_for_writing, finish, open_regular
+from ._common import check_for_writing, open_regular
+from .trajectory import Trajectory, TrajectoryError, finish
 
 #: Largest array read (declared size after decompression): 1 GiB, about 33 million keys.
 MAX_ARRAY_BYTES = 1 << 30

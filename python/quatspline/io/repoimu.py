@@ -9,17 +9,16 @@ from array import array
 import numpy as np
 
 from .._util import progress_bars as _progress
+from .._util.atomic import atomic_write
 from ._common import (
-    Trajectory,
-    TrajectoryError,
     bounded_lines,
     check_for_writing,
-    finish,
     open_regular,
     parse_float,
     read_line,
     refuse_extra,
 )
+from .trajectory import Trajectory, TrajectoryError, finish
 
 NAMES = ("time", "W", "X", "Y", "Z")
 
@@ -53,8 +52,6 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
 
 
 def write(path, traj: Trajectory) -> None:
-    from .._util.atomic import atomic_write
-
     check_for_writing(path, traj)
     refuse_extra(path, traj, "RepoIMU", positions=False)
     with atomic_write(path) as f:

@@ -54,10 +54,10 @@ from .._util.atomic import (
     resolve_output,
     sigterm_unwinds,
 )
+from .._util.optional import need
 from .._util.progress_bars import progress
-from ._common import Trajectory, TrajectoryError, check_regular_input, finish, open_regular
-
-HINT = "ROS bags need the rosbags library: pip install 'quatspline[bag]'"
+from ._common import check_for_writing, check_regular_input, open_regular
+from .trajectory import Trajectory, TrajectoryError, finish
 
 #: message type → (path to the quaternion, path to the position or None)
 TYPES = {
@@ -72,13 +72,11 @@ TYPES = {
 SUFFIXES = (".bag", ".mcap", ".db3")
 
 
-def _rosbags():
-    try:
-        from rosbags.highlevel import AnyReader
-        from rosbags.typesys import Stores, get_typestore
-    except ImportError as e:
-        raise ImportError(HINT) from e
-    return AnyReader, Stores, get_typestore
+def _rosbags(module: str = "highlevel"):
+    """The rosbags module ``rosbags.{module}``; without rosbags, one ``ImportError`` naming
+    the pip extra."""
+    need("rosbags", extra="bag", what="ROS bag support")
+    return need(f"rosbags.{module}", extra="bag", what="ROS bag support")
 
 
 def is_bag(path) -> bool:
@@ -131,22 +129,21 @@ def _short(msgtype: str) -> str:
 
 def topics(path) -> dict[str, str]:
     """Topic → message type (``pkg/Type``) of every topic in the bag."""
-    AnyReader, _, _ = _rosbags()
-    with _open(path, AnyReader) as reader:
+    with _open(path) as reader:
         return {c.topic: _short(c.msgtype) for c in reader.connections}
 
 
 @contextlib.contextmanager
-def _open(path, AnyReader):
-    from rosbags.highlevel import AnyReaderError
+def _open(path):
+    highlevel = _rosbags("highlevel")
 
     p = Path(path)
     check_bag_files(p)
     reader = None
     try:
-        reader = AnyReader([p])
+        reader = highlevel.AnyReader([p])
         reader.open()
-    except (AnyReaderError, OSError, ValueError, KeyError) as e:
+    except (highlevel.AnyReaderError, OSError, ValueError, KeyError) as e:
         raise TrajectoryError(f"{path}: not a readable ROS bag or MCAP file ({e})") from None
     except Exception as e:  # rosbags raises its own error types per storage backend
         raise TrajectoryError(
@@ -160,12 +157,11 @@ def _open(path, AnyReader):
 
 def _load_yaml(path, f):
     """``metadata.yaml`` as Python objects (None when it is not YAML)."""
-    from ruamel.yaml import YAML
-    from ruamel.yaml.error import YAMLError
-
+    yaml = need("ruamel.yaml", extra="bag", what="ROS bag support")
+    errors = need("ruamel.yaml.error", extra="bag", what="ROS bag support")
     try:
-        return YAML(typ="safe").load(f.read(1 << 24))
-    except (YAMLError, UnicodeDecodeError, ValueError, RecursionError):
+        return yaml.YAML(typ="safe").load(f.read(1 << 24))
+    except (errors.YAMLError, UnicodeDecodeError, ValueError, RecursionError):
         return None
 
 
@@ -259,8 +255,7 @@ def read(
     """
     if stamp not in ("header", "bag"):
         raise ValueError(f"stamp: expected 'header' or 'bag', got {stamp!r}")
-    AnyReader, _, _ = _rosbags()
-    with _open(path, AnyReader) as reader:
+    with _open(path) as reader:
         conns = list(reader.connections)
         usable = [c for c in conns if c.msgtype in TYPES]
         if topic is None:
@@ -365,7 +360,6 @@ def write(
     regular file is replaced, a symbolic link is followed, the replaced file keeps its mode);
     a directory target is replaced only if it provably is a ROS 2 bag (see the module's
     rules), keeping its mode; anything else is refused and left untouched."""
-    from ._common import check_for_writing
 
     _rosbags()  # the one-line install hint before anything else
     path = Path(path)
@@ -521,12 +515,10 @@ def _exchange(a: Path, b: Path) -> bool:
 
 def _write_bag(tmpdir: Path, ros, suffix, quats, stamps, pos, has_pos, topic, frame_id) -> Path:
     """Writes the messages into a new bag inside ``tmpdir``; returns the bag's path."""
-    _, Stores, get_typestore = _rosbags()
-    from rosbags.rosbag1 import Writer as Writer1
-    from rosbags.rosbag2 import StoragePlugin
-    from rosbags.rosbag2 import Writer as Writer2
+    typesys, rosbag1, rosbag2 = _rosbags("typesys"), _rosbags("rosbag1"), _rosbags("rosbag2")
 
-    store = get_typestore(Stores.ROS1_NOETIC if ros == 1 else Stores.ROS2_HUMBLE)
+    stores = typesys.Stores
+    store = typesys.get_typestore(stores.ROS1_NOETIC if ros == 1 else stores.ROS2_HUMBLE)
     types = store.types
     Header, Time = types["std_msgs/msg/Header"], types["builtin_interfaces/msg/Time"]
     Point, Quat = types["geometry_msgs/msg/Point"], types["geometry_msgs/msg/Quaternion"]
@@ -537,10 +529,11 @@ def _write_bag(tmpdir: Path, ros, suffix, quats, stamps, pos, has_pos, topic, fr
     serialize = store.serialize_ros1 if ros == 1 else store.serialize_cdr
     out = tmpdir / ("bag.bag" if ros == 1 else "bag")
     if ros == 1:
-        writer = Writer1(out)
+        writer = rosbag1.Writer(out)
     else:
-        plugin = StoragePlugin.MCAP if suffix == ".mcap" else StoragePlugin.SQLITE3
-        writer = Writer2(out, version=9, storage_plugin=plugin)
+        plugin = rosbag2.StoragePlugin
+        plugin = plugin.MCAP if suffix == ".mcap" else plugin.SQLITE3
+        writer = rosbag2.Writer(out, version=9, storage_plugin=plugin)
     with writer, progress(total=len(quats), desc="writing bag", unit="msg") as bar:
         conn = writer.add_connection(topic, Msg.__msgtype__, typestore=store)
         for k, (ns, p, q) in enumerate(zip(stamps, pos, quats)):

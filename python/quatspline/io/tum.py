@@ -10,17 +10,8 @@ import numpy as np
 from .._util import progress_bars as _progress
 from .._util.atomic import atomic_write
 from . import _fast
-from ._common import (
-    Trajectory,
-    TrajectoryError,
-    bounded_lines,
-    check_for_writing,
-    finish,
-    fmt,
-    open_regular,
-    parse_float,
-    refuse_extra,
-)
+from ._common import bounded_lines, check_for_writing, fmt, open_regular, parse_float, refuse_extra
+from .trajectory import Trajectory, TrajectoryError, finish
 
 NAMES = ("timestamp", "tx", "ty", "tz", "qx", "qy", "qz", "qw")
 

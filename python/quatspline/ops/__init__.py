@@ -15,7 +15,9 @@ and the choice of rotation method is about orientation only.
 
 from __future__ import annotations
 
-from ._export import GltfReport, to_bvh, to_gltf
+from ..io.trajectory import set_sampler
+from . import _resample
+from ._export import BvhReport, GltfReport, export, to_bvh, to_gltf
 from ._ops import (
     DEFAULT_MAX_SAMPLES,
     ParameterError,
@@ -27,7 +29,9 @@ from ._ops import (
 )
 
 __all__ = [
+    "BvhReport",
     "GltfReport",
+    "export",
     "to_bvh",
     "to_gltf",
     "DEFAULT_MAX_SAMPLES",
@@ -38,3 +42,6 @@ __all__ = [
     "sample_times",
     "sample_trajectory",
 ]
+
+# the one sampling route behind io.Trajectory.resample (io lies below ops)
+set_sampler(_resample.resample)

@@ -10,7 +10,6 @@ from a notebook.
 from __future__ import annotations
 
 import math
-import re
 import tempfile
 from pathlib import Path
 
@@ -20,10 +19,12 @@ from .. import _core
 from .. import io as qio
 from .._util import checks as _checks
 from .._util.arrays import as_real, as_times
+from .._util.errors import ParameterError
 from .._util.options import parse_smoothing
 from ..core.algebra import normalize
 from ..registry import (
     METHODS,
+    Param,
     flag,
     float_or_auto,
     float_or_none,
@@ -61,14 +62,6 @@ EXPORT_OPTIONS: dict[str, tuple] = {
 }
 
 
-def _choices(help_text: str) -> list[str] | None:
-    head = help_text.split(" (")[0].split(":")[0]
-    parts = [p.strip() for p in head.split("|")]
-    if len(parts) > 1 and all(re.fullmatch(r"[A-Za-z_][\w-]*", p) for p in parts):
-        return parts
-    return None
-
-
 def method_specs() -> list[dict]:
     """Every registry method with its parameters, in a form a user interface can render.
 
@@ -86,41 +79,31 @@ def method_specs() -> list[dict]:
     >>> [(p["name"], p["kind"]) for p in c3["params"]]
     [('alpha', 'float'), ('beta', 'float'), ('variant', 'str'), ('ends', 'str'), ('holds', 'bool')]
     """
-    out = []
-    for m in METHODS.values():
-        params = []
-        for name, p in m.params.items():
-            kind = getattr(p.type, "kind", None) or {float: "float", int: "int", str: "str"}.get(
-                p.type
-            )
-            if kind is None:
-                kind = "bool" if isinstance(p.default, bool) else "str"
-            default = p.default
-            if isinstance(default, float) and not math.isfinite(default):
-                default = None
-            params.append(
-                {
-                    "name": name,
-                    "kind": kind,
-                    "default": default,
-                    "help": p.help,
-                    # Hermite rates: the page offers the estimates only (a design reads no
-                    # files; arrays come from the Python API)
-                    "choices": ["bessel", "zero"]
-                    if p.type is rates_spec
-                    else (_choices(p.help) if kind == "str" else None),
-                }
-            )
-        out.append(
-            {
-                "name": m.name,
-                "summary": m.summary,
-                "interpolating": m.interpolating,
-                "continuity": m.continuity,
-                "params": params,
-            }
-        )
-    return out
+    return [
+        {
+            "name": m.name,
+            "summary": m.summary,
+            "interpolating": m.interpolating,
+            "continuity": m.continuity,
+            "params": [_param_spec(name, p) for name, p in m.params.items()],
+        }
+        for m in METHODS.values()
+    ]
+
+
+def _param_spec(name: str, p: Param) -> dict:
+    default = p.default
+    if isinstance(default, float) and not math.isfinite(default):
+        default = None
+    return {
+        "name": name,
+        "kind": p.kind,
+        "default": default,
+        "help": p.help,
+        # the row's named choices (Hermite rates: the estimates only; a design reads no
+        # files, arrays come from the Python API)
+        "choices": list(p.choices) if p.choices is not None else None,
+    }
 
 
 def _check_keys(quats, times) -> tuple[np.ndarray, np.ndarray]:
@@ -213,7 +196,7 @@ def _check_params(method, params) -> dict:
     if not isinstance(method, str):
         raise TypeError(f"method: expected a string, got {type(method).__name__}")
     if method not in METHODS:
-        raise ValueError(f"method: unknown method {method!r}; valid: {', '.join(METHODS)}")
+        raise ParameterError(f"method: unknown method {method!r}; valid: {', '.join(METHODS)}")
     if params is None:
         return {}
     if not isinstance(params, dict):
@@ -221,7 +204,7 @@ def _check_params(method, params) -> dict:
     valid = METHODS[method].params
     unknown = sorted(str(k) for k in params if k not in valid)
     if unknown:
-        raise ValueError(
+        raise ParameterError(
             f"params: unknown parameter{'s' if len(unknown) > 1 else ''} of {method}: "
             f"{', '.join(unknown)}; valid: {', '.join(valid) or 'none'}"
         )

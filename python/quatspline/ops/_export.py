@@ -1,5 +1,6 @@
 """Motion out to the tools animators use: glTF 2.0 (``.glb`` / ``.gltf``) with a guaranteed
-playback error, and BVH.
+playback error, and BVH. ``export(motion, path, …)`` is the one route (the format from the
+extension); ``to_gltf`` and ``to_bvh`` are its two writers.
 
 ``to_gltf(motion, path, max_error="0.01deg", max_position_error="0.1mm",
 interpolation="linear")`` writes one animated node (a small axes mesh, or an empty node)
@@ -27,28 +28,38 @@ in chunks.
 
 from __future__ import annotations
 
-import base64
-import json
 import os
-import struct
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from .._util import checks as _checks
-from .._util.atomic import atomic_write
 from .._util.options import parse_angle, parse_length
+from .._util.progress_bars import progress as bar
 from ..core.interpolate import slerp
+from ..core.metrics import angle_between
+from ..io import bvh, gltf
+from ..io.gltf import F32_MAX, sign_continuous
+from ..io.trajectory import Trajectory
+from ..poses.pose_spline import PoseSpline
+from ..registry import spline as make_spline
+from ..splines import Spline
+from ._ops import DEFAULT_MAX_SAMPLES, ParameterError
 
-__all__ = ["GltfReport", "parse_angle", "parse_length", "to_bvh", "to_gltf"]
+__all__ = [
+    "BvhReport",
+    "GltfReport",
+    "export",
+    "parse_angle",
+    "parse_length",
+    "to_bvh",
+    "to_gltf",
+]
 
 
 def angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Rotation angle (radians) between quaternions a and b (q ≡ −q): the package's one
     rotation distance, :func:`quatspline.angle_between`."""
-    from ..core.metrics import angle_between
-
     return angle_between(a, b)
 
 
@@ -57,11 +68,6 @@ class _Motion:
     """Uniform access to a Spline, a PoseSpline or a Trajectory (through a spline)."""
 
     def __init__(self, motion, method: str, params: dict):
-        from ..io import Trajectory
-        from ..poses.pose_spline import PoseSpline
-        from ..registry import spline as make_spline
-        from ..splines._families import Spline
-
         self.name = ""
         if not isinstance(motion, Trajectory) and isinstance(motion, (Spline, PoseSpline)):
             if params:
@@ -115,20 +121,11 @@ def _f32(x):
     return np.asarray(x, dtype=np.float32).astype(np.float64)
 
 
-def _sign_continuous(q: np.ndarray) -> np.ndarray:
-    """Flips signs so consecutive quaternions have a non-negative dot product."""
-    flips = np.concatenate([[False], np.sum(q[1:] * q[:-1], axis=1) < 0])
-    sign = np.where(np.cumsum(flips) % 2 == 1, -1.0, 1.0)
-    return q * sign[:, None]
-
-
 # ---- playback (the glTF 2.0 specification, Appendix C) ---------------------------------------
 #: Players interpolate in their own arithmetic (three.js in float64 with float32 results,
 #: Blender in float32): every measured error gets this many float32 units of roundoff on top
 #: (radians for rotations, times the largest |position| for translations).
 _ROUNDOFF = 8 * 2.0**-24
-#: The largest finite float32 value (glTF stores times, values and meshes as float32).
-_F32_MAX = float(np.finfo(np.float32).max)
 #: Check points evaluated at once (bounds the memory of the verification).
 _CHUNK = 1 << 18
 #: The largest ``samples``: a CUBICSPLINE pose export then peaks at about 0.8 GB (measured;
@@ -382,7 +379,7 @@ def _uniform_keys(ch: _Channel, tol: float, check_t, start: int) -> int:
         kt = np.unique(np.minimum(_f32(np.linspace(0, ch.span, n)), _f32_floor(ch.span)))
         v, a, b = ch.values(kt)
         if ch.rot:
-            sgn = np.sign(np.sum(_sign_continuous(v) * v, axis=1))[:, None]
+            sgn = np.sign(np.sum(sign_continuous(v) * v, axis=1))[:, None]
             v, a, b = v * sgn, a * sgn, b * sgn
         u = _Channel(ch.rot, ch.cubic, kt, v, a, b, ch.f, ch.fd, ch.span, ch.roundoff)
         return _check(u, np.arange(len(kt)), check_t).max() <= tol
@@ -438,76 +435,6 @@ class GltfReport:
     @staticmethod
     def _u(n):
         return str(n) if n > 0 else "more than 8×"
-
-
-def _axes_mesh(size: float):
-    """Three boxes along +x, +y, +z (red, green, blue), 8 vertices and 12 triangles each."""
-    w = size * 0.04
-    prims = []
-    for k in range(3):
-        lo, hi = np.full(3, -w), np.full(3, w)
-        hi[k] = size
-        c = np.array(
-            [[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
-        )
-        faces = [
-            (0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1),
-            (2, 3, 7), (2, 7, 6), (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3),
-        ]  # fmt: skip
-        prims.append((c.astype(np.float32), np.array(faces, dtype=np.uint16).ravel()))
-    return prims
-
-
-class _Builder:
-    def __init__(self):
-        self.blob = bytearray()
-        self.views, self.accessors = [], []
-
-    def add(self, arr: np.ndarray, kind: str, target=None, minmax: bool = False) -> int:
-        arr = np.ascontiguousarray(arr)
-        while len(self.blob) % 4:
-            self.blob.append(0)
-        view = {"buffer": 0, "byteOffset": len(self.blob), "byteLength": arr.nbytes}
-        if target:
-            view["target"] = target
-        self.blob += arr.tobytes()
-        self.views.append(view)
-        comp = {np.dtype(np.float32): 5126, np.dtype(np.uint16): 5123}[arr.dtype]
-        width = {"SCALAR": 1, "VEC3": 3, "VEC4": 4}[kind]
-        acc = {
-            "bufferView": len(self.views) - 1,
-            "componentType": comp,
-            "count": int(arr.size // width),
-            "type": kind,
-        }
-        if minmax:
-            a2 = arr.reshape(-1, width)
-            acc["min"] = [float(x) for x in a2.min(axis=0)]
-            acc["max"] = [float(x) for x in a2.max(axis=0)]
-        self.accessors.append(acc)
-        return len(self.accessors) - 1
-
-
-def _write_file(path: Path, doc: dict, blob: bytes) -> None:
-    if path.suffix.lower() == ".gltf":
-        doc["buffers"] = [
-            {
-                "byteLength": len(blob),
-                "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode(),
-            }
-        ]
-        with atomic_write(path, encoding="utf-8") as f:
-            json.dump(doc, f, separators=(",", ":"))
-        return
-    doc["buffers"] = [{"byteLength": len(blob)}]
-    js = json.dumps(doc, separators=(",", ":")).encode()
-    js += b" " * (-len(js) % 4)
-    bin_ = bytes(blob) + b"\0" * (-len(blob) % 4)
-    total = 12 + 8 + len(js) + 8 + len(bin_)
-    with atomic_write(path, mode="wb") as f:
-        f.write(struct.pack("<4sII", b"glTF", 2, total))
-        f.write(struct.pack("<I4s", len(js), b"JSON") + js)
-        f.write(struct.pack("<I4s", len(bin_), b"BIN\0") + bin_)
 
 
 def to_gltf(
@@ -588,31 +515,10 @@ def to_gltf(
     """
     tol_r = parse_angle(max_error, "max_error")
     tol_p = parse_length(max_position_error, "max_position_error")
-    if interpolation not in ("linear", "cubicspline"):
-        raise ValueError(
-            f"interpolation: expected 'linear' or 'cubicspline', got {interpolation!r}"
-        )
-    if mesh not in ("axes", None):
-        raise ValueError(f"mesh: expected 'axes' or None, got {mesh!r}")
-    if not isinstance(node, str):
-        raise TypeError(f"node: expected a string, got {type(node).__name__}")
-    if not node:
-        raise ValueError("node: expected a non-empty name")
-    try:
-        node.encode("utf-8")
-    except UnicodeEncodeError:
-        raise ValueError("node: not valid Unicode text (a lone surrogate)") from None
-    size = _checks.real(size, "size", positive=True)
-    if not size <= _F32_MAX:
-        raise ValueError(f"size: {size:g} m is beyond float32 range (glTF stores float32)")
     for flag_name, flag_value in (("uniform", uniform), ("progress", progress)):
         if not isinstance(flag_value, (bool, np.bool_)):
             raise TypeError(f"{flag_name}: expected True or False, got {type(flag_value).__name__}")
-    if not isinstance(path, (str, os.PathLike)):
-        raise TypeError(f"path: expected a file path, got {type(path).__name__}")
-    path = Path(path)
-    if path.suffix.lower() not in (".glb", ".gltf"):
-        raise ValueError(f"{path}: expected a .glb or .gltf output")
+    path, size = gltf.check_options(path, interpolation, node, mesh, size)
     m = _Motion(motion, method, params)
     cubic = interpolation == "cubicspline"
     span = m.t1 - m.t0
@@ -625,8 +531,6 @@ def to_gltf(
     ):
         raise ValueError(f"samples: expected an integer in [2, {MAX_SAMPLES}], got {samples!r}")
 
-    from .._util.progress_bars import progress as bar
-
     chans = [("rotation", "max_error", m.q, m.dq, tol_r, True)]
     if m.pos is not None:
         chans.append(("translation", "max_position_error", m.p, m.dp, tol_p, False))
@@ -637,13 +541,13 @@ def to_gltf(
             ch = _Channel(rot, cubic, t, None, None, None, f, fd, span)
             v, a, b = ch.values(t)
             if rot:
-                sgn = np.sign(np.sum(_sign_continuous(v) * v, axis=1))[:, None]
+                sgn = np.sign(np.sum(sign_continuous(v) * v, axis=1))[:, None]
                 v, a, b = v * sgn, a * sgn, b * sgn
                 ch.roundoff = _ROUNDOFF
             else:
                 ch.roundoff = _ROUNDOFF * float(np.abs(v).max(initial=0.0)) * np.sqrt(3)
             ch.v, ch.a, ch.b = v, a, b
-            if not rot and not np.abs(v).max(initial=0.0) <= _F32_MAX:
+            if not rot and not np.abs(v).max(initial=0.0) <= F32_MAX:
                 raise ValueError(
                     f"motion: positions reach {float(np.abs(v).max()):.3g} m, beyond the float32 "
                     "range of glTF (3.4e38)"
@@ -657,49 +561,24 @@ def to_gltf(
                 nu = _uniform_keys(ch, tol, check_t, len(keys))
                 pb.update(1)
             idx = np.array(keys)  # keep the keys only: the candidates' memory is released
-            kept = (rot, ch.t[idx], ch.v[idx], ch.a[idx], ch.b[idx])
+            kept = (ch.t[idx], ch.v[idx], ch.a[idx], ch.b[idx])
             results[name] = (kept, keys, err, nu, tol, len(check_t))
             del ch, check_t, v, a, b
 
-    # a name from a file name may hold lone surrogates (undecodable bytes): JSON needs Unicode
-    label = m.name.encode("utf-8", "replace").decode("utf-8") if m.name else ""
-    b = _Builder()
-    doc: dict = {
-        "asset": {"version": "2.0", "generator": "quatspline"},
-        "scene": 0,
-        "scenes": [{"name": label or "quatspline", "nodes": [0]}],
-        "nodes": [{"name": node}],
-    }
-    if mesh == "axes":
-        colours = ([0.84, 0.15, 0.16, 1.0], [0.17, 0.63, 0.17, 1.0], [0.12, 0.47, 0.71, 1.0])
-        prims = []
-        for k, (pts, idx) in enumerate(_axes_mesh(float(size))):
-            pa = b.add(pts, "VEC3", target=34962, minmax=True)
-            ia = b.add(idx, "SCALAR", target=34963)
-            prims.append({"attributes": {"POSITION": pa}, "indices": ia, "material": k})
-        doc["materials"] = [
-            {"name": f"axis {'xyz'[k]}", "pbrMetallicRoughness": {"baseColorFactor": c}}
-            for k, c in enumerate(colours)
-        ]
-        doc["meshes"] = [{"name": "axes", "primitives": prims}]
-        doc["nodes"][0]["mesh"] = 0
-    channels, samplers = [], []
-    for name, ((rot, kt, kv, ka, kb), *_) in results.items():
-        if rot:
-            kv, ka, kb = kv[:, [1, 2, 3, 0]], ka[:, [1, 2, 3, 0]], kb[:, [1, 2, 3, 0]]
-        if cubic:
-            out = np.stack([ka, kv, kb], axis=1).reshape(-1, kv.shape[1])
-        else:
-            out = kv
-        ia = b.add(kt.astype(np.float32), "SCALAR", minmax=True)
-        oa = b.add(out.astype(np.float32), "VEC4" if rot else "VEC3")
-        samplers.append({"input": ia, "output": oa, "interpolation": interpolation.upper()})
-        channels.append({"sampler": len(samplers) - 1, "target": {"node": 0, "path": name}})
-        first = kv[0].astype(np.float32).astype(float).tolist()
-        doc["nodes"][0][name] = first
-    doc["animations"] = [{"name": label or "motion", "channels": channels, "samplers": samplers}]
-    doc["accessors"], doc["bufferViews"] = b.accessors, b.views
-    _write_file(path, doc, bytes(b.blob))
+    # the format's writer stores the chosen keys (one document builder for every glTF route)
+    chosen = {}
+    for name, ((kt, kv, ka, kb), *_) in results.items():
+        chosen[name] = gltf.Keys(kt, kv, ka if cubic else None, kb if cubic else None)
+    gltf.write_animation(
+        path,
+        chosen["rotation"],
+        chosen.get("translation"),
+        interpolation=interpolation,
+        node=node,
+        mesh=mesh,
+        size=size,
+        name=m.name,
+    )
     r = results["rotation"]
     rep = GltfReport(
         str(path),
@@ -721,8 +600,174 @@ def to_gltf(
 def to_bvh(trajectory, path, *, joint: str = "Root") -> None:
     """Writes a trajectory as a BVH joint named ``joint`` (the trajectory's name when it has
     one; see :mod:`quatspline.io.bvh`)."""
-    from ..io import bvh
-
     if not isinstance(joint, str):
         raise TypeError(f"joint: expected a string, got {type(joint).__name__}")
     bvh.write(Path(path), trajectory, joint=joint)
+
+
+# ---- the one export route -------------------------------------------------------------------
+@dataclass
+class BvhReport:
+    """What ``export`` wrote to BVH: frames, their rate, the spline they were sampled from."""
+
+    path: str
+    frames: int
+    fps: float
+    method: str
+
+    def summary(self) -> str:
+        return (
+            f"{self.path}: BVH joint, {self.frames} frames at {self.fps:.6g} fps "
+            f"({self.method} spline)"
+        )
+
+
+#: Output extensions and the export format each one means.
+EXPORT_EXTENSIONS = {".glb": "gltf", ".gltf": "gltf", ".bvh": "bvh"}
+
+
+def export(
+    motion,
+    path,
+    *,
+    format: str | None = None,
+    method: str | None = None,
+    max_error="0.01deg",
+    max_position_error="0.1mm",
+    interpolation: str = "linear",
+    node: str = "body",
+    mesh: str | None = "axes",
+    size: float = 0.1,
+    samples: int | None = None,
+    uniform: bool = True,
+    fps: float | None = None,
+    joint: str = "Root",
+    progress: bool = True,
+    **params,
+) -> GltfReport | BvhReport:
+    """Exports a motion to glTF 2.0 (error-bounded) or BVH: the one route behind
+    ``quatspline export`` and batch exports.
+
+    Parameters
+    ----------
+    motion : io.Trajectory, Spline or PoseSpline
+        The motion; a Trajectory goes through the spline ``method`` (default ``"c3"``) with
+        ``params``; a spline is exported as it is.
+    path : path-like
+        The output: ``.glb`` / ``.gltf`` (glTF) or ``.bvh``. Written atomically.
+    format : {"gltf", "bvh"}, optional
+        Default: from the extension.
+    method : str, optional
+        For a Trajectory, the registry method of its spline; ``params`` its parameters.
+    max_error, max_position_error, interpolation, node, mesh, size, samples, uniform
+        glTF: as for :func:`to_gltf` (the bounds are checked for BVH too; the other glTF
+        options are not used by BVH).
+    fps : float, optional
+        BVH: the frame rate, in (0, 10000] (default: one over the median key spacing);
+        frames are sampled from the spline at ``t0 + k / fps`` up to the last key, and
+        written from time 0.
+    joint : str
+        BVH: the joint's name when the trajectory has none.
+    progress : bool
+        glTF: show a progress bar.
+
+    Returns
+    -------
+    GltfReport or BvhReport
+        What was written; ``summary()`` is one line.
+
+    Raises
+    ------
+    ParameterError
+        An option the caller chose: an unknown format or extension, a bound that cannot be
+        parsed, a frame rate out of range or one that gives more than
+        :data:`~quatspline.ops.DEFAULT_MAX_SAMPLES` frames, an unknown method or parameter.
+    ValueError
+        What the motion cannot give (a bound no keys can meet, one key, …).
+    TypeError
+        An argument of the wrong kind.
+
+    Examples
+    --------
+    >>> import numpy as np, tempfile, os, quatspline as qs
+    >>> tr = qs.io.Trajectory(np.arange(5.0), qs.from_axis_angle([0, 0, 1], np.arange(5.0)))
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     print(export(tr, os.path.join(d, "m.bvh"), fps=2).summary().split(": ")[1])
+    BVH joint, 9 frames at 2 fps (c3 spline)
+    """
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path: expected a file path, got {type(path).__name__}")
+    path = Path(path)
+    if format is None:
+        format = EXPORT_EXTENSIONS.get(path.suffix.lower())
+        if format is None:
+            raise ParameterError(
+                f"{path}: expected a .glb, .gltf or .bvh output (or give the format)"
+            )
+    elif format not in ("gltf", "bvh"):
+        raise ParameterError(f"format: expected 'gltf' or 'bvh', got {format!r}")
+    for name, value, parse in (
+        ("max_error", max_error, parse_angle),
+        ("max_position_error", max_position_error, parse_length),
+    ):
+        try:
+            parse(value, name)
+        except TypeError:
+            raise
+        except ValueError as e:
+            raise ParameterError(str(e)) from None
+    if format == "gltf":
+        return to_gltf(
+            motion,
+            path,
+            max_error=max_error,
+            max_position_error=max_position_error,
+            interpolation=interpolation,
+            node=node,
+            mesh=mesh,
+            size=size,
+            samples=samples,
+            method=method,
+            uniform=uniform,
+            progress=progress,
+            **params,
+        )
+    return _export_bvh(motion, path, method, fps, joint, params)
+
+
+def _export_bvh(motion, path: Path, method, fps, joint, params: dict) -> BvhReport:
+    """BVH frames at a uniform rate sampled from the motion's spline, written from time 0."""
+    if not isinstance(joint, str):
+        raise TypeError(f"joint: expected a string, got {type(joint).__name__}")
+    if isinstance(motion, Trajectory):
+        method = "c3" if method is None else method
+        t0, t1, keys = float(motion.times[0]), float(motion.times[-1]), motion.times
+    else:
+        m = _Motion(motion, method, params)  # refuses a method or parameters with a spline
+        t0, t1, keys = m.t0, m.t1, m.joints
+        method = type(m.rot).__name__
+    if fps is None:
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            fps = 1.0 / float(np.median(np.diff(keys))) if len(keys) > 1 else np.nan
+    elif isinstance(fps, bool) or not isinstance(fps, (int, float, np.integer, np.floating)):
+        raise TypeError(f"fps: expected a number, got {type(fps).__name__}")
+    if not (np.isfinite(fps) and 0 < fps <= 10_000):
+        raise ParameterError(f"fps: expected a frame rate in (0, 10000], got {fps}")
+    fps = float(fps)
+    with np.errstate(over="ignore"):
+        count = (t1 - t0) * fps
+    if not count < DEFAULT_MAX_SAMPLES:
+        raise ParameterError(
+            f"fps: {fps:.6g} fps over {t1 - t0:.6g} s gives more than {DEFAULT_MAX_SAMPLES} "
+            "frames; choose a lower rate"
+        )
+    n = int(np.floor(count + 1e-9)) + 1
+    at = np.minimum(t0 + np.arange(n) / fps, t1)
+    if isinstance(motion, Trajectory):
+        frames = motion.resample(at, method=method, **params)
+    else:
+        pos = None if m.pos is None else m.pos.position(at)
+        frames = Trajectory(at, m.rot(at), pos)
+    frames.times = np.arange(n) / fps  # BVH frames: uniform from 0
+    bvh.write(path, frames, joint=joint)
+    return BvhReport(str(path), n, fps, method)

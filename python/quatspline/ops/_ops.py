@@ -14,7 +14,7 @@ from ..core.metrics import angle_between
 from ..io import Trajectory
 from ..registry import METHODS, interpolating_methods
 from ..registry import spline as make_spline
-from ..splines._families import DEFAULT_MAX_SAMPLES, path_length
+from ..splines import DEFAULT_MAX_SAMPLES, path_length
 from ..splines.joints import continuity
 
 __all__ = [
@@ -85,17 +85,8 @@ def build_spline(method: str, traj: Trajectory, params: dict | None = None):
 
 
 def _build(method: str, traj: Trajectory, times: np.ndarray, params: dict):
-    if not isinstance(method, str):
-        raise TypeError(f"method: expected a str, got {type(method).__name__}")
-    if method not in METHODS:
-        raise ParameterError(f"method: unknown method {method!r}; valid: {', '.join(METHODS)}")
-    try:
-        return make_spline(method, traj.quats, times, **params)
-    except ValueError as e:
-        msg = str(e)
-        if "unknown parameter" in msg or msg.startswith(tuple(METHODS[method].params)):
-            raise ParameterError(msg) from None
-        raise
+    # the registry raises ParameterError itself for an unknown method or a bad parameter
+    return make_spline(method, traj.quats, times, **params)
 
 
 def sample_times(
@@ -267,7 +258,7 @@ def sample_trajectory(
         raise TypeError(f"derivatives: expected a bool, got {type(derivatives).__name__}")
     t0 = float(traj.times[0])
     s = _build(method, traj, traj.times - t0, dict(params or {}))
-    from ..splines._families import _EXTRAPOLATE
+    from ..splines import EXTRAPOLATE as _EXTRAPOLATE
 
     if extrapolate not in _EXTRAPOLATE:
         raise ParameterError(f"extrapolate: expected one of {_EXTRAPOLATE}, got {extrapolate!r}")

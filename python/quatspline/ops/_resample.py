@@ -86,7 +86,7 @@ def resample(traj, times, method: str = "c3", extrapolate: str = "raise", **para
 
     if not isinstance(traj, Trajectory):
         raise TypeError(f"traj: expected a quatspline.io.Trajectory, got {type(traj).__name__}")
-    from ..splines._families import _EXTRAPOLATE as modes
+    from ..splines import EXTRAPOLATE as modes
 
     if extrapolate not in modes:
         raise ValueError(f"extrapolate: expected one of {', '.join(modes)}, got {extrapolate!r}")

@@ -18,7 +18,7 @@ from .._util.arrays import as_times, pose_key_order, with_width
 from .._util.checks import choice
 from ..core.algebra import rotate
 from ..registry import spline as make_spline
-from ..splines import _families as sp
+from ..splines import EXTRAPOLATE, describe
 
 __all__ = ["PoseSpline"]
 
@@ -91,7 +91,7 @@ class PoseSpline:
         extrapolate: str = "raise",
         **params,
     ):
-        choice(extrapolate, "extrapolate", sp._EXTRAPOLATE)
+        choice(extrapolate, "extrapolate", EXTRAPOLATE)
         if translation not in ("cubic", "linear"):
             raise ValueError(f"translation: expected 'cubic' or 'linear', got {translation!r}")
         quats, times = pose_key_order(quats, times, "PoseSpline")
@@ -110,7 +110,7 @@ class PoseSpline:
         self._cubic = translation == "cubic"
 
     def __repr__(self) -> str:
-        return sp._describe(
+        return describe(
             self,
             len(self._times) - 1,
             rotation=type(self.rotation).__name__,

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._util.checks import integer, real
-from ._families import Spline
+from .base import Spline
 
 __all__ = ["JointContinuity", "continuity"]
 

@@ -17,7 +17,9 @@ import numpy as np
 
 from .. import _core
 from .._util.arrays import as_real, with_width
-from ._families import Spline
+from ..core.algebra import conjugate, rotate
+from ..core.dualquat import dq_from_pose
+from .base import Spline
 from .joints import JointContinuity, continuity
 
 __all__ = ["PoseCurveSpline"]
@@ -54,8 +56,6 @@ class PoseCurveSpline(Spline):
         v = self.position(t, order)
         if frame == "world":
             return v
-        from ..core.algebra import conjugate, rotate
-
         return rotate(conjugate(self.orientation(t)), v)
 
     def linear_velocity(self, t, frame: str = "world") -> np.ndarray:
@@ -84,8 +84,6 @@ class PoseCurveSpline(Spline):
 
     def dual_quaternions(self, t) -> np.ndarray:
         """The pose as unit dual quaternions (..., 8): r + ε ½ p r."""
-        from ..core.dualquat import dq_from_pose
-
         return dq_from_pose(self.orientation(t), self.position(t))
 
     def __call__(self, t):
@@ -94,8 +92,6 @@ class PoseCurveSpline(Spline):
 
     def transform_points(self, t, points) -> np.ndarray:
         """World coordinates R(t) v + p(t) of body points (P, 3) at times (M,): (M, P, 3)."""
-        from ..core.algebra import rotate
-
         tt = np.atleast_1d(as_real(t, "t"))
         q, x = self.orientation(tt), self.position(tt)
         v = with_width(points, "points", 3).reshape(-1, 3)

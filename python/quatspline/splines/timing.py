@@ -19,7 +19,8 @@ from __future__ import annotations
 import numpy as np
 
 from .. import _core
-from ._families import Spline
+from .base import Spline
+from .se3 import PoseCurveSpline
 
 __all__ = ["Reparameterized", "arc_length", "max_angular_rate", "retime"]
 
@@ -67,8 +68,6 @@ class Reparameterized(Spline):
 def _check_spline(spline) -> Spline:
     if not isinstance(spline, Spline):
         raise TypeError(f"spline: expected a quatspline.Spline, got {type(spline).__name__}")
-    from .se3 import PoseCurveSpline
-
     if isinstance(spline, PoseCurveSpline):
         raise TypeError(
             f"spline: {type(spline).__name__} is a pose spline; retiming would keep only its "

@@ -19,15 +19,24 @@ import sys
 import webbrowser
 from pathlib import Path
 
+try:  # the open-files limit (not on Windows)
+    import resource
+except ImportError:  # pragma: no cover - Windows
+    resource = None
+
 import numpy as np
 
 from .. import io as qio
+from .._util.optional import hint, need
+from ..core.algebra import normalize
+from ..examples import BETA_EXAMPLE1_VERTICES
 from ..ops import _design as design
 from ._worker import EXPORT_FORMATS as _EXPORT_FORMATS
 
 FIRST = asyncio.FIRST_COMPLETED
 
-VIEWER_HINT = 'quatspline view needs its web stack: pip install "quatspline[viewer]"'
+#: What a missing web stack tells (each missing module's ImportError names it and the extra).
+VIEWER_HINT = hint("its web stack", "viewer", "quatspline view")
 
 STATIC = Path(__file__).resolve().parent / "static"
 #: The only files the server sends: name → media type. Anything else is a 404.
@@ -242,8 +251,8 @@ def _protocol_class(max_connections: int, header_timeout: float, write_timeout: 
     - a request body the application did not read ends the connection after the response
       (it is not read and discarded).
     """
-    import h11
-    from uvicorn.protocols.http.h11_impl import H11Protocol
+    h11 = _web("h11")
+    H11Protocol = _web("uvicorn.protocols.http.h11_impl").H11Protocol
 
     class LimitedH11Protocol(H11Protocol):
         def connection_made(self, transport):
@@ -332,9 +341,7 @@ def _protocol_class(max_connections: int, header_timeout: float, write_timeout: 
 
 def open_files_limit() -> int:
     """Raises this process's soft limit of open files to its hard limit; returns the soft limit."""
-    try:
-        import resource
-    except ImportError:  # not on Windows
+    if resource is None:  # not on Windows
         return 512
     soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
     target = hard if hard != resource.RLIM_INFINITY else max(soft, 65536)
@@ -348,9 +355,7 @@ def open_files_limit() -> int:
 
 
 def _soft_files_limit() -> int:
-    try:
-        import resource
-    except ImportError:  # not on Windows
+    if resource is None:  # not on Windows
         return 512
     soft = resource.getrlimit(resource.RLIMIT_NOFILE)[0]
     return soft if soft != resource.RLIM_INFINITY else 1 << 20
@@ -367,8 +372,7 @@ def server_config(app, *, host: str = "127.0.0.1", port: int = 0, open_files: in
     """The uvicorn configuration the viewer runs with: the connection limits of
     :func:`_protocol_class` for a process that may open ``open_files`` files (default: its
     current soft limit), and a bounded wait for running requests at shutdown."""
-    import uvicorn
-
+    uvicorn = _web("uvicorn")
     if open_files is None:
         open_files = _soft_files_limit()
     limit = connection_limit(open_files)
@@ -387,12 +391,10 @@ def server_config(app, *, host: str = "127.0.0.1", port: int = 0, open_files: in
     )
 
 
-def _web():
-    try:
-        import starlette  # noqa: F401
-        import uvicorn  # noqa: F401
-    except ImportError:
-        raise ImportError(VIEWER_HINT) from None
+def _web(module: str = "starlette"):
+    """A module of the viewer's web stack (starlette, uvicorn, h11), or an ImportError naming
+    the ``viewer`` extra."""
+    return need(module, extra="viewer", what="quatspline view")
 
 
 def missing_assets() -> list[str]:
@@ -402,9 +404,6 @@ def missing_assets() -> list[str]:
 
 def example_keys() -> tuple[np.ndarray, np.ndarray, str]:
     """The keys shown without a file: the Beta paper's Example 1 rotations at unit times."""
-    from ..core.algebra import normalize
-    from ..examples import BETA_EXAMPLE1_VERTICES
-
     q = normalize(BETA_EXAMPLE1_VERTICES)
     return q, np.arange(len(q), dtype=float), "Beta spline paper, Example 1"
 
@@ -446,11 +445,14 @@ def create_app(
     starlette.applications.Starlette
         With ``app.state.token`` set.
     """
-    _web()
-    from starlette.applications import Starlette
-    from starlette.requests import ClientDisconnect, Request
-    from starlette.responses import HTMLResponse, JSONResponse, PlainTextResponse, Response
-    from starlette.routing import Route
+    _web("uvicorn")  # served by uvicorn: refused early without it
+    Starlette = _web("starlette.applications").Starlette
+    requests = _web("starlette.requests")
+    ClientDisconnect, Request = requests.ClientDisconnect, requests.Request
+    responses = _web("starlette.responses")
+    HTMLResponse, JSONResponse = responses.HTMLResponse, responses.JSONResponse
+    PlainTextResponse, Response = responses.PlainTextResponse, responses.Response
+    Route = _web("starlette.routing").Route
 
     token = token or secrets.token_urlsafe(24)
     pool = WorkerPool()
@@ -651,9 +653,8 @@ def serve(
     ValueError
         If ``path`` cannot be read, or the page's JavaScript is not installed.
     """
-    _web()
-    import uvicorn
-
+    _web("starlette")
+    uvicorn = _web("uvicorn")
     missing = missing_assets()
     if missing:
         raise ValueError(

@@ -1,4 +1,6 @@
-"""Keyframe control: Hermite keys with angular rates, Kochanek–Bartels, closed loops, holds.
+"""Keys and the keyframe controls shared by the spline families (Rust ``spline/keys.rs``
+and ``spline/keyframe.rs``): validation of keys and key times, closed loops, holds, rest ends,
+and key rates estimated from the keys alone.
 
 Closed loops (``ends="closed"``) take n keys at n + 1 times: the last time closes the loop
 (the segment from the last key back to the first). If the last key given equals the first
@@ -9,232 +11,58 @@ keys are at 0, 1, …, n. ``extrapolate="periodic"`` repeats a closed loop smoot
 
 from __future__ import annotations
 
+import math
+import numbers
+
 import numpy as np
 
-from .. import _core
-from .._util.arrays import as_real, with_width
-from ._families import Spline, _keys, _per, _times
+from .._util.arrays import as_real, as_times, with_width
+from .._util.checks import short
+from ..core.algebra import canonicalize, conjugate, multiply, normalize
+from ..core.convert import as_rotvec
 
-__all__ = [
-    "Hermite",
-    "KochanekBartels",
-    "bessel_rates",
-    "bspline_controls",
-    "c3_speed_matched_alpha",
-]
+__all__ = ["bessel_rates", "bspline_controls", "bspline_hold_intervals", "c3_speed_matched_alpha"]
 
 
-def _rows3(v, name: str, n: int) -> np.ndarray:
-    a = with_width(v, name, 3)
-    if a.ndim != 2 or a.shape[0] != n:
-        raise ValueError(f"{name}: expected shape ({n}, 3) (one row per key), got {a.shape}")
-    return np.ascontiguousarray(a, dtype=np.float64)
-
-
-def _per_key(v, name: str, n: int) -> np.ndarray:
-    a = np.atleast_1d(as_real(v, name)).astype(np.float64)
-    if a.ndim != 1 or len(a) not in (1, n):
-        raise ValueError(
-            f"{name}: expected a scalar or {n} values (one per key), got shape {np.shape(v)}"
+def _domain(domain) -> tuple[float, float]:
+    """``domain`` as (t0, t1): a pair of real numbers (TypeError otherwise), finite with
+    t0 < t1 (ValueError otherwise)."""
+    kinds = (numbers.Real, np.integer, np.floating)
+    if isinstance(domain, (str, bytes)) or not hasattr(domain, "__len__") or len(domain) != 2:
+        raise TypeError(
+            f"domain: expected a pair (t0, t1) of real numbers, got {type(domain).__name__} "
+            f"{short(domain) if isinstance(domain, kinds) else ''}".rstrip()
         )
-    bad = ~np.isfinite(a)
-    if bad.any():
-        k = int(np.argmax(bad))
-        raise ValueError(f"{name}: non-finite value (NaN or inf) at index {k}")
-    return np.ascontiguousarray(np.broadcast_to(a, (n,)) if len(a) == 1 else a)
+    if any(isinstance(v, (bool, np.bool_)) or not isinstance(v, kinds) for v in domain):
+        kinds_given = ", ".join(type(v).__name__ for v in domain)
+        raise TypeError(f"domain: expected a pair (t0, t1) of real numbers, got ({kinds_given})")
+    t0, t1 = float(domain[0]), float(domain[1])
+    if not (math.isfinite(t0) and math.isfinite(t1) and t0 < t1):
+        raise ValueError(f"domain: expected finite t0 < t1, got ({short(t0)}, {short(t1)})")
+    return t0, t1
 
 
-class Hermite(Spline):
-    """Keys with angular velocities (C¹ cubic) and optionally accelerations (C² quintic).
-
-    Segment i is qᵢ exp(½ rᵢ(s)), s = t − tᵢ, with rᵢ a cubic (quintic) rotation-vector
-    polynomial matching the key orientations and the given rates (accelerations) at both ends
-    — the segment form of scipy's ``RotationSpline`` with the rates given instead of solved.
-
-    Holds and rest ends override the given rates: with ``holds=True`` (default) the keys
-    bounding a hold (consecutive equal keys, q or −q) get zero angular velocity (and zero
-    acceleration for the quintic) whatever rows were given there, so the hold is exactly
-    constant and the curve stays C¹ (C²); ``ends="rest"`` does the same at the first and
-    last key. The given rows at those keys are ignored, not checked (``holds=False`` and
-    ``ends="open"`` use every given row).
-
-    Parameters
-    ----------
-    quats : array_like, shape (N, 4)
-        Key orientations (w, x, y, z); normalised, and made shortest-path unless
-        ``canonicalize=False``.
-    times : array_like, shape (N,) or (N + 1,), optional
-        Key times (default 0, 1, …); a closed curve takes one more, closing the loop.
-    angular_velocity : array_like, shape (N, 3)
-        Angular velocity at each key, rad per time unit, in ``frame``.
-    angular_acceleration : array_like, shape (N, 3), optional
-        Angular acceleration at each key; gives the C² quintic.
-    frame : {"world", "body"}
-        Frame of the given rates.
-    ends : {"open", "rest", "closed"}
-        ``"rest"``: zero angular velocity (and acceleration) at the first and last key,
-        overriding the given rows there; ``"closed"``: the last key joins the first (see the
-        module doc).
-    canonicalize : bool
-        Flip keys so consecutive ones are in the same hemisphere.
-    extrapolate : {"raise", "clamp", "linear", "periodic"}
-        Rule outside the domain.
-    holds : bool
-        Consecutive equal keys hold exactly still: zero rate (and acceleration) at both ends
-        of every hold, overriding the given rows there (default True).
-
-    Raises
-    ------
-    ValueError
-        Rates of the wrong shape or non-finite (named with the row), bad times or keys,
-        an unsupported ``ends``.
-
-    Examples
-    --------
-    >>> import numpy as np, quatspline as qs
-    >>> q = qs.from_rotvec([[0, 0, 0], [0, 0, 0.5], [0, 0, 1.0]])
-    >>> s = qs.Hermite(q, [0, 1, 2], angular_velocity=[[0, 0, 0.5]] * 3)
-    >>> bool(np.allclose(s.angular_velocity(0.7), [0, 0, 0.5]))
-    True
-    >>> s.continuity
-    1
-    """
-
-    def __init__(
-        self,
-        quats,
-        times=None,
-        angular_velocity=None,
-        angular_acceleration=None,
-        frame: str = "world",
-        ends: str = "open",
-        canonicalize: bool = True,
-        extrapolate: str = "raise",
-        holds: bool = True,
-    ):
-        q = _keys(quats, "quats")
-        t = _times(times, len(q))
-        if angular_velocity is None:
-            raise ValueError("angular_velocity: required (one row of 3 per key)")
-        w = _rows3(angular_velocity, "angular_velocity", len(q))
-        a = None
-        if angular_acceleration is not None:
-            a = _rows3(angular_acceleration, "angular_acceleration", len(q))
-        super().__init__(
-            _core.hermite(q, t, w, a, str(frame), str(ends), bool(canonicalize), bool(holds)),
-            extrapolate,
-            quats=q,
-            times=t,
-            angular_velocity=w,
-            angular_acceleration=a,
-            frame=frame,
-            ends=ends,
-            canonicalize=canonicalize,
-            holds=holds,
-        )
-
-
-def _alpha(alpha):
-    if alpha is None:
-        return None
-    a = as_real(alpha, "alpha")
-    if a.ndim != 0:
-        raise ValueError(f"alpha: expected a scalar in [0, 1], got shape {a.shape}")
-    a = float(a)
-    if not (0.0 <= a <= 1.0):
-        raise ValueError(f"alpha: expected a value in [0, 1], got {a}")
+def _keys(q, name: str) -> np.ndarray:
+    a = with_width(q, name, 4)
+    if a.ndim != 2:
+        raise ValueError(f"{name}: expected shape (N, 4), got {a.shape}")
     return a
 
 
-class KochanekBartels(Spline):
-    """Kochanek–Bartels (tension, continuity, bias) on the rotation group.
+def _times(times, n: int):
+    if times is None:
+        return None
+    t = as_times(times, "times")
+    if t.ndim != 1:
+        raise ValueError(f"times: expected shape ({n},), got {t.shape}")
+    return np.ascontiguousarray(t)
 
-    Cubic spherical Bézier segments whose key rates are the KB tangents lifted to the group
-    (see ``kochanek_bartels.rs``): at (0, 0, 0) exactly ``CatmullRom``; equal to the
-    ``splines`` package's ``KochanekBartels`` wherever the two neighbouring logs of each key
-    share an axis. C¹ in time at keys with ``continuity = 0``; a corner (C⁰) where it is not.
 
-    Parameters
-    ----------
-    quats : array_like, shape (N, 4)
-        Key orientations (w, x, y, z).
-    times : array_like, shape (N,) or (N + 1,), optional
-        Key times; a closed curve takes one more, closing the loop. Times take precedence
-        over ``alpha``.
-    tension, continuity, bias : float or array_like of shape (N,)
-        One value or one per key (as given; a dropped closing key's value must equal the
-        first). Finite, ``|value| ≤ 1e6``.
-    alpha : float in [0, 1], optional
-        Parametrisation when ``times`` is None: key spacing θ^α (θ the angle between keys):
-        0 uniform, 0.5 centripetal, 1 chordal — as ``splines.quaternion.KochanekBartels``.
-    ends : {"reflect", "duplicate", "rest", "closed"}
-        Open ends by a mirrored (default) or repeated phantom key, zero rates at both ends
-        (``"rest"``), or a closed loop.
-    holds : bool
-        Consecutive equal keys (q or −q) hold exactly still, with zero rates at both ends
-        (default True).
-    canonicalize : bool
-        Flip keys so consecutive ones are in the same hemisphere.
-    extrapolate : {"raise", "clamp", "linear", "periodic"}
-        Rule outside the domain.
-
-    Raises
-    ------
-    ValueError
-        Non-finite or wrongly sized tension/continuity/bias (named with the index), ``alpha``
-        outside [0, 1], too few keys for a closed curve, an unsupported ``ends``.
-
-    Examples
-    --------
-    >>> import numpy as np, quatspline as qs
-    >>> q = qs.from_rotvec([[0, 0, 0], [0.4, 0, 0], [0.4, 0.5, 0], [0, 0.5, 0.3]])
-    >>> kb = qs.KochanekBartels(q, tension=0.0, continuity=0.0, bias=0.0)
-    >>> bool(np.allclose(kb(np.linspace(0, 3, 7)), qs.CatmullRom(q)(np.linspace(0, 3, 7))))
-    True
-    >>> qs.KochanekBartels(q, continuity=0.5).continuity
-    0
-    """
-
-    def __init__(
-        self,
-        quats,
-        times=None,
-        tension=0.0,
-        continuity=0.0,
-        bias=0.0,
-        alpha=None,
-        ends: str = "reflect",
-        holds: bool = True,
-        canonicalize: bool = True,
-        extrapolate: str = "raise",
-    ):
-        q = _keys(quats, "quats")
-        t = _times(times, len(q))
-        a = _alpha(alpha)
-        core = _core.kochanek_bartels(
-            q,
-            t,
-            a,
-            _per(tension, "tension"),
-            _per(continuity, "continuity"),
-            _per(bias, "bias"),
-            str(ends),
-            bool(holds),
-            bool(canonicalize),
-        )
-        super().__init__(
-            core,
-            extrapolate,
-            quats=q,
-            times=t,
-            tension=tension,
-            continuity=continuity,
-            bias=bias,
-            alpha=alpha,
-            ends=ends,
-            holds=holds,
-            canonicalize=canonicalize,
-        )
+def _per(v, name: str) -> np.ndarray:
+    a = np.atleast_1d(as_real(v, name)).astype(np.float64)
+    if a.ndim != 1:
+        raise ValueError(f"{name}: expected a scalar or a 1-D array, got shape {a.shape}")
+    return np.ascontiguousarray(a)
 
 
 def bessel_rates(quats, times=None) -> np.ndarray:
@@ -260,14 +88,11 @@ def bessel_rates(quats, times=None) -> np.ndarray:
     Examples
     --------
     >>> import numpy as np, quatspline as qs
-    >>> from quatspline.splines import keyframe as kf
+    >>> from quatspline import splines
     >>> q = qs.from_rotvec([[0, 0, 0], [0, 0, 0.2], [0, 0, 0.4]])
-    >>> bool(np.allclose(kf.bessel_rates(q, [0, 1, 2]), [0, 0, 0.2]))
+    >>> bool(np.allclose(splines.bessel_rates(q, [0, 1, 2]), [0, 0, 0.2]))
     True
     """
-    from ..core.algebra import canonicalize, conjugate, multiply, normalize
-    from ..core.convert import as_rotvec
-
     q = canonicalize(normalize(_keys(quats, "quats")))
     n = len(q)
     if n < 2:
@@ -337,9 +162,9 @@ def bspline_controls(q: np.ndarray, order: int, ends: str, holds: bool) -> np.nd
     Examples
     --------
     >>> import numpy as np, quatspline as qs
-    >>> from quatspline.splines import keyframe as kf
+    >>> from quatspline import splines
     >>> a, b = qs.from_rotvec([[0, 0, 0.3], [0.4, 0, 0]])
-    >>> kf.bspline_controls(np.array([a, a, b]), 4, "open", True).shape
+    >>> splines.bspline_controls(np.array([a, a, b]), 4, "open", True).shape
     (5, 4)
     """
     q = np.asarray(q, dtype=np.float64)
@@ -425,14 +250,11 @@ def c3_speed_matched_alpha(quats, times=None, closed: bool = False) -> np.ndarra
     Examples
     --------
     >>> import numpy as np, quatspline as qs
-    >>> from quatspline.splines import keyframe as kf
+    >>> from quatspline import splines
     >>> q = qs.from_rotvec([[0, 0, 0], [0, 0, 0.5], [0.5, 0, 0.5]])
-    >>> np.round(kf.c3_speed_matched_alpha(q), 4)
+    >>> np.round(splines.c3_speed_matched_alpha(q), 4)
     array([0.5   , 0.6998, 0.5   ])
     """
-    from ..core.algebra import canonicalize, conjugate, multiply, normalize
-    from ..core.convert import as_rotvec
-
     q = canonicalize(normalize(_keys(quats, "quats")))
     if closed and len(q) >= 2 and _same_rotation(q[0], q[-1]):
         q = q[:-1]
@@ -454,7 +276,7 @@ def c3_speed_matched_alpha(quats, times=None, closed: bool = False) -> np.ndarra
     return alpha
 
 
-def _bspline_hold_intervals(q, order: int, closed: bool, dt: float, t0: float):
+def bspline_hold_intervals(q, order: int, closed: bool, dt: float, t0: float):
     """Time spans on which a uniform B-spline with control rotations q is exactly constant
     (segment i is when its k control rotations are identical), adjacent spans merged."""
     m = len(q)

@@ -1,0 +1,56 @@
+"""Piecewise LinEuler (Rust ``spline/lin_euler.rs``): Euler angles interpolated linearly
+between keys; interpolating, C⁰. A baseline.
+"""
+
+from __future__ import annotations
+
+from .. import _core
+from .base import Spline
+from .keys import _keys, _times
+
+__all__ = ["PiecewiseLinEuler"]
+
+
+class PiecewiseLinEuler(Spline):
+    """Baseline: Euler angles interpolated linearly between keys (C⁰).
+
+    Parameters
+    ----------
+    quats : array_like, shape (N, 4)
+        Keys (w, x, y, z), or a scipy ``Rotation`` holding N rotations; normalised.
+    times : array_like, shape (N,), optional
+        Strictly increasing key times (any unit; rates are per that unit); pandas
+        ``DatetimeIndex`` and ``datetime64``/``timedelta64`` arrays become seconds. Default
+        0, 1, …, N−1.
+    seq : str, default "xyz"
+        Euler sequence, scipy's convention (see :func:`quatspline.from_euler`).
+    extrapolate : {"raise", "clamp"}, default "raise"
+        Times outside the domain raise ``ValueError``, or are clamped to it (the end
+        orientation held, zero derivatives).
+
+    Raises
+    ------
+    ValueError
+        If a shape is wrong, there are too few keys, a key is zero or not finite, the times
+        are not finite and strictly increasing, or a parameter is out of range (the message
+        names the argument and the index).
+
+    See Also
+    --------
+    PiecewiseSlerp
+
+    Examples
+    --------
+    >>> import quatspline as qs
+    >>> keys = qs.from_euler("xyz", [[0.0, 0.0, 0.0], [0.0, 0.0, 80.0]], degrees=True)
+    >>> s = qs.PiecewiseLinEuler(keys, seq="xyz")
+    >>> qs.as_euler(s(0.25), "xyz", degrees=True).round(10)
+    array([ 0.,  0., 20.])
+    """
+
+    def __init__(self, quats, times=None, seq: str = "xyz", extrapolate: str = "raise"):
+        q = _keys(quats, "quats")
+        t = _times(times, len(q))
+        super().__init__(
+            _core.lin_euler_spline(q, t, str(seq)), extrapolate, quats=q, times=t, seq=seq
+        )
