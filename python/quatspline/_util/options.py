@@ -86,7 +86,7 @@ def parse_angle(value, name: str = "max_error") -> float:
     >>> parse_angle("1parsec", "--max-error")
     Traceback (most recent call last):
     ...
-    quatspline._util.errors.ParameterError: --max-error: cannot parse '1parsec'; expected ...
+    quatspline.ops.ParameterError: --max-error: cannot parse '1parsec'; expected ...
     """
     return _bound(value, name, ANGLE_UNITS, "deg")
 
@@ -120,7 +120,7 @@ def parse_smoothing(value, name: str = "smoothing"):
     >>> parse_smoothing("lots", "--smoothing")
     Traceback (most recent call last):
     ...
-    quatspline._util.errors.ParameterError: --smoothing: expected 'auto' or a number ≥ 0, got 'lots'
+    quatspline.ops.ParameterError: --smoothing: expected 'auto' or a number ≥ 0, got 'lots'
     """
     if isinstance(value, str):
         text = value.strip()
@@ -177,7 +177,7 @@ def parse_pairs(pairs, name: str = "--param") -> dict[str, str]:
     >>> parse_pairs(["alpha"])
     Traceback (most recent call last):
     ...
-    quatspline._util.errors.ParameterError: --param: expected name=value, got 'alpha'
+    quatspline.ops.ParameterError: --param: expected name=value, got 'alpha'
     """
     out: dict[str, str] = {}
     for p in pairs or ():
