@@ -58,10 +58,30 @@ from pathlib import Path
 
 import numpy as np
 
+from . import io as qio
+from . import ops
 from ._core import __version__
 from ._util.atomic import atomic_write, file_kind, make_directories, remove_stale_temporaries
+from ._util.errors import ParameterError
+from ._util.optional import MissingDependency, need
+from ._util.options import parse_positive_int, parse_smoothing
+from ._util.progress_bars import progress as progress_bar
+from .cli.options import (
+    add_compare_options,
+    add_export_options,
+    add_fit_options,
+    add_input_options,
+    add_method_options,
+    add_sampling_options,
+    compare_options,
+    export_options,
+    fit_options,
+    method_options,
+    read_input,
+    read_options,
+    sampling_options,
+)
 from .io._common import open_regular
-from .ops._ops import ParameterError
 
 __all__ = ["OPERATIONS", "expand_inputs", "local_cluster", "plan", "run", "summarize"]
 
@@ -71,15 +91,11 @@ OPERATIONS = ("sample", "fit", "compare", "export")
 _STATE_DIR = ".quatspline-batch"
 _DEFAULT_MAX_FILE_BYTES = 1 << 30
 _TRAJ_EXT = (".csv", ".txt", ".tum", ".json", ".npz", ".bvh", ".kitti", ".bag", ".mcap")
-_DASK_HINT = 'quatspline batch needs Dask: pip install "quatspline[dask]"'
 
 
 def _need_dask():
-    try:
-        import dask.distributed  # noqa: F401
-    except ImportError:
-        raise ImportError(_DASK_HINT) from None
-    return dask.distributed
+    """``dask.distributed``, or an ImportError naming the ``dask`` extra."""
+    return need("dask.distributed", extra="dask", what="quatspline batch")
 
 
 # ---- inputs -----------------------------------------------------------------------------------
@@ -498,7 +514,7 @@ def _fingerprint(path: Path) -> dict:
 
 
 def _options_key(operation: str, options: dict) -> str:
-    blob = json.dumps([operation, options, __version__], sort_keys=True, default=str)
+    blob = json.dumps([operation, options, __version__], sort_keys=True, default=_jsonable)
     return hashlib.sha256(blob.encode()).hexdigest()[:16]
 
 
@@ -517,11 +533,6 @@ def _up_to_date(task: Task, key: str) -> dict | None:
         return None
     row = rec.get("row")
     return row if isinstance(row, dict) and row.get("status") == "ok" else None
-
-
-def _read_options(options: dict) -> dict:
-    keep = ("format", "joint", "world", "skip_frames", "sort", "dedupe", "euler", "degrees")
-    return {k: options[k] for k in keep if options.get(k) not in (None, False)}
 
 
 def run_one(operation: str, task: Task, options: dict, force: bool = False) -> dict:
@@ -611,79 +622,103 @@ def _jsonable(x):
     return str(x)
 
 
-# ---- the operations (each calls the library; nothing of substance lives here) ------------------
-def _read(task: Task, options: dict):
-    from . import io as qio
+# ---- the operations: each file goes through the single-file command's library call ------------
+#: The keyword arguments of each operation's library call that ``run`` passes on when given
+#: (an option not given takes the library's default, which is the command's default too).
+SAMPLE_OPTIONS = (
+    "method",
+    "params",
+    "rate",
+    "count",
+    "times",
+    "derivatives",
+    "max_samples",
+    "extrapolate",
+)
+FIT_OPTIONS = (
+    "rate",
+    "count",
+    "times",
+    "smoothing",
+    "penalty",
+    "robust",
+    "knots",
+    "derivatives",
+    "max_samples",
+    "extrapolate",
+)
+COMPARE_OPTIONS = ("methods", "holdout")
+EXPORT_OPTIONS = (
+    "max_error",
+    "max_position_error",
+    "interpolation",
+    "node",
+    "mesh",
+    "method",
+    "fps",
+)
+#: The reading options (:func:`quatspline.cli.options.read_options`).
+READ_OPTIONS = (
+    "format",
+    "euler",
+    "degrees",
+    "joint",
+    "world",
+    "skip_frames",
+    "topic",
+    "frame",
+    "node_in",
+    "times_file",
+    "sort",
+    "dedupe",
+)
 
-    return qio.read(task.input, **_read_options(options))
+
+def _given(options: dict, names) -> dict:
+    return {k: options[k] for k in names if options.get(k) is not None}
+
+
+def _read(task: Task, options: dict):
+    return read_input(task.input, _given(options, READ_OPTIONS))
 
 
 def _write(task: Task, traj, options: dict) -> None:
-    from . import io as qio
-
     to = str(options.get("to") or "csv").lower()
     qio.write(task.output, traj, format=OUTPUT_FORMATS[to][1])
 
 
 def _op_sample(task: Task, options: dict) -> dict:
-    """``quatspline sample IN -o OUT``: the same read, ``ops.sample_trajectory`` and write."""
-    from . import ops
-
+    """``quatspline sample IN -o OUT``: the same read, ``ops.sample`` and write."""
     traj = _read(task, options)
-    out = ops.sample_trajectory(
-        traj,
-        options.get("method", "c3"),
-        rate=options.get("rate"),
-        count=options.get("count"),
-        params=options.get("params") or {},
-        derivatives=bool(options.get("derivatives")),
-        max_samples=int(options.get("max_samples") or ops.DEFAULT_MAX_SAMPLES),
-    )
+    out = ops.sample(traj, **_given(options, SAMPLE_OPTIONS))
     _write(task, out, options)
     return {"samples": len(out), "keys": len(traj)}
 
 
 def _op_fit(task: Task, options: dict) -> dict:
     """``quatspline fit IN -o OUT``: the same read, ``fit_trajectory`` and write."""
-    from . import ops
-    from .ops import fit_trajectory
-
     traj = _read(task, options)
-    smoothing = options.get("smoothing", "auto")
-    if smoothing != "auto":
-        try:
-            smoothing = float(smoothing)
-        except (TypeError, ValueError):
-            raise ValueError(f"smoothing: expected auto or a number, got {smoothing!r}") from None
-    out, f = fit_trajectory(
-        traj,
-        rate=options.get("rate"),
-        count=options.get("count"),
-        smoothing=smoothing,
-        penalty=options.get("penalty", "acceleration"),
-        robust=options.get("robust"),
-        derivatives=bool(options.get("derivatives")),
-        max_samples=int(options.get("max_samples") or ops.DEFAULT_MAX_SAMPLES),
-    )
+    kwargs = _given(options, FIT_OPTIONS)
+    if "smoothing" in kwargs:
+        kwargs["smoothing"] = parse_smoothing(kwargs["smoothing"])
+    out, f = ops.fit_trajectory(traj, **kwargs)
     _write(task, out, options)
-    res = np.asarray(f.residuals, dtype=float)
     return {
         "samples": len(out),
         "keys": len(traj),
         "smoothing": float(f.smoothing),
         "effective_dof": float(f.effective_dof),
-        "rms_residual_deg": float(np.degrees(np.sqrt(np.mean(res**2)))) if res.size else 0.0,
+        "rms_residual_deg": ops.rms_residual_deg(f),
     }
 
 
 def _op_compare(task: Task, options: dict) -> dict:
-    """``quatspline compare IN --json``: the library's compare; rows written as JSON."""
-    from . import ops
-
+    """``quatspline compare IN --json``: the library's compare; the rows written as that
+    command prints them."""
     traj = _read(task, options)
-    rows = ops.compare(traj, options.get("methods"), holdout=options.get("holdout"))
+    rows = ops.compare(traj, **_given(options, COMPARE_OPTIONS))
     with atomic_write(task.output) as f:
-        json.dump(rows, f, indent=1)
+        f.write(json.dumps(rows, indent=1) + "\n")
     figures: dict = {"samples": len(traj)}
     for r in rows:
         for k in ("holdout_median_deg", "holdout_p95_deg", "holdout_max_deg", "rms_jerk"):
@@ -693,12 +728,14 @@ def _op_compare(task: Task, options: dict) -> dict:
 
 
 def _op_export(task: Task, options: dict) -> dict:
-    """``quatspline export IN -o OUT.glb``: the library's glTF export with its error bound."""
-    from .ops import _export as export
-
+    """``quatspline export IN -o OUT.glb``: the library's export (glTF, error-bounded)."""
     traj = _read(task, options)
-    opts = {k: options[k] for k in ("max_error", "interpolation", "method") if k in options}
-    report = export.to_gltf(traj, task.output, progress=False, **opts)
+    kwargs = _given(options, EXPORT_OPTIONS)
+    if "mesh" in options:  # None: an empty node (``--empty``)
+        kwargs["mesh"] = options["mesh"]
+    report = ops.export(
+        traj, task.output, progress=False, **kwargs, **(options.get("params") or {})
+    )
     return {
         "samples": len(traj),
         "rotation_keys": report.rotation_keys,
@@ -806,8 +843,7 @@ def local_cluster(workers: int | None = None):
     1
     """
     dd = _need_dask()
-    import dask
-
+    dask = need("dask", extra="dask", what="quatspline batch")
     _check_workers(workers)
     n = int(workers) if workers is not None else min(os.cpu_count() or 1, 4)
     if n < 1:
@@ -863,10 +899,19 @@ def run(
         ``False`` hides the progress bar over files; otherwise it shows on a terminal once
         the batch has run for a second (the package's shared progress helper).
     **options
-        The operation's options, as for the single-file command (``method``, ``rate``,
-        ``count``, ``params``, ``methods``, ``holdout``, ``smoothing``, …), the reading options
-        (``format``, ``joint``, …), ``to`` (output format of sample/fit, default ``"csv"``)
-        and ``max_file_bytes`` (per-task input size limit, default 1 GiB).
+        The keyword arguments of the operation's library call, as the single-file command
+        gives them (:mod:`quatspline.cli.options` translates ``quatspline batch``'s arguments
+        into these): sample — those of :func:`quatspline.ops.sample_trajectory`
+        (:data:`SAMPLE_OPTIONS`); fit — those of :func:`quatspline.fit_trajectory`
+        (:data:`FIT_OPTIONS`); compare — ``methods``, ``holdout`` (default: none, as
+        ``quatspline compare``); export — those of :func:`quatspline.ops.export` and the
+        method's ``params`` (:data:`EXPORT_OPTIONS`; ``fps`` is for BVH, unused in glTF). An
+        option not given takes the library's default, which is the command's. Also the
+        reading options of
+        :func:`quatspline.cli.options.read_input` (``format``, ``euler``, ``degrees``,
+        ``joint``, ``world``, ``skip_frames``, ``topic``, ``frame``, ``node_in``,
+        ``times_file``, ``sort``, ``dedupe``), ``to`` (output format of sample/fit, default
+        ``"csv"``) and ``max_file_bytes`` (per-task input size limit, default 1 GiB).
 
     Returns
     -------
@@ -912,10 +957,7 @@ def run(
     if operation not in OPERATIONS:
         raise ValueError(f"operation: unknown {operation!r}; valid: {', '.join(OPERATIONS)}")
     dd = _need_dask()
-    try:
-        import pandas as pd
-    except ImportError:
-        raise ImportError(_DASK_HINT) from None
+    pd = need("pandas", extra="dask", what="quatspline batch")
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise ValueError(f"out_dir: {out} exists and is not a directory")
@@ -923,8 +965,9 @@ def run(
         operation in ("sample", "fit")
         and options.get("rate") is None
         and options.get("count") is None
+        and options.get("times") is None
     ):
-        raise ValueError(f"{operation}: give rate= (samples per time unit) or count=")
+        raise ValueError(f"{operation}: give rate= (samples per time unit), count= or times=")
     _check_workers(workers)
     inputs, problems = _expand(paths, out_dir=out)
     if not inputs:
@@ -961,8 +1004,6 @@ def run(
             [force] * len(tasks),
             pure=False,
         )
-        from ._util.progress_bars import progress as progress_bar
-
         with progress_bar(
             len(tasks), f"batch {operation}", enabled=progress is not False, unit="file"
         ) as bar:
@@ -1011,11 +1052,11 @@ def _log_errors(out: Path, rows: list[dict]) -> None:
 
 # ---- summary ----------------------------------------------------------------------------------
 def _md_cell(x) -> str:
+    """A Markdown table cell: floats to 4 digits (NaN empty); ``|`` and backslashes escaped,
+    newlines flattened."""
     if isinstance(x, float):
         return "" if math.isnan(x) else f"{x:.4g}"
-    from .ops._compare import _cell
-
-    return _cell(x)
+    return ops.markdown_cell(x)
 
 
 def _md_table(header: list[str], rows: list[list]) -> str:
@@ -1161,12 +1202,10 @@ def summarize(table, out_dir, operation: str) -> None:
 
 def _figure(table, per_method, out: Path, operation: str) -> None:
     try:
-        import matplotlib
-        from matplotlib.figure import Figure
-    except ImportError:
+        figure = need("matplotlib.figure", extra="plot", what="the batch's summary figure")
+    except MissingDependency:
         return
-    del matplotlib
-    fig = Figure(figsize=(7, 4), layout="constrained")
+    fig = figure.Figure(figsize=(7, 4), layout="constrained")
     ax = fig.add_subplot()
     if per_method:
         cols = [f"holdout_median_deg[{r['method']}]" for r in per_method]
@@ -1187,79 +1226,65 @@ def _figure(table, per_method, out: Path, operation: str) -> None:
         fig.savefig(f, format="png", dpi=110)
 
 
-# ---- the command line's part (``quatspline batch``): arguments → options of :func:`run` -------
-def add_arguments(p) -> None:
-    """Adds ``quatspline batch``'s arguments to an argparse parser."""
-    p.add_argument("operation", choices=OPERATIONS, help="the single-file operation to run")
-    p.add_argument("inputs", nargs="+", help="files, directories (recursive) or glob patterns")
-    p.add_argument("-o", "--output", required=True, help="output directory")
-    where = p.add_mutually_exclusive_group()
-    where.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address or file")
-    where.add_argument("--workers", type=int, help="local worker processes (default: cores)")
-    p.add_argument("--force", action="store_true", help="redo files whose output is up to date")
-    p.add_argument("--in-format", help="input format (default: guessed per file)")
-    p.add_argument("--joint", help="BVH joint (default: the root)")
-    p.add_argument("--world", action="store_true", help="BVH: world rotation instead of local")
-    p.add_argument("--skip-frames", type=int, default=0, help="BVH: frames to drop at the start")
-    p.add_argument("--sort", action="store_true", help="sort rows by time instead of failing")
-    p.add_argument("--dedupe", action="store_true", help="drop rows with a repeated time")
-    p.add_argument("--max-file-size", type=int, metavar="BYTES", help="per-file size limit")
-    g = p.add_argument_group("sample / fit")
-    g.add_argument("--method", default="c3", help="sample: interpolation method (default: c3)")
-    g.add_argument("--param", action="append", metavar="NAME=VALUE", help="method parameter")
-    rate = g.add_mutually_exclusive_group()
-    rate.add_argument("--rate", type=float, help="samples per time unit")
-    rate.add_argument("--count", type=int, help="samples per file")
-    g.add_argument("--derivatives", action="store_true", help="add ω, α and jerk columns")
-    g.add_argument("--to", default="csv", help="output format of sample/fit (default: csv)")
-    g.add_argument("--smoothing", default="auto", help="fit: auto or a λ ≥ 0")
-    g.add_argument("--penalty", default="acceleration", help="fit: acceleration | jerk")
-    g.add_argument("--robust", help="fit: huber | cauchy")
-    c = p.add_argument_group("compare")
-    c.add_argument("--methods", help="comma-separated methods (default: all interpolating)")
-    c.add_argument("--holdout", type=int, default=4, metavar="K", help="keys = every K-th frame")
-    e = p.add_argument_group("export")
-    e.add_argument("--max-error", default="0.01deg", help="glTF playback error bound")
-    e.add_argument("--interpolation", default="linear", help="glTF: linear | cubicspline")
+# ---- the command line's part (``quatspline batch OPERATION``): arguments → options of :func:`run`
+def add_arguments(p, parser_class=None) -> None:
+    """Adds ``quatspline batch``'s operations to an argparse parser: one sub-command per
+    operation, each with the option groups of the single-file command of that name
+    (:mod:`quatspline.cli.options`: the same options, choices and defaults) and the batch's
+    own: ``-o OUTDIR``, ``--scheduler`` or ``--workers``, ``--force``, ``--max-file-size`` and
+    (sample, fit) ``--to``."""
+    kw = {} if parser_class is None else {"parser_class": parser_class}
+    sub = p.add_subparsers(dest="operation", metavar="OPERATION", required=True, **kw)
+    helps = {
+        "sample": "sample a spline through each file's keys (as quatspline sample)",
+        "fit": "fit a smooth spline to each file and sample it (as quatspline fit)",
+        "compare": "compare methods on each file (as quatspline compare --json)",
+        "export": "export each file to glTF (as quatspline export -o FILE.glb)",
+    }
+    for op in OPERATIONS:
+        o = sub.add_parser(op, help=helps[op], description=helps[op])
+        add_input_options(o, many=True)
+        o.add_argument("-o", "--output", required=True, help="output directory")
+        where = o.add_mutually_exclusive_group()
+        where.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address or file")
+        where.add_argument("--workers", type=int, help="local worker processes (default: cores)")
+        o.add_argument("--force", action="store_true", help="redo files whose output is up to date")
+        o.add_argument("--max-file-size", type=int, metavar="BYTES", help="per-file size limit")
+        if op in ("sample", "fit"):
+            o.add_argument(
+                "--to",
+                default="csv",
+                type=str.lower,
+                choices=tuple(OUTPUT_FORMATS),
+                help="output format of each file (default: csv)",
+            )
+        if op == "sample":
+            add_method_options(o)
+            add_sampling_options(o)
+        elif op == "fit":
+            add_sampling_options(o, extrapolate=ops.FIT_EXTRAPOLATE)
+            add_fit_options(o)
+        elif op == "compare":
+            add_compare_options(o)
+        else:
+            add_export_options(o)
+            add_method_options(o, what="spline through the keys")
 
 
 def cli_options(args) -> dict:
-    """The options of :func:`run` that ``quatspline batch``'s arguments give, only those of the
-    chosen operation (so that changing another operation's option does not redo files)."""
-    read = {
-        "format": args.in_format,
-        "joint": args.joint,
-        "world": args.world,
-        "skip_frames": args.skip_frames or None,
-        "sort": args.sort,
-        "dedupe": args.dedupe,
-    }
-    opts: dict = {k: v for k, v in read.items() if v not in (None, False)}
+    """The options of :func:`run` that ``quatspline batch OPERATION``'s arguments give: the
+    same translation as the single-file command's (:mod:`quatspline.cli.options`), so each
+    file's library call gets the same arguments."""
+    opts: dict = {k: v for k, v in read_options(args).items() if v not in (None, False, 0)}
     if args.max_file_size is not None:
-        if args.max_file_size < 1:
-            raise ValueError(f"--max-file-size: expected a positive size, got {args.max_file_size}")
-        opts["max_file_bytes"] = args.max_file_size
+        opts["max_file_bytes"] = parse_positive_int(args.max_file_size, "--max-file-size")
     op = args.operation
-    if op in ("sample", "fit"):
-        if args.rate is None and args.count is None:
-            raise ValueError(f"batch {op}: give --rate HZ or --count N")
-        opts.update(
-            {"rate": args.rate} if args.rate is not None else {"count": args.count},
-            derivatives=args.derivatives,
-            to=args.to,
-        )
-        if op == "sample":
-            from .cli._commands import _params
-
-            opts.update(method=args.method, params=_params(args.param))
-        else:
-            opts.update(smoothing=args.smoothing, penalty=args.penalty)
-            if args.robust:
-                opts["robust"] = args.robust
+    if op == "sample":
+        opts.update(method_options(args), **sampling_options(args), to=args.to)
+    elif op == "fit":
+        opts.update(sampling_options(args), **fit_options(args), to=args.to)
     elif op == "compare":
-        if args.methods:
-            opts["methods"] = [m.strip() for m in args.methods.split(",") if m.strip()]
-        opts["holdout"] = args.holdout
+        opts.update(compare_options(args))
     else:
-        opts.update(max_error=args.max_error, interpolation=args.interpolation)
-    return opts
+        opts.update(export_options(args), **method_options(args))
+    return {k: v for k, v in opts.items() if v is not None or k == "mesh"}

@@ -247,8 +247,13 @@ def test_unknown_operation_and_missing_rate(tmp_path):
     with pytest.raises(ValueError, match="operation: unknown 'resample'"):
         batch.run("resample", [tmp_path], tmp_path / "o")
     _recordings(tmp_path / "in", n=1)
-    code = main(["batch", "sample", str(tmp_path / "in"), "-o", str(tmp_path / "o")])
-    assert code == 1
+    with pytest.raises(ValueError, match="give rate="):
+        batch.run("sample", [tmp_path / "in"], tmp_path / "o")
+    # the command line: a usage error, as `quatspline sample` without --rate, --count or --at
+    with pytest.raises(SystemExit) as e:
+        main(["batch", "sample", str(tmp_path / "in"), "-o", str(tmp_path / "o")])
+    assert e.value.code == 2
+    assert not (tmp_path / "o").exists()
 
 
 def test_too_large_file_is_refused_before_reading(tmp_path, client):

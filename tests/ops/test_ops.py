@@ -418,4 +418,4 @@ def test_compare_is_the_route_of_the_cli(tmp_path, capsys, monkeypatch):
     seen = []
     monkeypatch.setattr(ops, "compare", lambda *a, **k: seen.append((a, k)) or [])
     assert main(["compare", str(p), "--json"]) == 0
-    assert seen and seen[0][0][1] is None  # no --methods: the library's default list
+    assert seen and seen[0][1]["methods"] is None  # no --methods: the library's default list

@@ -14,13 +14,13 @@ import sys
 import warnings
 from pathlib import Path
 
-import numpy as np
-
-from .. import __version__, ops
+from .. import batch, demo, ops, plot, viewer
 from .. import io as qio
+from .._core import __version__
 from .._util.atomic import resolve_output
-from ..io.kitti import read_times
+from ..poses.pose_spline import PoseSpline
 from ..registry import METHODS
+from . import options
 
 
 class UsageError(Exception):
@@ -36,51 +36,8 @@ class _Parser(argparse.ArgumentParser):
 
 
 # ---- shared helpers -------------------------------------------------------------------------
-def _params(pairs: list[str] | None, method: str | None = None) -> dict:
-    """``--param NAME=VALUE`` pairs as a dict; with a ``method`` of the registry, a name that
-    is not one of its parameters is a usage error naming the valid ones (never passed on as
-    a keyword to whatever the command calls)."""
-    out = {}
-    known = METHODS[method].params if isinstance(method, str) and method in METHODS else None
-    for p in pairs or []:
-        if "=" not in p:
-            raise UsageError(f"--param: expected name=value, got {p!r}")
-        k, v = p.split("=", 1)
-        k = k.strip()
-        if known is not None and k not in known:
-            valid = ", ".join(known) or "none"
-            raise UsageError(f"--param {k}: not a parameter of {method}; valid: {valid}")
-        out[k] = v.strip()
-    return out
-
-
-def _times_file(path: Path, option: str, one: str = "time") -> np.ndarray:
-    """One number per line (``#`` comments) from ``path``, read as the KITTI times reader
-    reads (a regular file, bounded lines); an unreadable or empty file is a one-line error
-    naming the option and the file."""
-    try:
-        t = read_times(path)
-    except ValueError as e:
-        raise ValueError(f"{option}: {e}") from None
-    if t.size == 0:
-        raise ValueError(f"{option} {path}: the file holds no {one}s")
-    return t
-
-
 def _read(args) -> qio.Trajectory:
-    opts = {"sort": args.sort, "dedupe": args.dedupe}
-    fmt = args.in_format or qio.detect_format(args.input)
-    if fmt == "csv" and args.euler:
-        opts.update(euler=args.euler, degrees=args.degrees)
-    if fmt == "bvh":
-        opts.update(joint=args.joint, world=args.world, skip_frames=args.skip_frames)
-    if fmt == "rosbag":
-        opts.update(topic=getattr(args, "topic", None), frame=getattr(args, "frame", None))
-    if fmt == "gltf" and getattr(args, "node_in", None):
-        opts.update(node=args.node_in)
-    if fmt == "kitti" and getattr(args, "times", None):
-        opts.update(times=args.times)
-    return qio.read(args.input, format=fmt, **opts)
+    return options.read_input(args.input, options.read_options(args))
 
 
 def _check_output(args) -> None:
@@ -159,18 +116,7 @@ def cmd_sample(args) -> int:
     _check_output(args)
     _guard_output(Path(args.output), args)
     traj = _read(args)
-    times = None if args.at is None else ops.times_from_file(args.at)
-    out = ops.sample(
-        traj,
-        args.method,
-        rate=args.rate,
-        count=args.count,
-        times=times,
-        params=_params(args.param, args.method),
-        derivatives=args.derivatives,
-        max_samples=args.max_samples,
-        extrapolate=args.extrapolate,
-    )
+    out = ops.sample(traj, **options.method_options(args), **options.sampling_options(args))
     _write_trajectory(args, out)
     at = "" if args.at is None else f" at the times of {args.at}"
     print(
@@ -182,42 +128,16 @@ def cmd_sample(args) -> int:
 
 
 # ---- fit ------------------------------------------------------------------------------------
-def _knot_file(path: Path) -> np.ndarray:
-    """Knot times from a text file (one per line, ``#`` comments), on the recording's clock."""
-    return _times_file(path, "--knots", "knot time")
-
-
 def cmd_fit(args) -> int:
     """``quatspline fit``: least-squares fitting spline through noisy measurements (thin: the
     work is :func:`quatspline.ops.fit_trajectory`)."""
     _check_output(args)
     _guard_output(Path(args.output), args)
     traj = _read(args)
-    times = None if args.at is None else ops.times_from_file(args.at)
-    knots = None
-    if args.knots is not None:
-        try:
-            knots = float(args.knots)
-        except ValueError:
-            knots = _knot_file(Path(args.knots))
-    smoothing = args.smoothing
-    if smoothing != "auto":
-        try:
-            smoothing = float(smoothing)
-        except ValueError:
-            raise UsageError(f"--smoothing: expected auto or a number, got {smoothing!r}") from None
     out, f = ops.fit_trajectory(
         traj,
-        rate=args.rate,
-        count=args.count,
-        times=times,
-        smoothing=smoothing,
-        penalty=args.penalty,
-        robust=args.robust,
-        knots=knots,
-        derivatives=args.derivatives,
-        max_samples=args.max_samples,
-        extrapolate=args.extrapolate,
+        **options.sampling_options(args),
+        **options.fit_options(args),
         progress=True if len(traj) >= 20_000 else None,
     )
     _write_trajectory(args, out)
@@ -234,8 +154,7 @@ def cmd_fit(args) -> int:
 # ---- compare --------------------------------------------------------------------------------
 def cmd_compare(args) -> int:
     traj = _read(args)
-    methods = args.methods.split(",") if args.methods else None  # None: the library's default
-    rows = ops.compare(traj, methods, args.holdout, progress=True)
+    rows = ops.compare(traj, **options.compare_options(args), progress=True)
     if args.json:
         print(json.dumps(rows, indent=1))
     else:
@@ -249,7 +168,7 @@ def _family(args, traj):
     vals = [v for v in values.split(",") if v]
     if not vals:
         raise UsageError("--family: expected PARAM=v1,v2,…")
-    base = _params(args.param, args.method)
+    base = options.checked_params(args.param, args.method)
     out = {}
     for v in vals:
         out[f"{name} = {v}"] = ops.build_spline(args.method, traj, {**base, name: v})
@@ -257,9 +176,6 @@ def _family(args, traj):
 
 
 def cmd_plot(args) -> int:
-    from .. import plot
-    from .._util.atomic import resolve_output
-
     if Path(args.output).suffix.lower() not in (".png", ".svg", ".pdf"):
         raise UsageError(f"{args.output}: expected a .png, .svg or .pdf output")
     resolve_output(args.output)
@@ -274,7 +190,7 @@ def cmd_plot(args) -> int:
             title=f"{name}: {args.method}, {args.family or 'alpha sweep'}",
         )
     else:
-        s = ops.build_spline(args.method, traj, _params(args.param, args.method))
+        s = ops.build_spline(args.method, traj, options.checked_params(args.param, args.method))
         if args.kind == "sphere":
             fig = plot.sphere(s, key_times=kt, name=name)
         elif args.kind == "rates":
@@ -286,8 +202,6 @@ def cmd_plot(args) -> int:
         else:
             pos = None
             if traj.positions is not None:
-                from ..poses.pose_spline import PoseSpline
-
                 pos = PoseSpline(traj.quats, kt, traj.positions, rotation="slerp").position
             fig = plot.body(s, positions=pos, name=name)
     _guard_output(Path(args.output), args)
@@ -299,55 +213,23 @@ def cmd_plot(args) -> int:
 # ---- export ---------------------------------------------------------------------------------
 def cmd_export(args) -> int:
     traj = _read(args)
+    exported = options.export_options(args)
+    method = options.method_options(args)
     out = Path(args.output)
     _guard_output(out, args)
-    rep = ops.export(
-        traj,
-        out,
-        method=args.method,
-        max_error=args.max_error,
-        max_position_error=args.max_position_error,
-        interpolation=args.interpolation,
-        node=args.node,
-        mesh=None if args.empty else "axes",
-        fps=args.fps,
-        **_params(args.param, args.method),
-    )
+    rep = ops.export(traj, out, method=method["method"], **exported, **method["params"])
     print(rep.summary() if isinstance(rep, ops.GltfReport) else f"wrote {rep.summary()}")
     return 0
 
 
 # ---- demo -----------------------------------------------------------------------------------
 def cmd_demo(args) -> int:
-    from .. import demo
-
     return demo.run(Path(args.out), recording=Path(args.recording) if args.recording else None)
 
 
 # ---- parser ---------------------------------------------------------------------------------
-def _input_options(p):
-    p.add_argument("input", help="trajectory file (csv, json, npz, tum, euroc, repoimu, bvh)")
-    p.add_argument(
-        "--in-format", choices=sorted(qio.FORMATS), help="input format (default: guessed)"
-    )
-    p.add_argument("--euler", metavar="SEQ", help="CSV with Euler angle columns in sequence SEQ")
-    p.add_argument("--degrees", action="store_true", help="Euler angles in degrees")
-    p.add_argument("--joint", help="BVH joint (default: the root)")
-    p.add_argument("--world", action="store_true", help="BVH: world rotation instead of local")
-    p.add_argument("--skip-frames", type=int, default=0, help="BVH: frames to drop at the start")
-    p.add_argument("--topic", help="ROS bag / MCAP: the topic (listed when missing)")
-    p.add_argument("--frame", help="ROS bag /tf topics: the child frame to follow")
-    p.add_argument("--node-in", metavar="NODE", help="glTF input: the animated node")
-    p.add_argument("--times", metavar="FILE", help="KITTI: the times file (one per line)")
-    p.add_argument("--sort", action="store_true", help="sort rows by time instead of failing")
-    p.add_argument("--dedupe", action="store_true", help="drop rows with a repeated time")
-
-
 # ---- batch ----------------------------------------------------------------------------------
 def cmd_batch(args) -> int:
-    from .. import batch
-
-    options = batch.cli_options(args)
     table = batch.run(
         args.operation,
         args.inputs,
@@ -355,7 +237,7 @@ def cmd_batch(args) -> int:
         scheduler=args.scheduler,
         workers=args.workers,
         force=args.force,
-        **options,
+        **batch.cli_options(args),
     )
     n_bad = int((table["status"] == "error").sum())
     n_skip = int((table["status"] == "skipped").sum())
@@ -368,9 +250,7 @@ def cmd_batch(args) -> int:
 
 # ---- view -----------------------------------------------------------------------------------
 def cmd_view(args) -> int:
-    from ..viewer import serve
-
-    serve(args.input, port=args.port, open_browser=not args.no_browser)
+    viewer.serve(args.input, port=args.port, open_browser=not args.no_browser)
     return 0
 
 
@@ -385,7 +265,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
 
     s = sub.add_parser("sample", help="sample a spline through a recording's keys")
-    _input_options(s)
+    options.add_input_options(s)
     s.add_argument(
         "-o",
         "--output",
@@ -394,84 +274,31 @@ def build_parser() -> argparse.ArgumentParser:
         "or - for standard output (csv unless --format)",
     )
     s.add_argument("--format", choices=sorted(qio.FORMATS), help="output format")
-    s.add_argument("--method", default="c3", help="interpolation method (default: c3)")
-    s.add_argument("--param", action="append", metavar="NAME=VALUE", help="method parameter")
-    g = s.add_mutually_exclusive_group(required=True)
-    g.add_argument("--rate", type=float, help="samples per time unit")
-    g.add_argument("--count", type=int, help="number of samples")
-    g.add_argument(
-        "--at", metavar="FILE", help="sample at the times of a trajectory file (or one-column file)"
-    )
-    s.add_argument("--derivatives", action="store_true", help="add ω, α and jerk columns")
-    s.add_argument(
-        "--max-samples",
-        type=int,
-        default=ops.DEFAULT_MAX_SAMPLES,
-        metavar="N",
-        help=f"refuse to write more than N samples (default: {ops.DEFAULT_MAX_SAMPLES:,}; "
-        "about 300 bytes each at peak with positions and derivatives)",
-    )
-    s.add_argument(
-        "--extrapolate",
-        choices=("raise", "clamp", "linear", "periodic"),
-        default="raise",
-        help="times outside the keys (--at): raise (default), clamp, linear (constant angular "
-        "and linear velocity) or periodic",
-    )
+    options.add_method_options(s)
+    options.add_sampling_options(s)
     s.add_argument("--force", action="store_true", help="allow overwriting the input file")
     s.set_defaults(func=cmd_sample)
 
     ft = sub.add_parser("fit", help="fit a smooth spline to noisy measurements and sample it")
-    _input_options(ft)
+    options.add_input_options(ft)
     ft.add_argument("-o", "--output", required=True, help="output file, or - (as sample)")
     ft.add_argument("--format", choices=sorted(qio.FORMATS), help="output format")
-    ft.add_argument("--smoothing", default="auto", help="λ: auto (GCV, default) or a number ≥ 0")
-    ft.add_argument("--penalty", choices=("acceleration", "jerk", "auto"), default="acceleration")
-    ft.add_argument("--robust", choices=("huber", "cauchy"), help="robust loss against glitches")
-    ft.add_argument(
-        "--knots",
-        metavar="SPACING|FILE",
-        help="knot spacing, or a file of knot times (one per line, the recording's clock, from "
-        "its first to its last time; uneven spacing allowed); default: one per sample interval",
-    )
-    g = ft.add_mutually_exclusive_group(required=True)
-    g.add_argument("--rate", type=float, help="samples per time unit")
-    g.add_argument("--count", type=int, help="number of samples")
-    g.add_argument(
-        "--at", metavar="FILE", help="sample at the times of a trajectory file (or one-column file)"
-    )
-    ft.add_argument("--derivatives", action="store_true", help="add ω, α and jerk columns")
-    ft.add_argument(
-        "--max-samples",
-        type=int,
-        default=ops.DEFAULT_MAX_SAMPLES,
-        metavar="N",
-        help="refuse to write more than N samples",
-    )
-    ft.add_argument(
-        "--extrapolate",
-        choices=("raise", "clamp"),
-        default="raise",
-        help="times outside the recording (--at): raise (default) or clamp (hold the end pose)",
-    )
+    options.add_fit_options(ft)
+    options.add_sampling_options(ft, extrapolate=ops.FIT_EXTRAPOLATE)
     ft.add_argument("--force", action="store_true", help="allow overwriting the input file")
     ft.set_defaults(func=cmd_fit)
 
     c = sub.add_parser("compare", help="compare methods on a recording")
-    _input_options(c)
-    c.add_argument("--methods", help="comma-separated methods (default: all interpolating)")
-    c.add_argument(
-        "--holdout", type=int, metavar="K", help="keys = every K-th frame; score the rest"
-    )
+    options.add_input_options(c)
+    options.add_compare_options(c)
     c.add_argument("--json", action="store_true", help="print JSON instead of a table")
     c.set_defaults(func=cmd_compare)
 
     pl = sub.add_parser("plot", help="plot a spline through a recording's keys")
-    _input_options(pl)
+    options.add_input_options(pl)
     pl.add_argument("-o", "--output", required=True, help="figure file (.png, .svg, .pdf)")
     pl.add_argument("--kind", choices=("sphere", "body", "rates", "family"), default="sphere")
-    pl.add_argument("--method", default="c3", help="interpolation method (default: c3)")
-    pl.add_argument("--param", action="append", metavar="NAME=VALUE", help="method parameter")
+    options.add_method_options(pl)
     pl.add_argument("--family", metavar="PARAM=V1,V2,…", help="family: the parameter to sweep")
     pl.add_argument(
         "--show", metavar="LIST", help="rates: some of omega,alpha,jerk (default: omega,alpha)"
@@ -480,16 +307,10 @@ def build_parser() -> argparse.ArgumentParser:
     pl.set_defaults(func=cmd_plot)
 
     e = sub.add_parser("export", help="export a motion to glTF 2.0 (error-bounded) or BVH")
-    _input_options(e)
+    options.add_input_options(e)
     e.add_argument("-o", "--output", required=True, help="motion.glb, motion.gltf or motion.bvh")
-    e.add_argument("--node", default="body", help="glTF node name (default: body)")
-    e.add_argument("--max-error", default="0.01deg", help="orientation bound (default: 0.01deg)")
-    e.add_argument("--max-position-error", default="0.1mm", help="position bound (default: 0.1mm)")
-    e.add_argument("--interpolation", choices=("linear", "cubicspline"), default="linear")
-    e.add_argument("--empty", action="store_true", help="an empty node instead of an axes mesh")
-    e.add_argument("--fps", type=float, help="BVH: frame rate (default: from the key spacing)")
-    e.add_argument("--method", default="c3", help="spline through the keys (default: c3)")
-    e.add_argument("--param", action="append", metavar="NAME=VALUE", help="method parameter")
+    options.add_export_options(e)
+    options.add_method_options(e, what="spline through the keys")
     e.add_argument("--force", action="store_true", help="allow overwriting the input file")
     e.set_defaults(func=cmd_export)
 
@@ -500,10 +321,8 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("--recording", help="recording to use (default: bundled TUM RGB-D fr1/xyz)")
     d.set_defaults(func=cmd_demo)
 
-    from ..batch import add_arguments
-
     b = sub.add_parser("batch", help="one operation over many files, distributed with Dask")
-    add_arguments(b)
+    batch.add_arguments(b, parser_class=_Parser)
     b.set_defaults(func=cmd_batch)
 
     v = sub.add_parser("view", help="design attitude motion in the browser (local web page)")

@@ -26,6 +26,7 @@ import numpy as np
 
 from .. import _core
 from .._util.arrays import as_real, with_width
+from .._util.options import parse_smoothing
 from ..core.algebra import rotate
 from ..splines import Spline, describe
 
@@ -75,17 +76,9 @@ def _integer(value, name: str, lo: int, hi: int, what: str) -> int:
 
 
 def _lambda(value, name: str):
-    """None for "auto", else a float (validated by the core: finite, ≥ 0)."""
-    if isinstance(value, str):
-        if value != "auto":
-            raise ValueError(f"{name}: expected 'auto' or a number ≥ 0, got {value!r}")
-        return None
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{name}: expected 'auto' or a number, got {type(value).__name__}")
-    v = float(value)
-    if not (np.isfinite(v) and v >= 0):
-        raise ValueError(f"{name}: expected 'auto' or a finite λ ≥ 0, got {v:.6g}")
-    return v
+    """None for "auto", else a float (finite, ≥ 0)."""
+    v = parse_smoothing(value, name)
+    return None if v == "auto" else v
 
 
 def _knots(knots):

@@ -21,9 +21,9 @@ from __future__ import annotations
 
 from ..io.trajectory import set_sampler
 from . import _resample
-from ._compare import compare, format_table
+from ._compare import compare, format_table, markdown_cell
 from ._export import BvhReport, GltfReport, export, to_bvh, to_gltf
-from ._fit import fit_trajectory, rms_residual_deg
+from ._fit import FIT_EXTRAPOLATE, fit_trajectory, rms_residual_deg
 from ._ops import DEFAULT_MAX_SAMPLES, ParameterError, build_spline
 from ._sample import (
     check_times,
@@ -34,6 +34,7 @@ from ._sample import (
 )
 
 __all__ = [
+    "FIT_EXTRAPOLATE",
     "BvhReport",
     "export",
     "GltfReport",
@@ -46,6 +47,7 @@ __all__ = [
     "compare",
     "fit_trajectory",
     "format_table",
+    "markdown_cell",
     "rms_residual_deg",
     "sample",
     "sample_times",

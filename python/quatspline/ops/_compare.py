@@ -14,7 +14,7 @@ from ..splines import path_length
 from ..splines.joints import continuity
 from ._ops import ParameterError, _build, _check_trajectory, _int_arg
 
-__all__ = ["TABLE_COLUMNS", "compare", "format_table"]
+__all__ = ["TABLE_COLUMNS", "compare", "format_table", "markdown_cell"]
 
 
 def compare(
@@ -144,7 +144,7 @@ TABLE_COLUMNS = [
 ]
 
 
-def _cell(text: str) -> str:
+def markdown_cell(text) -> str:
     """A Markdown table cell: ``|`` and backslashes escaped, newlines flattened."""
     return str(text).replace("\\", "\\\\").replace("|", "\\|").replace("\n", " ")
 
@@ -175,7 +175,9 @@ def format_table(rows: list[dict]) -> str:
     if not rows:
         return ""
     cols = [c for c in TABLE_COLUMNS if c[0] in rows[0]]
-    head = "| " + " | ".join(_cell(c[1]) for c in cols) + " |"
+    head = "| " + " | ".join(markdown_cell(c[1]) for c in cols) + " |"
     sep = "|" + "|".join("---" if c[0] == "method" else "---:" for c in cols) + "|"
-    body = ["| " + " | ".join(_cell(f.format(r[k])) for k, _, f in cols) + " |" for r in rows]
+    body = [
+        "| " + " | ".join(markdown_cell(f.format(r[k])) for k, _, f in cols) + " |" for r in rows
+    ]
     return "\n".join([head, sep, *body])

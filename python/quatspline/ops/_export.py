@@ -29,12 +29,12 @@ in chunks.
 from __future__ import annotations
 
 import os
-import re
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from .._util.options import parse_angle, parse_length
 from .._util.progress_bars import progress as bar
 from ..core.interpolate import slerp
 from ..core.metrics import angle_between
@@ -55,58 +55,6 @@ __all__ = [
     "to_bvh",
     "to_gltf",
 ]
-
-_ANGLE_UNITS = {
-    "rad": 1.0,
-    "mrad": 1e-3,
-    "urad": 1e-6,
-    "deg": np.pi / 180,
-    "°": np.pi / 180,
-    "arcmin": np.pi / 180 / 60,
-    "arcsec": np.pi / 180 / 3600,
-}
-_LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6}
-_NUM = r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*([^\s\d.+-][^\s]*)?\s*"
-
-
-def _parse(value, name: str, units: dict, default_unit: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, str, np.floating)):
-        raise TypeError(f"{name}: expected a number or a string such as '0.01{default_unit}'")
-    if isinstance(value, str):
-        m = re.fullmatch(_NUM, value)
-        if not m or (m.group(2) is not None and m.group(2) not in units):
-            raise ValueError(
-                f"{name}: cannot parse {value!r}; expected a number with a unit "
-                f"({', '.join(units)}), e.g. '0.01{default_unit}'"
-            )
-        x = float(m.group(1)) * units[m.group(2) or default_unit]
-    else:
-        x = float(value) * units[default_unit]
-    if not (np.isfinite(x) and x > 0):
-        raise ValueError(f"{name}: expected a positive finite bound, got {value!r}")
-    return x
-
-
-def parse_angle(value, name: str = "max_error") -> float:
-    """An angle bound in radians from a number (degrees) or a string with a unit.
-
-    Examples
-    --------
-    >>> round(parse_angle("0.5deg"), 9), parse_angle("2mrad"), round(parse_angle(1.0), 9)
-    (0.008726646, 0.002, 0.017453293)
-    """
-    return _parse(value, name, _ANGLE_UNITS, "deg")
-
-
-def parse_length(value, name: str = "max_position_error") -> float:
-    """A length bound in metres from a number (metres) or a string with a unit.
-
-    Examples
-    --------
-    >>> parse_length("1mm"), parse_length(0.25)
-    (0.001, 0.25)
-    """
-    return _parse(value, name, _LENGTH_UNITS, "m")
 
 
 def angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:

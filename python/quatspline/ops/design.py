@@ -20,6 +20,7 @@ from .. import io as qio
 from .._util import checks as _checks
 from .._util.arrays import as_real, as_times
 from .._util.errors import ParameterError
+from .._util.options import parse_smoothing
 from ..core.algebra import normalize
 from ..registry import (
     METHODS,
@@ -153,16 +154,13 @@ def _param_value(method: str, name: str, value):
         return None
     if conv in (float, float_or_none):
         return _checks.real(value, label)
-    if conv in (float_or_auto, smoothing_spec):
+    if conv is smoothing_spec:  # fit's λ: the page sends what was typed
+        return parse_smoothing(value, label)
+    if conv is float_or_auto:
         if isinstance(value, str):
             if value.strip().lower() == "auto":
                 return "auto"
-            if conv is float_or_auto:
-                raise TypeError(f"{label}: expected a number or 'auto', got str {value!r}")
-            try:  # fit's λ: the page sends what was typed
-                value = float(value)
-            except ValueError:
-                raise ValueError(f"{label}: expected 'auto' or a number, got {value!r}") from None
+            raise TypeError(f"{label}: expected a number or 'auto', got str {value!r}")
         elif isinstance(value, (bool, np.bool_)) or not isinstance(
             value, (int, float, np.integer, np.floating)
         ):
