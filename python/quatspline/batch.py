@@ -66,7 +66,7 @@ from ._util.errors import ParameterError
 from ._util.optional import MissingDependency, need
 from ._util.options import parse_positive_int, parse_smoothing
 from ._util.progress_bars import progress as progress_bar
-from .cli.options import (
+from .arguments import (
     add_compare_options,
     add_export_options,
     add_fit_options,
@@ -657,7 +657,7 @@ EXPORT_OPTIONS = (
     "method",
     "fps",
 )
-#: The reading options (:func:`quatspline.cli.options.read_options`).
+#: The reading options (:func:`quatspline.arguments.read_options`).
 READ_OPTIONS = (
     "format",
     "euler",
@@ -900,7 +900,7 @@ def run(
         the batch has run for a second (the package's shared progress helper).
     **options
         The keyword arguments of the operation's library call, as the single-file command
-        gives them (:mod:`quatspline.cli.options` translates ``quatspline batch``'s arguments
+        gives them (:mod:`quatspline.arguments` translates ``quatspline batch``'s arguments
         into these): sample — those of :func:`quatspline.ops.sample_trajectory`
         (:data:`SAMPLE_OPTIONS`); fit — those of :func:`quatspline.fit_trajectory`
         (:data:`FIT_OPTIONS`); compare — ``methods``, ``holdout`` (default: none, as
@@ -908,7 +908,7 @@ def run(
         method's ``params`` (:data:`EXPORT_OPTIONS`; ``fps`` is for BVH, unused in glTF). An
         option not given takes the library's default, which is the command's. Also the
         reading options of
-        :func:`quatspline.cli.options.read_input` (``format``, ``euler``, ``degrees``,
+        :func:`quatspline.arguments.read_input` (``format``, ``euler``, ``degrees``,
         ``joint``, ``world``, ``skip_frames``, ``topic``, ``frame``, ``node_in``,
         ``times_file``, ``sort``, ``dedupe``), ``to`` (output format of sample/fit, default
         ``"csv"``) and ``max_file_bytes`` (per-task input size limit, default 1 GiB).
@@ -1230,7 +1230,7 @@ def _figure(table, per_method, out: Path, operation: str) -> None:
 def add_arguments(p, parser_class=None) -> None:
     """Adds ``quatspline batch``'s operations to an argparse parser: one sub-command per
     operation, each with the option groups of the single-file command of that name
-    (:mod:`quatspline.cli.options`: the same options, choices and defaults) and the batch's
+    (:mod:`quatspline.arguments`: the same options, choices and defaults) and the batch's
     own: ``-o OUTDIR``, ``--scheduler`` or ``--workers``, ``--force``, ``--max-file-size`` and
     (sample, fit) ``--to``."""
     kw = {} if parser_class is None else {"parser_class": parser_class}
@@ -1273,7 +1273,7 @@ def add_arguments(p, parser_class=None) -> None:
 
 def cli_options(args) -> dict:
     """The options of :func:`run` that ``quatspline batch OPERATION``'s arguments give: the
-    same translation as the single-file command's (:mod:`quatspline.cli.options`), so each
+    same translation as the single-file command's (:mod:`quatspline.arguments`), so each
     file's library call gets the same arguments."""
     opts: dict = {k: v for k, v in read_options(args).items() if v not in (None, False, 0)}
     if args.max_file_size is not None:

@@ -14,13 +14,13 @@ import sys
 import warnings
 from pathlib import Path
 
+from .. import arguments as options
 from .. import batch, demo, ops, plot, viewer
 from .. import io as qio
 from .._core import __version__
 from .._util.atomic import resolve_output
 from ..poses.pose_spline import PoseSpline
 from ..registry import METHODS
-from . import options
 
 
 class UsageError(Exception):

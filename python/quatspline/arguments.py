@@ -25,10 +25,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import io as qio
-from .. import ops
-from .._util.errors import ParameterError
-from .._util.options import (
+from . import io as qio
+from . import ops
+from ._util.errors import ParameterError
+from ._util.options import (
     parse_angle,
     parse_length,
     parse_list,
@@ -36,8 +36,8 @@ from .._util.options import (
     parse_smoothing,
     parse_spacing_or_file,
 )
-from ..io.kitti import read_times
-from ..registry import METHODS
+from .io.kitti import read_times
+from .registry import METHODS
 
 __all__ = [
     "EXTRAPOLATE",
