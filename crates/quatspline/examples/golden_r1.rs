@@ -12,9 +12,9 @@ use std::sync::Arc;
 
 fn hard() -> Vec<f64> {
     let mut v = vec![0.0, 1e-300, 1e-200, 1e-150, 1e-20, 1e-12, 1e-10, 1e-8, 1e-6, 1e-5];
-    for s in [1e-4, 1e-3, 1e-2, 0.02, 0.05, 0.1, 0.3, 0.5, 1.0] {
+    for s in [1e-4f64, 1e-3, 1e-2, 0.02, 0.05, 0.1, 0.3, 0.5, 1.0] {
         for k in -3i64..=3 {
-            v.push(f64::from_bits((s as f64).to_bits().wrapping_add(k as u64)));
+            v.push(f64::from_bits(s.to_bits().wrapping_add(k as u64)));
         }
         v.push(s * (1.0 - 1e-9));
         v.push(s * (1.0 + 1e-9));
@@ -50,7 +50,8 @@ fn dump_spline(out: &mut String, name: &str, s: &dyn Spline) {
     out.push_str(&format!("\n{name}\n"));
     let (a, b) = s.domain();
     let m = 97;
-    let t: Vec<f64> = (0..=m).map(|i| a + (b - a) * i as f64 / m as f64).chain(s.joints().iter().copied()).collect();
+    let t: Vec<f64> =
+        (0..=m).map(|i| a + (b - a) * i as f64 / m as f64).chain(s.joints().iter().copied()).collect();
     for &ti in &t {
         let seg = s.locate(ti);
         let j = s.segment_jet4(seg, ti).derivatives();
@@ -117,10 +118,17 @@ fn main() {
         out.push_str(&format!("{:?}\n", fit::gauss_legendre01(n)));
     }
     // splines on keys with hard angles
-    for (seed, scale) in [(1u64, 1e-12), (2, 1e-8), (3, 1e-3), (4, 0.2), (5, 0.6), (6, 1.5), (7, 3.0), (8, 6.0)] {
+    for (seed, scale) in
+        [(1u64, 1e-12), (2, 1e-8), (3, 1e-3), (4, 0.2), (5, 0.6), (6, 1.5), (7, 3.0), (8, 6.0)]
+    {
         let keys = rng_quats(9, seed, scale);
         let times: Vec<f64> = (0..9).map(|i| i as f64 * 0.7 + 0.1 * (i % 3) as f64).collect();
-        for ends in [NaturalEnds::Natural, NaturalEnds::Rest, NaturalEnds::Closed, NaturalEnds::Clamped { start: None, end: None }] {
+        for ends in [
+            NaturalEnds::Natural,
+            NaturalEnds::Rest,
+            NaturalEnds::Closed,
+            NaturalEnds::Clamped { start: None, end: None },
+        ] {
             if let Ok(s) = NaturalSpline::with_keyframes(&keys, Some(&times), ends, true, true) {
                 out.push_str(&format!("rates {:?}\n", s.key_rates()));
                 dump_spline(&mut out, &format!("natural {seed} {ends:?}"), &s);
@@ -172,8 +180,19 @@ fn main() {
     for pen in [Penalty::Acceleration, Penalty::Jerk] {
         for sm in [Smoothing::Auto, Smoothing::Fixed(0.0), Smoothing::Fixed(1e-3), Smoothing::Fixed(10.0)] {
             for rob in [Robust::None, Robust::Huber, Robust::Cauchy] {
-                for knots in [Knots::Default, Knots::Spacing(0.4), Knots::Array(vec![t[0], 1.0, 2.5, 3.0, 4.1, t[n - 1]]), Knots::Spacing(0.04)] {
-                    let opts = FitOptions { penalty: pen, smoothing: sm, robust: rob, knots: knots.clone(), ..Default::default() };
+                for knots in [
+                    Knots::Default,
+                    Knots::Spacing(0.4),
+                    Knots::Array(vec![t[0], 1.0, 2.5, 3.0, 4.1, t[n - 1]]),
+                    Knots::Spacing(0.04),
+                ] {
+                    let opts = FitOptions {
+                        penalty: pen,
+                        smoothing: sm,
+                        robust: rob,
+                        knots: knots.clone(),
+                        ..Default::default()
+                    };
                     let mut prog = |_: &str, _: usize, _: f64| true;
                     let r = fit::fit(&t, &data, None, &opts, &mut prog);
                     out.push_str(&format!("fit {pen:?} {sm:?} {rob:?} {knots:?}\n{r:?}\n"));

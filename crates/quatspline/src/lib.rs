@@ -19,6 +19,7 @@ pub mod fit;
 pub mod integrate;
 pub mod interp;
 pub mod jet;
+pub mod kinematics;
 pub mod quat;
 pub mod se3;
 pub mod simd;
