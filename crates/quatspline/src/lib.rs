@@ -20,6 +20,7 @@ pub mod integrate;
 pub mod interp;
 pub mod jet;
 pub mod kinematics;
+pub mod quadrature;
 pub mod quat;
 pub mod se3;
 pub mod simd;
