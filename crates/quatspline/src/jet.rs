@@ -15,6 +15,9 @@
 //! - log of a unit quaternion uses g(w) = θ/sin θ (w = cos θ), analytic at w = 1, with
 //!   (1−w²)g' = wg − 1, (1−w²)g'' = 3wg' + g, (1−w²)g''' = 5wg'' + 4g', and the series
 //!   g = Σ aₖ yᵏ, y = 1 − w, a₀ = 1, aₖ = aₖ₋₁·k/(2k+1) for y < 0.05.
+//!
+//! Both derivative tables live with the other singular ratios in [`crate::special`]
+//! (`cos_sinc_sqrt`, `theta_over_sin`).
 
 use crate::quat::Quat;
 use crate::special::{cos_sinc_sqrt, theta_over_sin};

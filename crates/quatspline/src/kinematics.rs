@@ -12,6 +12,10 @@
 //! - ω̇ = J_r(ρ) ρ̈ + N(ρ, ρ̇), N quadratic in ρ̇ ([`accel_nonlinear`]).
 //!
 //! Every coefficient is a singular ratio of [`crate::special`] (series below its switch).
+//! The natural and Hermite splines use [`a_of`] for A; the fit's J_r⁻¹ ([`jr_inv`]) is the same
+//! matrix with the coefficient by the fit's own older series
+//! ([`crate::special::one_minus_half_cot_over_sq_fit`]), kept so that fits stay bit-identical
+//! (their λ search amplifies a change in the last bits).
 
 use crate::special::{
     accel_k1, accel_k2, one_minus_cos_over_sq, one_minus_half_cot_over_sq, one_minus_half_cot_over_sq_fit,

@@ -18,7 +18,8 @@
 //! Keyframe control (`with_keyframes`): `Rest` ends (zero rates at both ends), `Closed` loops
 //! (cyclic system, C² across the seam, at least 3 keys), holds (rates pinned to zero at the
 //! keys that bound a hold: exactly constant in between, C¹ there). The segments are the
-//! Hermite segments of `hermite.rs` with the solved rates.
+//! Hermite segments of `rotvec_segments.rs` (shared with `hermite.rs`) with the solved rates;
+//! A(ρ), A⁻¹(ρ) and N are in [`crate::kinematics`].
 
 use super::keyframe::prepare_loop;
 use super::rotvec_segments::{bases_and_chords, RotvecSegments};
