@@ -22,6 +22,7 @@
 //! the single cross product above appears), so every output is a rotation to rounding.
 
 use crate::error::{Error, Result, Short};
+use crate::quadrature::GL2_01;
 use crate::quat::Quat;
 use crate::spline::Frame;
 use crate::vec3::{self, Vec3};
@@ -40,8 +41,9 @@ pub enum RateModel {
 /// |q₀| may differ from 1 by at most this (relative) before q₀ is "not a rotation".
 pub const Q0_NORM_TOLERANCE: f64 = 1e-6;
 
-const C1: f64 = 0.5 - 0.288_675_134_594_812_9; // ½ − √3/6
-const C2: f64 = 0.5 + 0.288_675_134_594_812_9;
+/// The two Gauss–Legendre nodes ½ ∓ √3/6 of the Magnus step ([`crate::quadrature::GL2_01`]).
+const C1: f64 = GL2_01[0];
+const C2: f64 = GL2_01[1];
 const SQRT3_12: f64 = 0.144_337_567_297_406_43; // √3/12
 
 /// The rate at time `x` from the cubic (or lower-degree) Lagrange interpolant through the

@@ -15,9 +15,14 @@
 //! - log of a unit quaternion uses g(w) = θ/sin θ (w = cos θ), analytic at w = 1, with
 //!   (1−w²)g' = wg − 1, (1−w²)g'' = 3wg' + g, (1−w²)g''' = 5wg'' + 4g', and the series
 //!   g = Σ aₖ yᵏ, y = 1 − w, a₀ = 1, aₖ = aₖ₋₁·k/(2k+1) for y < 0.05.
+//!
+//! Both derivative tables live with the other singular ratios in [`crate::special`]
+//! (`cos_sinc_sqrt`, `theta_over_sin`).
 
 use crate::quat::Quat;
-use crate::special::{atan2_over, sinc};
+use crate::special::{cos_sinc_sqrt, theta_over_sin};
+/// Re-exported for the batch kernel of the natural spline (`crate::simd::natural`).
+pub(crate) use crate::special::{CS_SERIES, CS_TABLE};
 
 use std::ops::{Add, Mul, Neg, Sub};
 
@@ -189,146 +194,6 @@ impl<const N: usize> Mul<f64> for Jet<N> {
     fn mul(self, s: f64) -> Self {
         Jet(std::array::from_fn(|k| self.0[k] * s))
     }
-}
-
-/// Below this x = |u|², C and S take their derivatives from series.
-pub(crate) const CS_SERIES: f64 = 0.5;
-
-/// Derivatives 0..5 of C(x) = cos√x and S(x) = sin√x/√x at x ≥ 0 (values exact by libm).
-/// Closed forms: C^(n) = −S^(n−1)/2, S^(n) = (C^(n−1) − (2n − 1) S^(n−1))/(2x).
-fn cos_sinc_sqrt<const N: usize>(x: f64) -> ([f64; N], [f64; N]) {
-    let r = x.sqrt();
-    let (sr, c0) = crate::special::sin_cos(r);
-    let s0 = if r < crate::special::SINC_SWITCH { sinc(r) } else { sr / r };
-    let (mut c, mut s) = ([0.0; MAXN], [0.0; MAXN]);
-    c[0] = c0;
-    s[0] = s0;
-    if N == 1 {
-        return (take(c), take(s));
-    }
-    if x < CS_SERIES {
-        // S^(n)(x) = Σ_{k≥n} (−1)^k k!/(k−n)! x^(k−n)/(2k+1)!, C likewise with (2k)!:
-        // coefficient tables CS_TABLE[n − 1][m] for k = n + m.
-        for n in 1..N {
-            let (tc, ts) = (&CS_TABLE.0[n - 1], &CS_TABLE.1[n - 1]);
-            let (mut sc, mut ss) = (0.0, 0.0);
-            for m in (0..CS_TERMS).rev() {
-                sc = sc * x + tc[m];
-                ss = ss * x + ts[m];
-            }
-            c[n] = sc;
-            s[n] = ss;
-        }
-    } else {
-        for n in 1..N {
-            s[n] = (c[n - 1] - (2 * n - 1) as f64 * s[n - 1]) / (2.0 * x);
-            c[n] = -0.5 * s[n - 1];
-        }
-    }
-    (take(c), take(s))
-}
-
-pub(crate) const CS_TERMS: usize = 12;
-
-/// Series coefficients of C^(n) and S^(n), n = 1..5 (computed once, at compile time).
-pub(crate) const CS_TABLE: ([[f64; CS_TERMS]; 5], [[f64; CS_TERMS]; 5]) = {
-    let mut c = [[0.0; CS_TERMS]; 5];
-    let mut s = [[0.0; CS_TERMS]; 5];
-    let mut n = 1;
-    while n <= 5 {
-        let mut m = 0;
-        while m < CS_TERMS {
-            let k = n + m;
-            let falling = const_falling(k, n);
-            let sign = if k % 2 == 0 { 1.0 } else { -1.0 };
-            c[n - 1][m] = sign * falling / const_factorial(2 * k);
-            s[n - 1][m] = sign * falling / const_factorial(2 * k + 1);
-            m += 1;
-        }
-        n += 1;
-    }
-    (c, s)
-};
-
-/// k!/(k−n)! = (k−n+1)(k−n+2)…k, the n-th derivative's factor of x^k.
-const fn const_falling(k: usize, n: usize) -> f64 {
-    let mut f = 1.0;
-    let mut v = k + 1 - n;
-    while v <= k {
-        f *= v as f64;
-        v += 1;
-    }
-    f
-}
-
-const fn const_factorial(n: usize) -> f64 {
-    let mut f = 1.0;
-    let mut v = 2;
-    while v <= n {
-        f *= v as f64;
-        v += 1;
-    }
-    f
-}
-
-/// Below this y = 1 − w, g(w) = θ/sin θ takes its derivatives from its series.
-const G_SERIES: f64 = 0.05;
-
-const G_TERMS: usize = 20;
-
-/// a_k = a_{k−1} k/(2k+1), a₀ = 1, times k!/(k−n)!, for n = 1..5 and k = n + m.
-const G_TABLE: [[f64; G_TERMS]; 5] = {
-    let mut a = [0.0; G_TERMS + 5];
-    a[0] = 1.0;
-    let mut k = 1;
-    while k < G_TERMS + 5 {
-        a[k] = a[k - 1] * k as f64 / (2 * k + 1) as f64;
-        k += 1;
-    }
-    let mut t = [[0.0; G_TERMS]; 5];
-    let mut n = 1;
-    while n <= 5 {
-        let mut m = 0;
-        while m < G_TERMS {
-            let k = n + m;
-            t[n - 1][m] = const_falling(k, n) * a[k];
-            m += 1;
-        }
-        n += 1;
-    }
-    t
-};
-
-/// Derivatives 0..5 in w of g(w) = θ/sin θ (w = cos θ) for a unit quaternion with scalar
-/// part `w` and vector norm `s` = sin θ. Closed form (differentiating (1−w²)g' = wg − 1):
-/// (1−w²)g^(n) = (2n − 1) w g^(n−1) + (n − 1)² g^(n−2).
-fn theta_over_sin<const N: usize>(w: f64, s: f64) -> [f64; N] {
-    let g0 = if s == 0.0 && w > 0.0 { 1.0 / w } else { atan2_over(s, w) };
-    let mut g = [0.0; MAXN];
-    g[0] = g0;
-    if N == 1 {
-        return take(g);
-    }
-    let y = if w > 0.0 { s * s / (1.0 + w) } else { 1.0 - w };
-    if y < G_SERIES {
-        // g^(n)(w) = (−1)^n Σ_{k≥n} k!/(k−n)! a_k y^(k−n): tables G_TABLE[n − 1][m], k = n + m.
-        for (n, gn) in g.iter_mut().enumerate().take(N).skip(1) {
-            let t = &G_TABLE[n - 1];
-            let mut acc = 0.0;
-            for m in (0..G_TERMS).rev() {
-                acc = acc * y + t[m];
-            }
-            *gn = if n % 2 == 0 { acc } else { -acc };
-        }
-    } else {
-        let s2 = s * s;
-        g[1] = (w * g0 - 1.0) / s2;
-        for n in 2..N {
-            let m = (n - 1) as f64;
-            g[n] = ((2 * n - 1) as f64 * w * g[n - 1] + m * m * g[n - 2]) / s2;
-        }
-    }
-    take(g)
 }
 
 /// A logarithm (pure quaternion) stored as unit axis × angle, so exp(s·log) needs no square
@@ -517,6 +382,7 @@ impl<const N: usize> Jet<N> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::special::G_SERIES;
 
     fn fd<F: Fn(f64) -> f64>(f: F, x: f64, k: usize) -> f64 {
         let h = 1e-3;

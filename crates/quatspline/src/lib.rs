@@ -19,6 +19,8 @@ pub mod fit;
 pub mod integrate;
 pub mod interp;
 pub mod jet;
+pub mod kinematics;
+pub mod quadrature;
 pub mod quat;
 pub mod se3;
 pub mod simd;

@@ -142,8 +142,8 @@ impl Quat {
     pub fn exp(self) -> Quat {
         let v = self.vec();
         let a = vec3::norm_robust(v);
-        let (sa, ca) = crate::special::sin_cos(a);
-        let s = if a < crate::special::SINC_SWITCH { sinc(a) } else { sa / a };
+        let ca = crate::special::sin_cos(a).1;
+        let s = sinc(a);
         let e = if self.w == 0.0 { 1.0 } else { self.w.exp() };
         Quat { w: e * ca, x: e * s * v[0], y: e * s * v[1], z: e * s * v[2] }
     }

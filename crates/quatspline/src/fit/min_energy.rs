@@ -332,7 +332,7 @@ impl Normal {
 
 impl Cache {
     fn new(me: &MinEnergySpline) -> Self {
-        let gl = super::gauss_legendre01(NODES);
+        let gl = crate::quadrature::gauss_legendre01(NODES);
         let j = me.nat.joints();
         let segs = me.intervals();
         let m = PIECES * NODES;

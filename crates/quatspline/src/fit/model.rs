@@ -12,8 +12,8 @@
 //! where S_j = A_{j+1} ⋯ A_{k−1} (S_{k−1} = 1), A_j = Exp(B̃_j d_{i+j}), and
 //! M_j = Ad(S_j⁻¹) · B̃_j J_r(B̃_j d_{i+j}). This follows from Log(Exp(−δ) X Exp(δ′)) ≈
 //! Log X − J_l⁻¹ δ + J_r⁻¹ δ′ and Exp(b(d + ε)) ≈ Exp(bd) Exp(b J_r(bd) ε). With a = |d| and
-//! n = d/a, b J_r(bd) = b I − ((1 − cos ba)/a)[n]× + (b − sin(ba)/a)[n]×² (series below
-//! a = 0.02), so every factor is a function of the scalar B̃_j(u): written once over
+//! n = d/a, b J_r(bd) = b I − ((1 − cos ba)/a)[n]× + (b − sin(ba)/a)[n]×²
+//! ([`crate::special::scaled_jr_coefficients`], series below a = 0.02), so every factor is a function of the scalar B̃_j(u): written once over
 //! [`Jet<N>`], the same code gives ξ and its time derivatives ξ̇, ξ̈, ξ⃛ exactly.
 //!
 //! Body angular velocity under the perturbation: ω ← ω + ξ̇ + ω × ξ (first order), hence
@@ -292,18 +292,7 @@ impl Model {
             let aa = vec3::norm(dj);
             let n = if aa > 0.0 { vec3::scale(dj, 1.0 / aa) } else { [0.0; 3] };
             let bj = b[j];
-            let (f1, f2) = if aa < 0.02 {
-                let b2 = bj * bj;
-                let a2 = aa * aa;
-                let f1 = b2 * (0.5 * aa) - b2 * b2 * (aa * a2 / 24.0) + b2 * b2 * b2 * (aa * a2 * a2 / 720.0);
-                let b3 = b2 * bj;
-                let f2 =
-                    b3 * (a2 / 6.0) - b3 * b2 * (a2 * a2 / 120.0) + b3 * b2 * b2 * (a2 * a2 * a2 / 5040.0);
-                (f1, f2)
-            } else {
-                let (sn, cs) = (bj * aa).sin_cos();
-                ((-cs + 1.0) * (1.0 / aa), bj - sn * (1.0 / aa))
-            };
+            let (f1, f2) = crate::special::scaled_jr_coefficients(bj, aa);
             let kx = super::so3::skew(n);
             let bm: JM3<N> = std::array::from_fn(|r| {
                 std::array::from_fn(|c| {

@@ -11,8 +11,9 @@
 
 use super::banded::Band;
 use super::layout::Layout;
-use super::{fit_layout, gauss_legendre01, Knots, Penalty, Robust, Smoothing};
+use super::{fit_layout, Knots, Penalty, Robust, Smoothing};
 use crate::error::{Error, Result};
+use crate::quadrature::gauss_legendre01;
 
 /// The fitted positions.
 #[derive(Debug, Clone)]

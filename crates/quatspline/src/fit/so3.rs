@@ -6,14 +6,14 @@
 //! Exp(φ + ε) ≈ Exp(φ) Exp(J_r(φ) ε) and Log(Exp(φ) Exp(ε)) ≈ φ + J_r⁻¹(φ) ε, with
 //! J_r(φ) = I − (1 − cos θ)/θ² [φ]× + (θ − sin θ)/θ³ [φ]×²,
 //! J_r⁻¹(φ) = I + ½[φ]× + (1/θ² − (1 + cos θ)/(2θ sin θ)) [φ]×², θ = |φ|, and
-//! J_l(φ) = J_r(−φ). The coefficient of [φ]×² in J_r⁻¹ takes its Taylor series
-//! 1/12 + θ²/720 + θ⁴/30240 + θ⁶/1209600 below θ = 0.1 (next term < 1e-16 relative).
+//! J_l(φ) = J_r(−φ). The Jacobians live in [`crate::kinematics`] (shared with the natural
+//! and Hermite splines, re-exported here); their coefficients are the singular ratios of
+//! [`crate::special`], each with its series below its switch.
 
+pub use crate::kinematics::{jl_inv, jr, jr_inv, mat_vec, mul, skew, M3};
 use crate::quat::Quat;
+use crate::special::{half_cot, one_minus_sqrt_half_cot_over_sq};
 use crate::vec3::{self, Vec3};
-
-/// A 3×3 matrix, row-major.
-pub type M3 = [[f64; 3]; 3];
 
 /// Exp: rotation vector → unit quaternion (rotation by |v| about v).
 #[inline]
@@ -28,61 +28,6 @@ pub fn log(q: Quat) -> Vec3 {
     vec3::scale(q.log().vec(), 2.0)
 }
 
-/// [v]× (so that [v]× u = v × u).
-#[inline]
-pub fn skew(v: Vec3) -> M3 {
-    [[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]]
-}
-
-#[inline]
-pub fn mul(a: &M3, b: &M3) -> M3 {
-    std::array::from_fn(|i| std::array::from_fn(|j| (0..3).map(|k| a[i][k] * b[k][j]).sum()))
-}
-
-#[inline]
-pub fn mat_vec(a: &M3, v: Vec3) -> Vec3 {
-    std::array::from_fn(|i| a[i][0] * v[0] + a[i][1] * v[1] + a[i][2] * v[2])
-}
-
-/// The coefficient of [φ]×² in J_r⁻¹(φ).
-fn inv_coef(theta: f64) -> f64 {
-    if theta < 0.1 {
-        let t2 = theta * theta;
-        1.0 / 12.0 + t2 * (1.0 / 720.0 + t2 * (1.0 / 30240.0 + t2 / 1_209_600.0))
-    } else {
-        let (s, c) = theta.sin_cos();
-        1.0 / (theta * theta) - (1.0 + c) / (2.0 * theta * s)
-    }
-}
-
-/// J_r⁻¹(φ).
-pub fn jr_inv(phi: Vec3) -> M3 {
-    let k = skew(phi);
-    let k2 = mul(&k, &k);
-    let c = inv_coef(vec3::norm(phi));
-    std::array::from_fn(|i| {
-        std::array::from_fn(|j| (if i == j { 1.0 } else { 0.0 }) + 0.5 * k[i][j] + c * k2[i][j])
-    })
-}
-
-/// J_l⁻¹(φ) = J_r⁻¹(−φ).
-pub fn jl_inv(phi: Vec3) -> M3 {
-    jr_inv(vec3::scale(phi, -1.0))
-}
-
-/// (θ/2)·cot(θ/2) for θ ∈ [0, π]: the transverse curvature of ½·dist² on SO(3) at distance θ
-/// (1 at θ = 0, 0 at θ = π). Taylor 1 − θ²/12 − θ⁴/720 − θ⁶/30240 below θ = 0.1 (next
-/// term < 1e-13·θ⁸, i.e. < 1e-17).
-fn half_cot(theta: f64) -> f64 {
-    if theta < 0.1 {
-        let t2 = theta * theta;
-        1.0 - t2 * (1.0 / 12.0 + t2 * (1.0 / 720.0 + t2 / 30240.0))
-    } else {
-        let h = 0.5 * theta;
-        (h * h.cos() / h.sin()).max(0.0)
-    }
-}
-
 /// S(r) = P + √f·(I − P), P = r̂r̂ᵀ, f = (θ/2)·cot(θ/2), θ = |r| ≤ π: the symmetric square root
 /// of the Riemannian Hessian of ½·dist²(q·Exp(δ), y) in δ at δ = 0, where r = Log(q⁻¹y).
 /// Its gradient is −r, as for the Gauss–Newton form −J_l⁻¹(r)ᵀr (S r = r = J_l⁻¹(r)ᵀ r),
@@ -95,32 +40,10 @@ fn half_cot(theta: f64) -> f64 {
 /// computing the centre of mass on compact Lie groups".)
 pub fn dist_hess_sqrt(r: Vec3) -> M3 {
     let t2 = vec3::dot(r, r);
-    let theta = t2.sqrt();
-    let g = half_cot(theta).sqrt();
-    // S = g I + (1 − g) r rᵀ / θ²; (1 − g)/θ² = f-series / θ² near 0 without dividing by 0.
-    // S = g·I + (1 − g)·r rᵀ/θ², with (1 − g)/θ² = ((1 − f)/θ²)/(1 + g) from f's series
-    // below θ = 0.1 (no 0/0 at r = 0).
-    let c = if theta < 0.1 {
-        (1.0 / 12.0 + t2 * (1.0 / 720.0 + t2 / 30240.0)) / (1.0 + g)
-    } else {
-        (1.0 - g) / t2
-    };
+    let g = half_cot(t2.sqrt()).sqrt();
+    // S = g·I + (1 − g)·r rᵀ/θ² (no 0/0 at r = 0: see the helper's series)
+    let c = one_minus_sqrt_half_cot_over_sq(t2);
     std::array::from_fn(|i| std::array::from_fn(|j| (if i == j { g } else { 0.0 }) + c * (r[i] * r[j])))
-}
-
-/// J_r(φ) (used by the tests).
-pub fn jr(phi: Vec3) -> M3 {
-    let t = vec3::norm(phi);
-    let k = skew(phi);
-    let k2 = mul(&k, &k);
-    let (a, b) = if t < 1e-4 {
-        (0.5 - t * t / 24.0, 1.0 / 6.0 - t * t / 120.0)
-    } else {
-        ((1.0 - t.cos()) / (t * t), (t - t.sin()) / (t * t * t))
-    };
-    std::array::from_fn(|i| {
-        std::array::from_fn(|j| (if i == j { 1.0 } else { 0.0 }) - a * k[i][j] + b * k2[i][j])
-    })
 }
 
 #[cfg(test)]
@@ -175,6 +98,7 @@ mod tests {
 
     #[test]
     fn inverse_jacobian_series_meets_closed_form() {
+        let inv_coef = crate::special::one_minus_half_cot_over_sq_fit;
         let a = inv_coef(0.1 - 1e-12);
         let b = inv_coef(0.1 + 1e-12);
         assert!((a - b).abs() < 1e-13);

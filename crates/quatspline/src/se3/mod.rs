@@ -23,6 +23,7 @@ use crate::dual_quat::DualQuat;
 use crate::error::{Error, Result};
 use crate::jet::{JQuat, Jet};
 use crate::quat::Quat;
+use crate::special::sinc_jet;
 use crate::spline::{Extrapolate, Spline};
 use crate::vec3::{self, Vec3};
 use std::ops::Mul;
@@ -60,19 +61,6 @@ impl<const N: usize> Mul for JDual<N> {
     #[inline(always)]
     fn mul(self, b: Self) -> Self {
         JDual { r: self.r * b.r, d: self.r * b.d + self.d * b.r }
-    }
-}
-
-/// sin(x)/x of a jet, through its series for |x| < 1e-2 (error < x¹⁰/11! ≈ 3e-28) and
-/// sin/x otherwise.
-#[inline]
-fn sinc_jet<const N: usize>(x: Jet<N>) -> Jet<N> {
-    if x.0[0].abs() < 1e-2 {
-        let x2 = x * x;
-        let c = [1.0, -1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362_880.0];
-        Jet::poly(&c, x2)
-    } else {
-        x.sin_cos().0 * x.recip()
     }
 }
 

@@ -41,6 +41,7 @@ mod nlerp;
 mod nonuniform_bspline;
 mod piecewise_slerp;
 mod reparam;
+mod rotvec_segments;
 mod spherical_bezier;
 mod squad;
 

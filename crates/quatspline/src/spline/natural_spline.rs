@@ -18,13 +18,18 @@
 //! Keyframe control (`with_keyframes`): `Rest` ends (zero rates at both ends), `Closed` loops
 //! (cyclic system, C² across the seam, at least 3 keys), holds (rates pinned to zero at the
 //! keys that bound a hold: exactly constant in between, C¹ there). The segments are the
-//! Hermite segments of `hermite.rs` with the solved rates.
+//! Hermite segments of `rotvec_segments.rs` (shared with `hermite.rs`) with the solved rates;
+//! A(ρ), A⁻¹(ρ) and N are in [`crate::kinematics`].
 
-use super::hermite::{bases_and_chords, RotvecSegments};
 use super::keyframe::prepare_loop;
+use super::rotvec_segments::{bases_and_chords, RotvecSegments};
 use super::{segment_jets, Spline};
 use crate::error::{Error, Result};
 use crate::jet::JQuat;
+use crate::kinematics::{
+    accel_coefficients, accel_nonlinear_jacobian, accel_nonlinear_with, rate_to_rotvec_dot,
+    rotvec_dot_to_rate,
+};
 use crate::quat::Quat;
 use crate::vec3::{self, Vec3};
 use nalgebra::{Matrix3, Vector3};
@@ -43,145 +48,6 @@ pub enum NaturalEnds {
     /// A periodic loop (see `keyframe.rs`): C² at every key and across the seam, solved as a
     /// cyclic block-tridiagonal system.
     Closed,
-}
-
-/// Σ c_m x^(2m) for |x| below `switch`, else the closed form: named singular ratios of the
-/// rotation-vector kinematics, each with its series (coefficients derived in the doc of each).
-fn series(x2: f64, coef: impl Fn(usize) -> f64) -> f64 {
-    let mut acc = 0.0;
-    let mut p = 1.0;
-    for m in 0..10 {
-        acc += coef(m) * p;
-        p *= x2;
-    }
-    acc
-}
-
-fn fact(n: usize) -> f64 {
-    (1..=n).map(|v| v as f64).product()
-}
-
-fn alt(m: usize) -> f64 {
-    if m.is_multiple_of(2) {
-        1.0
-    } else {
-        -1.0
-    }
-}
-
-/// (1 − cos x)/x² = Σ (−1)^m x^(2m)/(2m+2)!
-fn one_minus_cos_over_sq(x: f64) -> f64 {
-    if x < 0.5 {
-        series(x * x, |m| alt(m) / fact(2 * m + 2))
-    } else {
-        (1.0 - x.cos()) / (x * x)
-    }
-}
-
-/// (x − sin x)/x³ = Σ (−1)^m x^(2m)/(2m+3)!
-fn x_minus_sin_over_cube(x: f64) -> f64 {
-    if x < 0.5 {
-        series(x * x, |m| alt(m) / fact(2 * m + 3))
-    } else {
-        (x - x.sin()) / (x * x * x)
-    }
-}
-
-/// (1 − (x/2) cot(x/2))/x² = −Σ_{n≥1} (−1)^n B₂ₙ x^(2n−2)/(2n)!  (Bernoulli numbers)
-fn one_minus_half_cot_over_sq(x: f64) -> f64 {
-    if x < 0.3 {
-        const B: [f64; 7] =
-            [1.0 / 6.0, -1.0 / 30.0, 1.0 / 42.0, -1.0 / 30.0, 5.0 / 66.0, -691.0 / 2730.0, 7.0 / 6.0];
-        let x2 = x * x;
-        let mut acc = 0.0;
-        let mut p = 1.0;
-        for (k, b) in B.iter().enumerate() {
-            let n = k + 1;
-            acc -= alt(n) * b * p / fact(2 * n);
-            p *= x2;
-        }
-        acc
-    } else {
-        (1.0 - 0.5 * x / (0.5 * x).tan()) / (x * x)
-    }
-}
-
-/// (−x sin x − 2(cos x − 1))/x⁴ = Σ (−1)^m (2m+2) x^(2m)/(2m+4)!
-fn accel_k1(x: f64) -> f64 {
-    if x < 0.5 {
-        series(x * x, |m| alt(m) * (2 * m + 2) as f64 / fact(2 * m + 4))
-    } else {
-        (-x * x.sin() - 2.0 * (x.cos() - 1.0)) / x.powi(4)
-    }
-}
-
-/// (−2x + 3 sin x − x cos x)/x⁵ = Σ (−1)^(m+1) (2m+2) x^(2m)/(2m+5)!  (scipy has 1/12604
-/// for the x² coefficient 1/1260)
-fn accel_k2(x: f64) -> f64 {
-    if x < 0.5 {
-        series(x * x, |m| -alt(m) * (2 * m + 2) as f64 / fact(2 * m + 5))
-    } else {
-        (-2.0 * x + 3.0 * x.sin() - x * x.cos()) / x.powi(5)
-    }
-}
-
-fn skew(v: Vec3) -> Matrix3<f64> {
-    Matrix3::new(0.0, -v[2], v[1], v[2], 0.0, -v[0], -v[1], v[0], 0.0)
-}
-
-/// A(ρ): angular rate → rotation-vector rate, I + ½[ρ]× + k [ρ]×².
-pub(crate) fn rate_to_rotvec_dot(r: Vec3) -> Matrix3<f64> {
-    let s = skew(r);
-    Matrix3::identity() + s * 0.5 + s * s * one_minus_half_cot_over_sq(vec3::norm(r))
-}
-
-/// A⁻¹(ρ): rotation-vector rate → angular rate, I − k₁[ρ]× + k₂[ρ]×².
-fn rotvec_dot_to_rate(r: Vec3) -> Matrix3<f64> {
-    let s = skew(r);
-    let x = vec3::norm(r);
-    Matrix3::identity() - s * one_minus_cos_over_sq(x) + s * s * x_minus_sin_over_cube(x)
-}
-
-/// The quadratic term of the angular acceleration in the rotation-vector rate.
-pub(crate) fn accel_nonlinear(r: Vec3, rd: Vec3) -> Vec3 {
-    let x = vec3::norm(r);
-    let dp = vec3::dot(r, rd);
-    let cp = vec3::cross(r, rd);
-    let ccp = vec3::cross(r, cp);
-    let dccp = vec3::cross(rd, cp);
-    let (k1, k2, k3) = (accel_k1(x), accel_k2(x), x_minus_sin_over_cube(x));
-    vec3::add(vec3::add(vec3::scale(cp, dp * k1), vec3::scale(ccp, dp * k2)), vec3::scale(dccp, k3))
-}
-
-/// The three coefficients of [`accel_nonlinear`] for one rotation vector (they depend on |r|
-/// only: computed once per segment, not once per sweep of the solve).
-fn accel_coefficients(r: Vec3) -> (f64, f64, f64) {
-    let x = vec3::norm(r);
-    (accel_k1(x), accel_k2(x), x_minus_sin_over_cube(x))
-}
-
-/// [`accel_nonlinear`] with its coefficients precomputed (bit-identical).
-fn accel_nonlinear_with(r: Vec3, rd: Vec3, (k1, k2, k3): (f64, f64, f64)) -> Vec3 {
-    let dp = vec3::dot(r, rd);
-    let cp = vec3::cross(r, rd);
-    let ccp = vec3::cross(r, cp);
-    let dccp = vec3::cross(rd, cp);
-    vec3::add(vec3::add(vec3::scale(cp, dp * k1), vec3::scale(ccp, dp * k2)), vec3::scale(dccp, k3))
-}
-
-/// ∂N/∂ṙ of [`accel_nonlinear_with`] (r fixed): with d = r·ṙ, c = r × ṙ,
-/// N = k₁ d c + k₂ d (r × c) + k₃ (ṙ × c), so
-/// ∂N/∂ṙ = k₁ (c rᵀ + d [r]×) + k₂ ((r × c) rᵀ + d [r]×²) + k₃ ([ṙ]×[r]× − [c]×).
-fn accel_nonlinear_jacobian(r: Vec3, rd: Vec3, (k1, k2, k3): (f64, f64, f64)) -> Matrix3<f64> {
-    let dp = vec3::dot(r, rd);
-    let cp = vec3::cross(r, rd);
-    let ccp = vec3::cross(r, cp);
-    let (rv, sr) = (v3(r), skew(r));
-    v3(cp) * rv.transpose() * k1
-        + sr * (dp * k1)
-        + v3(ccp) * rv.transpose() * k2
-        + sr * sr * (dp * k2)
-        + (skew(rd) * sr - skew(cp)) * k3
 }
 
 /// Block Thomas elimination factored once: the multipliers L_k D'_{k−1}⁻¹ and the inverted
@@ -787,23 +653,5 @@ mod tests {
             }
         }
         eprintln!("newton vs fixed point: worst relative difference {worst:e}");
-    }
-
-    #[test]
-    fn series_switches_are_continuous() {
-        type Helper = fn(f64) -> f64;
-        let f: [(Helper, f64); 5] = [
-            (one_minus_cos_over_sq, 0.5),
-            (x_minus_sin_over_cube, 0.5),
-            (one_minus_half_cot_over_sq, 0.3),
-            (accel_k1, 0.5),
-            (accel_k2, 0.5),
-        ];
-        for (g, s) in f {
-            let (a, b) = (g(s * (1.0 - 1e-13)), g(s * (1.0 + 1e-13)));
-            assert!((a - b).abs() < 1e-14 * a.abs().max(1.0), "{a} vs {b}");
-        }
-        assert!((accel_k2(0.0) + 1.0 / 60.0).abs() < 1e-17);
-        assert!((one_minus_half_cot_over_sq(0.0) - 1.0 / 12.0).abs() < 1e-17);
     }
 }

@@ -24,29 +24,8 @@
 use super::{segment_jets, Spline};
 use crate::error::{Error, Result, Short};
 use crate::jet::{JQuat, Jet};
+use crate::quadrature::{GL8_W, GL8_X};
 use std::sync::Arc;
-
-/// Gauss–Legendre nodes and weights on [−1, 1], 8 points.
-const GL_X: [f64; 8] = [
-    -0.960_289_856_497_536_2,
-    -0.796_666_477_413_626_7,
-    -0.525_532_409_916_329,
-    -0.183_434_642_495_649_8,
-    0.183_434_642_495_649_8,
-    0.525_532_409_916_329,
-    0.796_666_477_413_626_7,
-    0.960_289_856_497_536_2,
-];
-const GL_W: [f64; 8] = [
-    0.101_228_536_290_376_26,
-    0.222_381_034_453_374_47,
-    0.313_706_645_877_887_3,
-    0.362_683_783_378_362,
-    0.362_683_783_378_362,
-    0.313_706_645_877_887_3,
-    0.222_381_034_453_374_47,
-    0.101_228_536_290_376_26,
-];
 
 /// Angular speed |ω| = 2|q'| of segment `seg` at s.
 #[inline]
@@ -56,7 +35,7 @@ fn speed(s: &dyn Spline, seg: usize, x: f64) -> f64 {
 
 fn gauss(s: &dyn Spline, seg: usize, a: f64, b: f64) -> f64 {
     let (m, h) = (0.5 * (a + b), 0.5 * (b - a));
-    GL_X.iter().zip(GL_W).map(|(&x, w)| w * speed(s, seg, m + h * x)).sum::<f64>() * h
+    GL8_X.iter().zip(GL8_W).map(|(&x, w)| w * speed(s, seg, m + h * x)).sum::<f64>() * h
 }
 
 /// One tabulated piece of φ(s): [lo, hi] in inner segment `seg`, φ(lo) = `phi`.
