@@ -3,6 +3,8 @@
 //! vector sin/cos/atan2, as f64 bit patterns, for `cmp` before and after a restructuring.
 //! Run once with QUATSPLINE_SIMD=scalar and once with the default.
 
+#![allow(clippy::approx_constant)]
+
 use quatspline::simd::{self, pairs, Isa};
 use quatspline::spline::*;
 use quatspline::Quat;
@@ -75,11 +77,16 @@ fn splines() -> Vec<(String, Box<dyn Spline>)> {
     }
     add("bspline wide", Box::new(CumulativeBSpline::new(&qw, 0.7, -1.0, 4, false).unwrap()));
     add("c3k wide", Box::new(C3Spline::new(&qw, Some(&t), &[0.4], &[0.1], C3Variant::Knot, false).unwrap()));
-    add("c3p wide", Box::new(C3Spline::new(&qw, Some(&t), &[0.3], &[-0.2], C3Variant::Patent, false).unwrap()));
+    add(
+        "c3p wide",
+        Box::new(C3Spline::new(&qw, Some(&t), &[0.3], &[-0.2], C3Variant::Patent, false).unwrap()),
+    );
     add("nat", Box::new(NaturalSpline::new(&q, Some(&t), NaturalEnds::Natural, true).unwrap()));
     add(
         "nat clamped",
-        Box::new(NaturalSpline::new(&q, Some(&t), NaturalEnds::Clamped { start: None, end: None }, true).unwrap()),
+        Box::new(
+            NaturalSpline::new(&q, Some(&t), NaturalEnds::Clamped { start: None, end: None }, true).unwrap(),
+        ),
     );
     let qs = walk(30, 4, 0.02);
     add("nat small", Box::new(NaturalSpline::new(&qs, Some(&t), NaturalEnds::Natural, true).unwrap()));
@@ -89,16 +96,26 @@ fn splines() -> Vec<(String, Box<dyn Spline>)> {
     add("nat large", Box::new(NaturalSpline::new(&ql, Some(&t), NaturalEnds::Natural, true).unwrap()));
     let mut tc = t.clone();
     tc.push(t[29] + 0.8);
-    add("nat closed", Box::new(NaturalSpline::with_keyframes(&q, Some(&tc), NaturalEnds::Closed, false, true).unwrap()));
+    add(
+        "nat closed",
+        Box::new(NaturalSpline::with_keyframes(&q, Some(&tc), NaturalEnds::Closed, false, true).unwrap()),
+    );
     let mut r = Rng(6);
     let mut vecs = |scale: f64| -> Vec<[f64; 3]> {
-        (0..30).map(|_| [scale * (r.next() - 0.5), scale * (r.next() - 0.5), scale * (r.next() - 0.5)]).collect()
+        (0..30)
+            .map(|_| [scale * (r.next() - 0.5), scale * (r.next() - 0.5), scale * (r.next() - 0.5)])
+            .collect()
     };
     let (rates, accels) = (vecs(2.0), vecs(3.0));
-    add("herm3", Box::new(Hermite::new(&q, Some(&t), &rates, None, Frame::Body, KeyEnds::Open, true).unwrap()));
+    add(
+        "herm3",
+        Box::new(Hermite::new(&q, Some(&t), &rates, None, Frame::Body, KeyEnds::Open, true).unwrap()),
+    );
     add(
         "herm5",
-        Box::new(Hermite::new(&q, Some(&t), &rates, Some(&accels), Frame::World, KeyEnds::Open, true).unwrap()),
+        Box::new(
+            Hermite::new(&q, Some(&t), &rates, Some(&accels), Frame::World, KeyEnds::Open, true).unwrap(),
+        ),
     );
     // slerp family
     let mut qh = q.clone();
@@ -113,17 +130,35 @@ fn splines() -> Vec<(String, Box<dyn Spline>)> {
     add("squad", Box::new(Squad::new(&q, Some(&t), true).unwrap()));
     add("squad2", Box::new(Squad::new(&q[..2], Some(&t[..2]), true).unwrap()));
     add("squad rest", Box::new(Squad::with_keyframes(&q, Some(&t), KeyEnds::Rest, false, true).unwrap()));
-    add("squad closed", Box::new(Squad::with_keyframes(&qh, Some(&tclosed), KeyEnds::Closed, true, true).unwrap()));
+    add(
+        "squad closed",
+        Box::new(Squad::with_keyframes(&qh, Some(&tclosed), KeyEnds::Closed, true, true).unwrap()),
+    );
     add("cr", Box::new(CatmullRom::new(&q, Some(&t), CatmullRomEnds::Reflect, true).unwrap()));
     add("cr dup", Box::new(CatmullRom::new(&q, None, CatmullRomEnds::Duplicate, true).unwrap()));
-    add("cr cc", Box::new(CatmullRom::with_keyframes(&q, None, Some(0.5), TcbEnds::Closed, false, true).unwrap()));
-    add("kb", Box::new(KochanekBartels::new(&q, Some(&t), None, tcb, TcbEnds::Reflect, false, true).unwrap()));
+    add(
+        "cr cc",
+        Box::new(CatmullRom::with_keyframes(&q, None, Some(0.5), TcbEnds::Closed, false, true).unwrap()),
+    );
+    add(
+        "kb",
+        Box::new(KochanekBartels::new(&q, Some(&t), None, tcb, TcbEnds::Reflect, false, true).unwrap()),
+    );
     let qm = walk(60, 21, 1.0);
-    add("cr mixed", Box::new(CatmullRom::new(&qm, Some(&times(60, 6)), CatmullRomEnds::Reflect, true).unwrap()));
+    add(
+        "cr mixed",
+        Box::new(CatmullRom::new(&qm, Some(&times(60, 6)), CatmullRomEnds::Reflect, true).unwrap()),
+    );
     let qs = walk(40, 3, 0.5);
-    add("cr small", Box::new(CatmullRom::new(&qs, Some(&times(40, 5)), CatmullRomEnds::Reflect, true).unwrap()));
+    add(
+        "cr small",
+        Box::new(CatmullRom::new(&qs, Some(&times(40, 5)), CatmullRomEnds::Reflect, true).unwrap()),
+    );
     let qz = walk(40, 3, 1e-9);
-    add("cr tiny", Box::new(CatmullRom::new(&qz, Some(&times(40, 5)), CatmullRomEnds::Reflect, true).unwrap()));
+    add(
+        "cr tiny",
+        Box::new(CatmullRom::new(&qz, Some(&times(40, 5)), CatmullRomEnds::Reflect, true).unwrap()),
+    );
     for n in [2, 3, 4, 5, 8, 9, 16, 17] {
         for (k, step) in [(0u64, 1.5), (30, 0.4), (60, 0.2), (90, 1e-8)] {
             let c = walk(n, k + n as u64, step);
@@ -192,7 +227,8 @@ fn main() {
             for tt in runs {
                 for order in 0..=3 {
                     let mut o = vec![0.0; tt.len() * 4 * (order + 1)];
-                    evaluate_into(&*s, tt, 0, order, Extrapolate::Raise, &mut o).unwrap_or_else(|e| panic!("{name}: {e}"));
+                    evaluate_into(&*s, tt, 0, order, Extrapolate::Raise, &mut o)
+                        .unwrap_or_else(|e| panic!("{name}: {e}"));
                     put(&mut out, &o);
                     count += o.len();
                 }

@@ -16,6 +16,7 @@ pub mod convert;
 pub mod dual_quat;
 mod error;
 pub mod fit;
+mod frame;
 pub mod integrate;
 pub mod interp;
 pub mod jet;
@@ -31,4 +32,5 @@ pub mod vec3;
 
 pub use dual_quat::{DualQuat, Screw};
 pub use error::{Error, Result, Short};
+pub use frame::Frame;
 pub use quat::Quat;

@@ -24,9 +24,9 @@
 use super::lanes::{Lanes, LanesExt};
 use super::slerp::P2;
 use super::{BatchKernel, Isa, Locator};
+use crate::frame::Frame;
 use crate::jet::Axis;
 use crate::quat::Quat;
-use crate::spline::Frame;
 use std::ops::{Add, Mul, Neg, Sub};
 
 /// The most factors / the highest degree a table supports (B-spline order 12, Bézier of 12

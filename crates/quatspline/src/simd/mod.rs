@@ -16,13 +16,12 @@
 //! vector or a thread's chunk), so they are bit-identical for any thread count and chunking.
 
 pub mod cumulative;
-pub mod engine;
 pub(crate) mod lanes;
 pub mod natural;
 pub mod pairs;
 pub mod slerp;
 
-use crate::spline::Frame;
+use crate::frame::Frame;
 use std::sync::atomic::{AtomicU8, Ordering};
 
 /// The instruction set a kernel runs on.

@@ -17,8 +17,8 @@
 use super::cumulative::{cross, qmul, rotate, width, BODY, EVAL, WORLD};
 use super::lanes::Lanes;
 use super::{BatchKernel, Isa, Locator};
+use crate::frame::Frame;
 use crate::quat::Quat;
-use crate::spline::Frame;
 
 const STRIDE: usize = 24;
 

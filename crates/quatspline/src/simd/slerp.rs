@@ -22,9 +22,9 @@
 
 use super::lanes::{Lanes, LanesExt};
 use super::{BatchKernel, Isa, Locator};
+use crate::frame::Frame;
 use crate::jet::Axis;
 use crate::quat::Quat;
-use crate::spline::Frame;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 /// The arithmetic the slerp-family bodies use: any [`LanesExt`] vector, or [`P2`], two of

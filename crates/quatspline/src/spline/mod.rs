@@ -29,6 +29,7 @@ mod c3;
 mod catmull_rom;
 mod cumulative_bezier;
 mod cumulative_bspline;
+mod engine;
 mod eval;
 mod hermite;
 mod keyframe;
@@ -44,6 +45,7 @@ mod reparam;
 mod spherical_bezier;
 mod squad;
 
+pub use crate::frame::Frame;
 pub use beta::{BetaJoint, BetaSpline};
 pub use c3::{patent_blending, C3Spline, C3Variant};
 pub use catmull_rom::{CatmullRom, CatmullRomEnds};
@@ -51,7 +53,7 @@ pub use cumulative_bezier::CumulativeBezier;
 pub use cumulative_bspline::{cumulative_blending_matrix, CumulativeBSpline};
 pub use eval::{
     angular_into, angular_reference_into, derivatives_on, evaluate_into, evaluate_reference_into,
-    linear_extrapolation, Cursor, Extrapolate, Frame,
+    linear_extrapolation, Cursor, Extrapolate,
 };
 pub use hermite::Hermite;
 pub use keyframe::{prepare_loop, same_rotation, KeyEnds, KeyLoop};
