@@ -20,6 +20,7 @@ mod frame;
 pub mod integrate;
 pub mod interp;
 pub mod jet;
+mod names;
 pub mod quat;
 pub mod se3;
 pub mod simd;

@@ -19,7 +19,8 @@ use crate::frame::Frame;
 use crate::jet::{angular, JQuat, Jet};
 use crate::quat::Quat;
 
-/// What to do with t outside the domain.
+/// What to do with t outside the domain (parsed from "raise", "clamp", "linear" or
+/// "periodic" by its `FromStr`, `names.rs`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Extrapolate {
     /// An error naming the first offending index.
@@ -30,22 +31,6 @@ pub enum Extrapolate {
     Linear,
     /// Repeat the domain: t ↦ a + ((t − a) mod (b − a)).
     Periodic,
-}
-
-impl Extrapolate {
-    /// Parses "raise", "clamp", "linear" or "periodic".
-    pub fn parse(s: &str) -> Result<Self> {
-        match s {
-            "raise" => Ok(Extrapolate::Raise),
-            "clamp" => Ok(Extrapolate::Clamp),
-            "linear" => Ok(Extrapolate::Linear),
-            "periodic" => Ok(Extrapolate::Periodic),
-            other => Err(Error::invalid(
-                "extrapolate",
-                format!("expected \"raise\", \"clamp\", \"linear\" or \"periodic\", got {other:?}"),
-            )),
-        }
-    }
 }
 
 /// A segment cursor for runs of sorted times: the segment of the previous sample is tried
