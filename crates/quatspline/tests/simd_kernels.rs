@@ -11,7 +11,8 @@ use common::{
 use quatspline::simd::{self, Isa};
 use quatspline::spline::{
     angular_into, evaluate_into, evaluate_reference_into, BetaSpline, C3Spline, C3Variant, CumulativeBSpline,
-    CumulativeBezier, Extrapolate, Frame, Hermite, KeyEnds, NaturalEnds, NaturalSpline, PiecewiseSlerp, Spline,
+    CumulativeBezier, Extrapolate, Frame, Hermite, KeyEnds, NaturalEnds, NaturalSpline, PiecewiseSlerp,
+    Spline,
 };
 
 fn splines() -> Vec<(&'static str, Box<dyn Spline>)> {
