@@ -28,7 +28,7 @@ CS_SERIES = 0.5
 G_SERIES = 0.05
 SINC_JET_SWITCH = 1e-2
 SCALED_JR_SWITCH = 0.02
-SPECIAL_RS = Path(__file__).resolve().parents[1] / "crates" / "quatspline" / "src" / "special.rs"
+SPECIAL_RS = Path(__file__).resolve().parents[2] / "crates" / "quatspline" / "src" / "special.rs"
 M = mp.mpf
 
 

@@ -122,10 +122,6 @@ fn from_axis_angle<'py>(py: Python<'py>, axis: Arr<'py>, angle: Arr<'py>) -> Out
     })
 }
 
-fn parse_seq(seq: &str) -> PyResult<EulerSeq> {
-    EulerSeq::parse(seq).map_err(to_py)
-}
-
 /// `seq` of 1, 2 or 3 axes (as scipy); `angles` (N, len(seq)).
 #[pyfunction]
 fn from_euler<'py>(py: Python<'py>, seq: &str, angles: Arr<'py>) -> Out<'py> {
@@ -142,7 +138,7 @@ fn from_euler<'py>(py: Python<'py>, seq: &str, angles: Arr<'py>) -> Out<'py> {
 
 #[pyfunction]
 fn as_euler<'py>(py: Python<'py>, q: Arr<'py>, seq: &str) -> Out<'py> {
-    let s = parse_seq(seq)?;
+    let s = seq.parse::<EulerSeq>().map_err(to_py)?;
     let q = Rows::new(&q, "q", 4)?;
     fill(py, "as_euler", q.len(), |i| Ok(convert::to_euler(s, q.rotation(i)?).0))
 }
@@ -230,7 +226,7 @@ fn slerp<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>, long_pat
 
 #[pyfunction]
 fn lin_euler<'py>(py: Python<'py>, q0: Arr<'py>, q1: Arr<'py>, t: Arr<'py>, seq: &str) -> Out<'py> {
-    let s = parse_seq(seq)?;
+    let s = seq.parse::<EulerSeq>().map_err(to_py)?;
     let (a, b, t) =
         (Rows::new(&q0, "q0", 4)?, Rows::new(&q1, "q1", 4)?, Rows::new(&t, "t", 1)?.parameters()?);
     let n = same_len(&[("q0", a.len()), ("q1", b.len()), ("t", t.len())])?;

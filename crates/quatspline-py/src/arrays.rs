@@ -2,7 +2,7 @@
 //! error mapping and the panic guard.
 
 use numpy::ndarray::ArrayView2;
-use numpy::{PyArray2, PyArrayMethods, PyReadonlyArray2};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::exceptions::{PyMemoryError, PyOverflowError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use quatspline::{Error, Quat};
@@ -288,6 +288,48 @@ impl<'a> Rows<'a> {
     pub fn scalar(&self, i: usize) -> f64 {
         self.row::<1>(i)[0]
     }
+}
+
+// ---- conversions: every binding file takes and returns its arrays through these ----------
+
+/// A 1-D array as a vector.
+pub fn vec_of(a: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
+    a.as_array().iter().copied().collect()
+}
+
+/// An optional 1-D array (key times) as a vector.
+pub fn times_of(t: &Option<PyReadonlyArray1<'_, f64>>) -> Option<Vec<f64>> {
+    t.as_ref().map(vec_of)
+}
+
+/// Rows (N, W), shape and finiteness checked with messages naming `name`.
+pub fn rows_of<const W: usize>(a: &PyReadonlyArray2<'_, f64>, name: &'static str) -> PyResult<Vec<[f64; W]>> {
+    let rows = Rows::new(a, name, W)?;
+    Ok((0..rows.len()).map(|i| rows.row::<W>(i)).collect())
+}
+
+/// Rows (N, 4) as quaternions, as given (see [`rows_of`]).
+pub fn quats_of(q: &PyReadonlyArray2<'_, f64>, name: &'static str) -> PyResult<Vec<Quat>> {
+    Ok(rows_of::<4>(q, name)?.into_iter().map(Quat::from_wxyz).collect())
+}
+
+/// An (n, W) array from rows.
+pub fn to_array<'py, const W: usize>(
+    py: Python<'py>,
+    rows: Vec<[f64; W]>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let n = rows.len();
+    flat_array(py, rows.into_iter().flatten().collect(), n, W)
+}
+
+/// An (n, w) array from a flat row-major buffer (one move, no per-row allocation).
+pub fn flat_array<'py>(
+    py: Python<'py>,
+    v: Vec<f64>,
+    n: usize,
+    w: usize,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    PyArray1::from_vec(py, v).reshape([n, w]).map_err(|e| PyRuntimeError::new_err(e.to_string()))
 }
 
 /// Checks that all row counts are equal (the Python layer broadcasts first).

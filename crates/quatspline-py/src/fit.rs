@@ -1,20 +1,16 @@
 //! Bindings of the fitting solvers (`quatspline::fit`): argument conversion, GIL release,
 //! error mapping, progress callbacks. Nothing else.
 
-use crate::arrays::{guarded, Rows};
+use crate::arrays::{guarded, quats_of, rows_of, times_of, to_py, vec_of};
 use numpy::{IntoPyArray, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use quatspline::fit::{self, position, FitOptions, Knots, Penalty, Robust, Smoothing};
-use quatspline::Quat;
-
-fn vec1(a: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
-    a.as_array().iter().copied().collect()
-}
+use quatspline::spline::NaturalEnds;
 
 fn knots_of(spacing: Option<f64>, array: Option<PyReadonlyArray1<'_, f64>>) -> Knots {
     match (spacing, array) {
-        (_, Some(a)) => Knots::Array(vec1(&a)),
+        (_, Some(a)) => Knots::Array(vec_of(&a)),
         (Some(h), None) => Knots::Spacing(h),
         (None, None) => Knots::Default,
     }
@@ -34,11 +30,6 @@ fn reporter(cb: Option<Py<PyAny>>) -> impl FnMut(&str, usize, f64) -> bool + Sen
         None => true,
         Some(f) => Python::attach(|py| f.call1(py, (stage, it, step)).is_ok() && py.check_signals().is_ok()),
     }
-}
-
-fn quats_rows(q: &PyReadonlyArray2<'_, f64>, name: &'static str) -> PyResult<Vec<Quat>> {
-    let rows = Rows::new(q, name, 4)?;
-    Ok((0..rows.len()).map(|i| rows.quat(i)).collect())
 }
 
 /// Orientation fit; returns a dict of the result fields.
@@ -62,15 +53,15 @@ fn fit_rotations<'py>(
     tol: f64,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let t = vec1(&times);
-    let q = quats_rows(&quats, "quats")?;
-    let w = weights.as_ref().map(vec1);
+    let t = vec_of(&times);
+    let q = quats_of(&quats, "quats")?;
+    let w = weights.as_ref().map(vec_of);
     let opts = FitOptions {
-        penalty: Penalty::parse(penalty).map_err(crate::arrays::to_py)?,
+        penalty: penalty.parse::<Penalty>().map_err(to_py)?,
         order,
         smoothing: smoothing_of(smoothing),
         knots: knots_of(knots_spacing, knots_array),
-        robust: Robust::parse(robust).map_err(crate::arrays::to_py)?,
+        robust: robust.map_or(Ok(Robust::None), str::parse).map_err(to_py)?,
         robust_scale,
         max_iter,
         tol,
@@ -110,9 +101,9 @@ fn min_energy<'py>(
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let resolution = resolution.0;
-    let t = vec1(&times);
-    let q = quats_rows(&quats, "quats")?;
-    let pen = Penalty::parse(penalty).map_err(crate::arrays::to_py)?;
+    let t = vec_of(&times);
+    let q = quats_of(&quats, "quats")?;
+    let pen = penalty.parse::<Penalty>().map_err(to_py)?;
     let mut rep = reporter(progress);
     let r = guarded(py, "MinimumEnergySpline", move || {
         fit::min_energy::min_energy_bspline(&t, &q, pen, resolution, &mut rep)
@@ -145,19 +136,10 @@ fn min_energy_spline<'py>(
     progress: Option<Py<PyAny>>,
 ) -> PyResult<(crate::spline::PySpline, Bound<'py, PyDict>)> {
     let resolution = resolution.0;
-    let q = quats_rows(&quats, "quats")?;
-    let t = times.as_ref().map(vec1);
-    let ends = match ends {
-        "natural" => quatspline::spline::NaturalEnds::Natural,
-        "clamped" => quatspline::spline::NaturalEnds::Clamped { start: start_rate, end: end_rate },
-        "rest" => quatspline::spline::NaturalEnds::Rest,
-        "closed" => quatspline::spline::NaturalEnds::Closed,
-        other => {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "ends: unknown end condition {other:?}; valid: natural, clamped, rest, closed"
-            )))
-        }
-    };
+    let q = quats_of(&quats, "quats")?;
+    let t = times_of(&times);
+    let ends =
+        NaturalEnds::for_method(ends, "the minimum-energy spline", start_rate, end_rate).map_err(to_py)?;
     let mut rep = reporter(progress);
     let s = guarded(py, "MinimumEnergySpline", move || {
         fit::min_energy::MinEnergySpline::new(&q, t.as_deref(), ends, resolution, &mut rep)
@@ -190,12 +172,11 @@ fn fit_positions<'py>(
     robust: Option<&str>,
     robust_scale: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let t = vec1(&times);
-    let rows = Rows::new(&positions, "positions", 3)?;
-    let x: Vec<[f64; 3]> = (0..rows.len()).map(|i| std::array::from_fn(|c| rows.view[[i, c]])).collect();
-    let w = weights.as_ref().map(vec1);
-    let pen = Penalty::parse(penalty).map_err(crate::arrays::to_py)?;
-    let rob = Robust::parse(robust).map_err(crate::arrays::to_py)?;
+    let t = vec_of(&times);
+    let x = rows_of::<3>(&positions, "positions")?;
+    let w = weights.as_ref().map(vec_of);
+    let pen = penalty.parse::<Penalty>().map_err(to_py)?;
+    let rob = robust.map_or(Ok(Robust::None), str::parse).map_err(to_py)?;
     let knots = knots_of(knots_spacing, knots_array);
     let sm = smoothing_of(smoothing);
     let r = guarded(py, "fit (positions)", move || {
@@ -230,9 +211,8 @@ fn position_bspline_eval<'py>(
     t: PyReadonlyArray1<'py, f64>,
     breaks: Option<PyReadonlyArray1<'py, f64>>,
 ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
-    let breaks = breaks.map(|b| vec1(&b));
-    let rows = Rows::new(&ctrl, "ctrl", 3)?;
-    let c: Vec<[f64; 3]> = (0..rows.len()).map(|i| std::array::from_fn(|k| rows.view[[i, k]])).collect();
+    let breaks = breaks.map(|b| vec_of(&b));
+    let c = rows_of::<3>(&ctrl, "ctrl")?;
     if !(2..=fit::model::MAXK).contains(&order) || c.len() < order {
         return Err(pyo3::exceptions::PyValueError::new_err(format!(
             "order: expected 2 … {} with at least order control points, got order {order} and {} points",
@@ -240,7 +220,7 @@ fn position_bspline_eval<'py>(
             c.len()
         )));
     }
-    let tv = vec1(&t);
+    let tv = vec_of(&t);
     let m = tv.len();
     let out = guarded(py, "position_bspline_eval", move || {
         let mut out = vec![0.0; 12 * m];

@@ -1,11 +1,11 @@
 //! Bindings of the spline family: constructors and one `Spline` class for all methods.
 
 use crate::arrays::Count;
-use crate::arrays::{guarded, to_py, Rows};
+use crate::arrays::{guarded, quats_of, rows_of, times_of, to_py, vec_of};
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use quatspline::spline::{self as sp, Extrapolate, Frame};
+use quatspline::spline::{self as sp, Extrapolate, Frame, KeyEnds, TcbEnds};
 use quatspline::{Error, Quat};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -22,21 +22,8 @@ pub struct PySpline {
     inner: Arc<dyn sp::Spline>,
 }
 
-pub(crate) fn quats_of(q: &PyReadonlyArray2<'_, f64>, name: &'static str) -> PyResult<Vec<Quat>> {
-    let rows = Rows::new(q, name, 4)?;
-    Ok((0..rows.len()).map(|i| rows.quat(i)).collect())
-}
-
-pub(crate) fn times_of(t: &Option<PyReadonlyArray1<'_, f64>>) -> Option<Vec<f64>> {
-    t.as_ref().map(|a| a.as_array().iter().copied().collect())
-}
-
 pub(crate) fn wrap(r: Result<impl sp::Spline + 'static, Error>) -> PyResult<PySpline> {
     r.map(|s| PySpline { inner: Arc::new(s) }).map_err(to_py)
-}
-
-fn extrapolate(rule: &str) -> PyResult<Extrapolate> {
-    Extrapolate::parse(rule).map_err(to_py)
 }
 
 impl PySpline {
@@ -192,7 +179,7 @@ impl PySpline {
         if order > 3 {
             return Err(PyValueError::new_err(format!("order: expected 0, 1, 2 or 3, got {order}")));
         }
-        let ex = self::extrapolate(extrapolate)?;
+        let ex: Extrapolate = extrapolate.parse().map_err(to_py)?;
         self.batch(py, t, 4 * (order + 1), "Spline.evaluate", move |s, tc, first, o| {
             sp::evaluate_into(s, tc, first, order, ex, o)
         })
@@ -216,7 +203,7 @@ impl PySpline {
         t: f64,
         extrapolate: &str,
     ) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
-        let ex = self::extrapolate(extrapolate)?;
+        let ex: Extrapolate = extrapolate.parse().map_err(to_py)?;
         let mut row = [0.0; 4];
         let s: &dyn sp::Spline = &*self.inner;
         crate::arrays::guarded_here("Spline.evaluate1", || sp::evaluate_into(s, &[t], 0, 0, ex, &mut row))?;
@@ -236,7 +223,7 @@ impl PySpline {
         if order > 3 {
             return Err(PyValueError::new_err(format!("order: expected 0, 1, 2 or 3, got {order}")));
         }
-        let ex = self::extrapolate(extrapolate)?;
+        let ex: Extrapolate = extrapolate.parse().map_err(to_py)?;
         self.batch_into(py, t, out, 4 * (order + 1), "Spline.evaluate", move |s, tc, first, o| {
             sp::evaluate_into(s, tc, first, order, ex, o)
         })
@@ -279,7 +266,7 @@ impl PySpline {
         if !(1..=3).contains(&order) {
             return Err(PyValueError::new_err(format!("order: expected 1, 2 or 3, got {order}")));
         }
-        let ex = self::extrapolate(extrapolate)?;
+        let ex: Extrapolate = extrapolate.parse().map_err(to_py)?;
         let frame = if body { Frame::Body } else { Frame::World };
         self.batch(py, t, 3, "Spline.angular", move |s, tc, first, o| {
             sp::angular_into(s, tc, first, order, frame, ex, o)
@@ -434,9 +421,8 @@ fn position_eval<'py>(
     cubic: bool,
     t: PyReadonlyArray1<'py, f64>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let tk: Vec<f64> = times.as_array().iter().copied().collect();
-    let rows = Rows::new(&points, "positions", 3)?;
-    let pts: Vec<[f64; 3]> = (0..rows.len()).map(|i| rows.row::<3>(i)).collect();
+    let tk = vec_of(&times);
+    let pts = rows_of::<3>(&points, "positions")?;
     let kind = if cubic {
         quatspline::translation::TranslationKind::Cubic
     } else {
@@ -462,8 +448,8 @@ fn c3_weights(
     beta: PyReadonlyArray1<'_, f64>,
     variant: &str,
 ) -> PyResult<Vec<[[f64; 8]; 3]>> {
-    let t: Vec<f64> = times.as_array().iter().copied().collect();
-    let variant = c3_variant(variant)?;
+    let t = vec_of(&times);
+    let variant: sp::C3Variant = variant.parse().map_err(to_py)?;
     let keys = vec![Quat::IDENTITY; t.len()];
     let s =
         sp::C3Spline::new(&keys, Some(&t), &vec_of(&alpha), &vec_of(&beta), variant, false).map_err(to_py)?;
@@ -480,7 +466,7 @@ fn squad(
     holds: bool,
 ) -> PyResult<PySpline> {
     let q = quats_of(&quats, "quats")?;
-    let ends = crate::keyframe::key_ends(ends, "squad", &["open", "rest", "closed"])?;
+    let ends = KeyEnds::for_method(ends, "squad").map_err(to_py)?;
     wrap(sp::Squad::with_keyframes(&q, times_of(&times).as_deref(), ends, holds, canonicalize))
 }
 
@@ -495,7 +481,7 @@ fn catmull_rom(
     holds: bool,
 ) -> PyResult<PySpline> {
     let q = quats_of(&quats, "quats")?;
-    let ends = sp::tcb_ends(ends, "catmull_rom").map_err(to_py)?;
+    let ends = TcbEnds::for_method(ends, "catmull_rom").map_err(to_py)?;
     wrap(sp::CatmullRom::with_keyframes(&q, times_of(&times).as_deref(), alpha, ends, holds, canonicalize))
 }
 
@@ -526,32 +512,9 @@ fn natural_spline(
     holds: bool,
 ) -> PyResult<PySpline> {
     let q = quats_of(&quats, "quats")?;
-    let ends = match ends {
-        "natural" => sp::NaturalEnds::Natural,
-        "clamped" => sp::NaturalEnds::Clamped { start: start_rate, end: end_rate },
-        "rest" => sp::NaturalEnds::Rest,
-        "closed" => sp::NaturalEnds::Closed,
-        other => {
-            return Err(PyValueError::new_err(format!(
-            "ends: the natural spline does not support {other:?}; supported: natural, clamped, rest, closed"
-        )))
-        }
-    };
+    let ends =
+        sp::NaturalEnds::for_method(ends, "the natural spline", start_rate, end_rate).map_err(to_py)?;
     wrap(sp::NaturalSpline::with_keyframes(&q, times_of(&times).as_deref(), ends, holds, canonicalize))
-}
-
-fn c3_variant(v: &str) -> PyResult<sp::C3Variant> {
-    match v {
-        "knot" => Ok(sp::C3Variant::Knot),
-        "patent" => Ok(sp::C3Variant::Patent),
-        other => {
-            Err(PyValueError::new_err(format!("variant: expected \"knot\" or \"patent\", got {other:?}")))
-        }
-    }
-}
-
-fn vec_of(a: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
-    a.as_array().iter().copied().collect()
 }
 
 #[pyfunction]
@@ -581,8 +544,8 @@ fn c3_spline(
     holds: bool,
 ) -> PyResult<PySpline> {
     let q = quats_of(&quats, "quats")?;
-    let variant = c3_variant(variant)?;
-    let ends = crate::keyframe::key_ends(ends, "c3", &["open", "rest", "closed"])?;
+    let variant: sp::C3Variant = variant.parse().map_err(to_py)?;
+    let ends = KeyEnds::for_method(ends, "c3").map_err(to_py)?;
     wrap(sp::C3Spline::with_keyframes(
         &q,
         times_of(&times).as_deref(),

@@ -3,43 +3,13 @@
 //! GIL release and error mapping only.
 
 use crate::arrays::Count;
-use crate::arrays::{guarded, to_py, Rows};
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use crate::arrays::{flat_array, guarded, quats_of, rows_of, times_of, to_array, to_py, vec_of};
+use numpy::{PyArray2, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use quatspline::integrate::{self, RateModel};
 use quatspline::spline::Frame;
 use quatspline::Quat;
-
-fn frame_of(frame: &str) -> PyResult<Frame> {
-    match frame {
-        "body" => Ok(Frame::Body),
-        "world" => Ok(Frame::World),
-        other => Err(PyValueError::new_err(format!("frame: expected \"body\" or \"world\", got {other:?}"))),
-    }
-}
-
-fn rows_of<const W: usize>(a: &PyReadonlyArray2<'_, f64>, name: &'static str) -> PyResult<Vec<[f64; W]>> {
-    let rows = Rows::new(a, name, W)?;
-    Ok((0..rows.len()).map(|i| rows.row::<W>(i)).collect())
-}
-
-fn vec_of(a: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
-    a.as_array().iter().copied().collect()
-}
-
-fn to_array<'py, const W: usize>(
-    py: Python<'py>,
-    rows: Vec<[f64; W]>,
-) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let n = rows.len();
-    flat_array(py, rows.into_iter().flatten().collect(), n, W)
-}
-
-/// An (n, w) array from a flat row-major buffer (one move, no per-row allocation).
-fn flat_array<'py>(py: Python<'py>, v: Vec<f64>, n: usize, w: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    PyArray1::from_vec(py, v).reshape([n, w]).map_err(|e| PyRuntimeError::new_err(e.to_string()))
-}
 
 /// Orientations (N, 4) from rates (N, 3) at times (N,), starting at q0.
 #[pyfunction]
@@ -51,17 +21,8 @@ fn integrate_rates<'py>(
     frame: &str,
     method: &str,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let frame = frame_of(frame)?;
-    let model = match method {
-        "zoh" => RateModel::Zoh,
-        "linear" => RateModel::Linear,
-        "cubic" => RateModel::Cubic,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "method: expected \"zoh\", \"linear\" or \"cubic\", got {other:?}"
-            )))
-        }
-    };
+    let frame: Frame = frame.parse().map_err(to_py)?;
+    let model: RateModel = method.parse().map_err(to_py)?;
     let t = vec_of(&times);
     let r = rows_of::<3>(&angular_velocity, "angular_velocity")?;
     let q = Quat::from_wxyz(q0);
@@ -76,13 +37,9 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
 
 // ---- splines ---------------------------------------------------------------------------
 
-use crate::spline::PySpline;
+use crate::spline::{wrap, PySpline};
 use quatspline::spline::{self as sp};
 use std::sync::Arc;
-
-fn wrap_spline(r: Result<impl sp::Spline + 'static, quatspline::Error>) -> PyResult<PySpline> {
-    r.map(|s| PySpline::from_arc(Arc::new(s))).map_err(to_py)
-}
 
 /// Non-uniform cumulative B-spline of order k with an explicit knot vector (n + k knots).
 #[pyfunction]
@@ -93,9 +50,8 @@ fn nonuniform_bspline(
     canonicalize: bool,
 ) -> PyResult<PySpline> {
     let order = order.0;
-    let rows = Rows::new(&control_quats, "control_quats", 4)?;
-    let q: Vec<Quat> = (0..rows.len()).map(|i| rows.quat(i)).collect();
-    wrap_spline(sp::NonUniformBSpline::new(&q, &vec_of(&knots), order, canonicalize))
+    let q = quats_of(&control_quats, "control_quats")?;
+    wrap(sp::NonUniformBSpline::new(&q, &vec_of(&knots), order, canonicalize))
 }
 
 /// The spline on its arc-length clock (constant angular speed, same domain); also returns
@@ -111,7 +67,7 @@ fn arc_length_spline(py: Python<'_>, spline: &PySpline) -> PyResult<(PySpline, f
 /// The spline with time stretched by `factor` about the start of its domain.
 #[pyfunction]
 fn time_scaled_spline(spline: &PySpline, factor: f64) -> PyResult<PySpline> {
-    wrap_spline(sp::Reparameterized::scaled(spline.arc(), factor))
+    wrap(sp::Reparameterized::scaled(spline.arc(), factor))
 }
 
 /// (max |ω| or |dω/dt| or |d²ω/dt²|, time where reached) over the domain.
@@ -141,10 +97,6 @@ pub struct PyPoseCurve {
     inner: Arc<dyn PoseCurve>,
 }
 
-fn extrapolate_of(rule: &str) -> PyResult<sp::Extrapolate> {
-    sp::Extrapolate::parse(rule).map_err(to_py)
-}
-
 #[pymethods]
 impl PyPoseCurve {
     /// The rotation part as a Spline (all rotation features, certificate).
@@ -167,7 +119,7 @@ impl PyPoseCurve {
         extrapolate: &str,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let order = order.0;
-        let ex = extrapolate_of(extrapolate)?;
+        let ex: sp::Extrapolate = extrapolate.parse().map_err(to_py)?;
         if order > 3 {
             return Err(PyValueError::new_err(format!("order: expected 0, 1, 2 or 3, got {order}")));
         }
@@ -193,7 +145,7 @@ impl PyPoseCurve {
         extrapolate: &str,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let order = order.0;
-        let ex = extrapolate_of(extrapolate)?;
+        let ex: sp::Extrapolate = extrapolate.parse().map_err(to_py)?;
         let tv = vec_of(&t);
         let s = self.inner.clone();
         let out = guarded(py, "twists", move || {
@@ -211,9 +163,7 @@ fn pose_inputs(
     positions: &PyReadonlyArray2<'_, f64>,
     qname: &'static str,
 ) -> PyResult<(Vec<Quat>, Vec<[f64; 3]>)> {
-    let rows = Rows::new(quats, qname, 4)?;
-    let q = (0..rows.len()).map(|i| rows.quat(i)).collect();
-    Ok((q, rows_of::<3>(positions, "positions")?))
+    Ok((quats_of(quats, qname)?, rows_of::<3>(positions, "positions")?))
 }
 
 #[pyfunction]
@@ -227,7 +177,7 @@ fn screw_spline(
     beta: PyReadonlyArray1<'_, f64>,
 ) -> PyResult<PyPoseCurve> {
     let (q, p) = pose_inputs(&quats, &positions, "quats")?;
-    let t = times.as_ref().map(vec_of);
+    let t = times_of(&times);
     let s = se3::ScrewSpline::new(&q, &p, t.as_deref(), smooth, &vec_of(&alpha), &vec_of(&beta))
         .map_err(to_py)?;
     Ok(PyPoseCurve { inner: Arc::new(s) })
@@ -242,15 +192,7 @@ fn pose_bspline(
     formulation: &str,
 ) -> PyResult<PyPoseCurve> {
     let order = order.0;
-    let f = match formulation {
-        "se3" => se3::PoseFormulation::Se3,
-        "split" => se3::PoseFormulation::Split,
-        other => {
-            return Err(PyValueError::new_err(format!(
-                "formulation: expected \"se3\" or \"split\", got {other:?}"
-            )))
-        }
-    };
+    let f: se3::PoseFormulation = formulation.parse().map_err(to_py)?;
     let (q, p) = pose_inputs(&control_quats, &positions, "control_quats")?;
     let s = se3::PoseBSpline::new(&q, &p, &vec_of(&knots), order, f).map_err(to_py)?;
     Ok(PyPoseCurve { inner: Arc::new(s) })

@@ -35,6 +35,9 @@ pub enum Error {
     Internal(String),
     /// An iterative solver stopped before reaching its tolerance.
     NotConverged { what: &'static str, iterations: usize, step: f64, tol: f64 },
+    /// A name (`got`) that is none of option `arg`'s `choices`; for an end condition, the
+    /// `method` that does not support it (see `names.rs`).
+    UnknownName { arg: &'static str, got: String, choices: &'static [&'static str], method: Option<String> },
 }
 
 impl Error {
@@ -68,7 +71,50 @@ impl fmt::Display for Error {
                 "{what}: did not converge in {iterations} iterations (last step {step:.3e}, \
                  tolerance {tol:.1e})"
             ),
+            Error::UnknownName { arg, got, choices, method: Some(method) } => {
+                write!(
+                    f,
+                    "{arg}: {method} does not support {}; supported: {}",
+                    Quoted(got),
+                    choices.join(", ")
+                )
+            }
+            Error::UnknownName { arg, got, choices, method: None } => {
+                write!(f, "{arg}: expected ")?;
+                for (i, c) in choices.iter().enumerate() {
+                    let sep = match i {
+                        0 => "",
+                        _ if i + 1 == choices.len() => " or ",
+                        _ => ", ",
+                    };
+                    write!(f, "{sep}{}", Quoted(c))?;
+                }
+                write!(f, ", got {}", Quoted(got))
+            }
         }
+    }
+}
+
+/// A name as Python quotes it (the binding's callers read these messages): 'name', or
+/// "name" when it holds a single quote and no double one; backslashes, the quote and control
+/// characters escaped, so the message stays on one line.
+struct Quoted<'a>(&'a str);
+
+impl fmt::Display for Quoted<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let s = self.0;
+        let q = if s.contains('\'') && !s.contains('"') { '"' } else { '\'' };
+        write!(f, "{q}")?;
+        for c in s.chars() {
+            if c == '\\' || c == q {
+                write!(f, "\\{c}")?;
+            } else if c.is_control() {
+                write!(f, "{}", c.escape_default())?;
+            } else {
+                write!(f, "{c}")?;
+            }
+        }
+        write!(f, "{q}")
     }
 }
 

@@ -24,7 +24,7 @@
 use crate::error::{Error, Result, Short};
 use crate::quadrature::GL2_01;
 use crate::quat::Quat;
-use crate::spline::Frame;
+use crate::frame::Frame;
 use crate::vec3::{self, Vec3};
 
 /// How the rate varies between samples.

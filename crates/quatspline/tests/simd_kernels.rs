@@ -3,47 +3,17 @@
 //! samples exactly at joints, segment midpoints and domain ends, every derivative order and
 //! both frames; the engine (chunking, locating, clamping, errors) against the reference too.
 
+mod common;
+
+use common::{
+    isas, kernel_angular, kernel_eval, max_rel, reference_angular, reference_eval, shuffled, times, walk, Rng,
+};
 use quatspline::simd::{self, Isa};
 use quatspline::spline::{
-    angular_into, angular_reference_into, evaluate_into, evaluate_reference_into, BetaSpline, C3Spline,
-    C3Variant, CumulativeBSpline, CumulativeBezier, Extrapolate, Frame, Hermite, KeyEnds, NaturalEnds,
-    NaturalSpline, PiecewiseSlerp, Spline,
+    angular_into, evaluate_into, evaluate_reference_into, BetaSpline, C3Spline, C3Variant, CumulativeBSpline,
+    CumulativeBezier, Extrapolate, Frame, Hermite, KeyEnds, NaturalEnds, NaturalSpline, PiecewiseSlerp,
+    Spline,
 };
-use quatspline::Quat;
-
-/// Deterministic xorshift numbers in [0, 1).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
-fn walk(n: usize, seed: u64, step: f64) -> Vec<Quat> {
-    let mut r = Rng(seed);
-    let mut q = vec![Quat::new(0.5, 0.5, -0.5, 0.5)];
-    for _ in 1..n {
-        let a = step * (0.2 + r.next());
-        let ax = [r.next() - 0.5, r.next() - 0.5, r.next() - 0.5];
-        let m = (ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]).sqrt();
-        let (s, c) = (0.5 * a).sin_cos();
-        let next = *q.last().unwrap() * Quat::new(c, s * ax[0] / m, s * ax[1] / m, s * ax[2] / m);
-        q.push(next);
-    }
-    q
-}
-
-fn times(n: usize, seed: u64) -> Vec<f64> {
-    let mut r = Rng(seed);
-    let mut t = vec![-3.0];
-    for _ in 1..n {
-        t.push(t.last().unwrap() + 0.05 + 2.0 * r.next());
-    }
-    t
-}
 
 fn splines() -> Vec<(&'static str, Box<dyn Spline>)> {
     let q = walk(30, 1, 1.2);
@@ -124,60 +94,10 @@ fn splines() -> Vec<(&'static str, Box<dyn Spline>)> {
     v
 }
 
-/// Times that exercise the kernels: joints, just around them, midpoints (the half switch),
-/// ends, random interior points.
+/// Probe times with 200 random interior points.
 fn probe_times(s: &dyn Spline, seed: u64) -> Vec<f64> {
-    let j = s.joints();
-    let (a, b) = s.domain();
-    let mut t = Vec::new();
-    for w in j.windows(2) {
-        let (l, r) = (w[0], w[1]);
-        let mid = l + 0.5 * (r - l);
-        t.extend([
-            l,
-            f64::from_bits(l.to_bits() + 1),
-            mid,
-            f64::from_bits(mid.to_bits() + 1),
-            l + 0.3 * (r - l),
-        ]);
-        t.push(f64::from_bits(r.to_bits() - 1));
-    }
-    t.push(b);
-    let mut r = Rng(seed);
-    t.extend((0..200).map(|_| a + (b - a) * r.next()));
-    t.retain(|&x| x >= a && x <= b);
-    t
+    common::probe_times(s, seed, 200)
 }
-
-/// Worst |a − b| / (scale · TOL\[k\]) over the rows (≤ 1 passes), per quantity (one quaternion of 4 numbers or one rate
-/// vector of 3): scale = max(1, |b's quantity|, h⁻ᵏ) for a k-th derivative on a segment of
-/// length h — the bound is relative in the local parameter u, where every derivative is of
-/// order one; in time the k-th derivative carries h⁻ᵏ and so does its rounding error.
-/// `ang` is the order of angular rows (width 3).
-fn max_rel(s: &dyn Spline, t: &[f64], a: &[f64], b: &[f64], width: usize, ang: usize) -> f64 {
-    assert_eq!(a.len(), b.len());
-    let block = if width.is_multiple_of(4) { 4 } else { 3 };
-    let j = s.joints();
-    let mut worst: f64 = 0.0;
-    for (i, (ra, rb)) in a.chunks(width).zip(b.chunks(width)).enumerate() {
-        let seg = s.locate(t[i]);
-        let h = j[seg + 1] - j[seg];
-        for (m, (qa, qb)) in ra.chunks(block).zip(rb.chunks(block)).enumerate() {
-            let k = if block == 4 { m } else { ang };
-            let size = qb.iter().map(|v| v * v).sum::<f64>().sqrt();
-            let scale = size.max(1.0).max(h.powi(-(k as i32)));
-            for (x, y) in qa.iter().zip(qb) {
-                worst = worst.max((x - y).abs() / scale / TOL[k]);
-            }
-        }
-    }
-    worst
-}
-
-/// The documented bound by derivative order k (see `max_rel` for the scale): 1e-14 for q, q'
-/// and ω; 5e-14 for k = 2 and 1e-13 for k = 3, where two roundings of the same formula
-/// (the AVX2 and scalar kernels) already differ by 2e-14 on the C³ spline's degree-7 weights.
-const TOL: [f64; 4] = [1e-14, 1e-14, 5e-14, 1e-13];
 
 /// The bound's multiple a spline is held to: 1, except the C³ spline on keys left
 /// uncanonicalised with steps past a half-turn (factor angles beyond π/2): there kernel and
@@ -197,60 +117,13 @@ fn slack(name: &str) -> f64 {
     }
 }
 
-fn isas() -> Vec<Isa> {
-    let mut v = vec![Isa::Scalar];
-    if simd::avx2_available() {
-        v.push(Isa::Avx2);
-    }
-    v
-}
-
-/// Kernel rows for `t`, segments by `Spline::locate` (every kernel covers every order).
-fn kernel_eval(s: &dyn Spline, isa: Isa, t: &[f64], order: usize) -> Vec<f64> {
-    let seg: Vec<u32> = t.iter().map(|&x| s.locate(x) as u32).collect();
-    let mut out = vec![f64::NAN; t.len() * 4 * (order + 1)];
-    assert!(
-        s.batch().expect("batch kernel").evaluate(isa, &seg, t, order, &mut out),
-        "{}: the kernel declined order {order}",
-        s.name()
-    );
-    out
-}
-
-fn kernel_angular(s: &dyn Spline, isa: Isa, t: &[f64], order: usize, frame: Frame) -> Vec<f64> {
-    let seg: Vec<u32> = t.iter().map(|&x| s.locate(x) as u32).collect();
-    let mut out = vec![f64::NAN; t.len() * 3];
-    assert!(
-        s.batch().unwrap().angular(isa, &seg, t, order, frame, &mut out),
-        "{}: closed-form rates expected",
-        s.name()
-    );
-    out
-}
-
-fn reference_eval(s: &dyn Spline, t: &[f64], order: usize) -> Vec<f64> {
-    let mut out = vec![0.0; t.len() * 4 * (order + 1)];
-    evaluate_reference_into(s, t, 0, order, Extrapolate::Raise, &mut out).unwrap();
-    out
-}
-
-fn reference_angular(s: &dyn Spline, t: &[f64], order: usize, frame: Frame) -> Vec<f64> {
-    let mut out = vec![0.0; t.len() * 3];
-    angular_reference_into(s, t, 0, order, frame, Extrapolate::Raise, &mut out).unwrap();
-    out
-}
-
 #[test]
 fn every_kernel_equals_the_reference_sorted_and_unsorted() {
     for (name, s) in splines() {
         let s = &*s;
         let mut sorted = probe_times(s, 3);
         sorted.sort_by(f64::total_cmp);
-        let mut unsorted = sorted.clone();
-        let mut r = Rng(99);
-        for i in (1..unsorted.len()).rev() {
-            unsorted.swap(i, (r.next() * (i + 1) as f64) as usize);
-        }
+        let unsorted = shuffled(&sorted, 99);
         for isa in isas() {
             for (kind, t) in [("sorted", &sorted), ("unsorted", &unsorted)] {
                 for order in 0..=3 {

@@ -5,44 +5,15 @@
 //! derivative order through the engine (the kernels cover values; derivatives keep the jets),
 //! keyframe options (rest, closed, holds, α), chunking independence.
 
+mod common;
+
+use common::{isas, max_rel, reference_eval, shuffled, times, walk, Rng};
 use quatspline::simd::{self, pairs, Isa};
 use quatspline::spline::{
     angular_into, angular_reference_into, evaluate_into, evaluate_reference_into, CatmullRom, CatmullRomEnds,
     Extrapolate, Frame, KeyEnds, KochanekBartels, SphericalBezier, Spline, Squad, Tcb, TcbEnds,
 };
 use quatspline::Quat;
-
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn quat(&mut self) -> Quat {
-        loop {
-            let q = Quat::new(self.next() - 0.5, self.next() - 0.5, self.next() - 0.5, self.next() - 0.5);
-            if q.norm() > 0.1 {
-                return q.normalize();
-            }
-        }
-    }
-}
-
-fn walk(n: usize, seed: u64, step: f64) -> Vec<Quat> {
-    let mut r = Rng(seed);
-    let mut q = vec![Quat::new(0.5, 0.5, -0.5, 0.5)];
-    for _ in 1..n {
-        let a = step * (0.2 + r.next());
-        let ax = [r.next() - 0.5, r.next() - 0.5, r.next() - 0.5];
-        let m = (ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]).sqrt();
-        let (s, c) = (0.5 * a).sin_cos();
-        let next = *q.last().unwrap() * Quat::new(c, s * ax[0] / m, s * ax[1] / m, s * ax[2] / m);
-        q.push(next);
-    }
-    q
-}
 
 /// Keys whose neighbours are exactly `half` apart (the angle between the 4-vectors; rotation
 /// 2·half) about random axes.
@@ -57,15 +28,6 @@ fn steps(n: usize, seed: u64, half: f64) -> Vec<Quat> {
         q.push(next);
     }
     q
-}
-
-fn times(n: usize, seed: u64) -> Vec<f64> {
-    let mut r = Rng(seed);
-    let mut t = vec![-3.0];
-    for _ in 1..n {
-        t.push(t.last().unwrap() + 0.05 + 2.0 * r.next());
-    }
-    t
 }
 
 fn splines() -> Vec<(String, Box<dyn Spline>)> {
@@ -162,76 +124,14 @@ fn splines() -> Vec<(String, Box<dyn Spline>)> {
     v
 }
 
+/// Probe times with 300 random interior points.
 fn probe_times(s: &dyn Spline, seed: u64) -> Vec<f64> {
-    let j = s.joints();
-    let (a, b) = s.domain();
-    let mut t = Vec::new();
-    for w in j.windows(2) {
-        let (l, r) = (w[0], w[1]);
-        t.extend([l, f64::from_bits(l.to_bits() + 1), l + 0.5 * (r - l), l + 0.3 * (r - l)]);
-        t.push(f64::from_bits(r.to_bits() - 1));
-    }
-    t.push(b);
-    let mut r = Rng(seed);
-    t.extend((0..300).map(|_| a + (b - a) * r.next()));
-    t.retain(|&x| x >= a && x <= b);
-    t
-}
-
-/// Worst |a − b| / (TOL · max(1, |b|, h⁻ᵏ)) per quaternion (4 numbers) or rate (3), as in
-/// `simd_kernels.rs`: 1e-14 for q, q', ω; 5e-14 for k = 2; 1e-13 for k = 3.
-const TOL: [f64; 4] = [1e-14, 1e-14, 5e-14, 1e-13];
-
-fn max_rel(s: &dyn Spline, t: &[f64], a: &[f64], b: &[f64], width: usize, ang: usize) -> f64 {
-    assert_eq!(a.len(), b.len());
-    let block = if width.is_multiple_of(4) { 4 } else { 3 };
-    let j = s.joints();
-    let mut worst: f64 = 0.0;
-    for (i, (ra, rb)) in a.chunks(width).zip(b.chunks(width)).enumerate() {
-        let seg = s.locate(t[i]);
-        let h = j[seg + 1] - j[seg];
-        for (m, (qa, qb)) in ra.chunks(block).zip(rb.chunks(block)).enumerate() {
-            let k = if block == 4 { m } else { ang };
-            let size = qb.iter().map(|v| v * v).sum::<f64>().sqrt();
-            let scale = size.max(1.0).max(h.powi(-(k as i32)));
-            for (x, y) in qa.iter().zip(qb) {
-                assert!(x.is_finite(), "non-finite row {i}");
-                worst = worst.max((x - y).abs() / scale / TOL[k]);
-            }
-        }
-    }
-    worst
-}
-
-fn isas() -> Vec<Isa> {
-    let mut v = vec![Isa::Scalar];
-    if simd::avx2_available() {
-        v.push(Isa::Avx2);
-    }
-    v
+    common::probe_times(s, seed, 300)
 }
 
 /// The kernel's value rows (it must have one for order 0).
 fn kernel_values(s: &dyn Spline, isa: Isa, t: &[f64]) -> Vec<f64> {
-    let seg: Vec<u32> = t.iter().map(|&x| s.locate(x) as u32).collect();
-    let mut out = vec![f64::NAN; t.len() * 4];
-    assert!(s.batch().expect("batch kernel").evaluate(isa, &seg, t, 0, &mut out), "{}", s.name());
-    out
-}
-
-fn reference_eval(s: &dyn Spline, t: &[f64], order: usize) -> Vec<f64> {
-    let mut out = vec![0.0; t.len() * 4 * (order + 1)];
-    evaluate_reference_into(s, t, 0, order, Extrapolate::Raise, &mut out).unwrap();
-    out
-}
-
-fn shuffled(t: &[f64], seed: u64) -> Vec<f64> {
-    let mut u = t.to_vec();
-    let mut r = Rng(seed);
-    for i in (1..u.len()).rev() {
-        u.swap(i, (r.next() * (i + 1) as f64) as usize);
-    }
-    u
+    common::kernel_eval(s, isa, t, 0)
 }
 
 #[test]

@@ -21,13 +21,11 @@
 //! one rotation by q (jerk_w = q j q* + ω_w × α_w); q' = ½ q ω, q'' = ½ (q' ω + q α),
 //! q''' = ½ (q'' ω + 2 q' α + q j) give the quaternion derivatives.
 
-use super::lanes::{Lanes, LanesExt};
-use super::slerp::P2;
-use super::{BatchKernel, Isa, Locator};
+use super::lanes::{Lanes, P2};
+use super::quat_lanes::{add4, cross, dot3, qmul, qmul_pure, rot_axis, scale3, scale4, Q4, V3};
+use super::{width, Kernel, Locator, BODY, EVAL, WORLD};
 use crate::jet::Axis;
 use crate::quat::Quat;
-use crate::spline::Frame;
-use std::ops::{Add, Mul, Neg, Sub};
 
 /// The most factors / the highest degree a table supports (B-spline order 12, Bézier of 12
 /// points); beyond, the spline has no batch kernel and the engine uses the jets.
@@ -186,33 +184,6 @@ impl CumulativeTable {
 
 // ------------------------------------------------------------------------------- kernel
 
-/// What the quaternion and vector helpers need: `+ − × neg` and fused multiply-adds, on a
-/// vector of lanes ([`Lanes`]) or two of them in lockstep ([`P2`]).
-pub(super) trait Fused:
-    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Neg<Output = Self>
-{
-    /// `self · b + c`.
-    fn fma(self, b: Self, c: Self) -> Self;
-    /// `c − self · b`.
-    fn fnma(self, b: Self, c: Self) -> Self;
-}
-
-/// [`Fused`] plus constants and the factors' sin/cos: what a kernel body uses.
-pub(super) trait Trig: Fused {
-    /// Every lane `x`.
-    fn splat(x: f64) -> Self;
-    /// (sin θ, cos θ, (θ/2)²) by [`half_angle_sin_cos`], within its bound where
-    /// (θ/2)² ≤ [`HALF_ANGLE_Z`].
-    fn half_angle_sin_cos(self) -> (Self, Self, Self);
-    /// `sc` with the lanes whose (θ/2)² exceeds [`HALF_ANGLE_Z`] replaced by the general
-    /// vector sin/cos of θ.
-    fn wide_sin_cos(self, sc: (Self, Self)) -> (Self, Self);
-    /// The lane-wise larger of `self` and `b` (`self` where either is NaN).
-    fn max(self, b: Self) -> Self;
-    /// Whether any lane is above `b`.
-    fn any_above(self, b: f64) -> bool;
-}
-
 /// (π/4)², the largest (θ/2)² [`half_angle_sin_cos`] takes (a hair above it is as accurate).
 const HALF_ANGLE_Z: f64 = 0.616_850_275_068_084_9;
 
@@ -251,7 +222,8 @@ fn half_angle_sin_cos<V: Lanes>(x: V) -> (V, V, V) {
     (s2 * cs, s2.fnma(sn, one), z)
 }
 
-/// See [`Trig::wide_sin_cos`].
+/// `sc` with the lanes whose (θ/2)² exceeds [`HALF_ANGLE_Z`] replaced by the general vector
+/// sin/cos of θ.
 #[inline(always)]
 fn wide_sin_cos<V: Lanes>(x: V, (s, c): (V, V)) -> (V, V) {
     let h = x * k::<V>(0.5);
@@ -261,77 +233,10 @@ fn wide_sin_cos<V: Lanes>(x: V, (s, c): (V, V)) -> (V, V) {
     (lim.lt_select(z, gs, s), lim.lt_select(z, gc, c))
 }
 
-impl<V: Lanes> Fused for V {
-    #[inline(always)]
-    fn fma(self, b: Self, c: Self) -> Self {
-        Lanes::fma(self, b, c)
-    }
-    #[inline(always)]
-    fn fnma(self, b: Self, c: Self) -> Self {
-        Lanes::fnma(self, b, c)
-    }
-}
-
-impl<V: LanesExt> Trig for V {
-    #[inline(always)]
-    fn splat(x: f64) -> Self {
-        <V as Lanes>::splat(x)
-    }
-    #[inline(always)]
-    fn half_angle_sin_cos(self) -> (Self, Self, Self) {
-        half_angle_sin_cos(self)
-    }
-    #[inline(always)]
-    fn wide_sin_cos(self, sc: (Self, Self)) -> (Self, Self) {
-        wide_sin_cos(self, sc)
-    }
-    #[inline(always)]
-    fn max(self, b: Self) -> Self {
-        self.lt_select(b, b, self)
-    }
-    #[inline(always)]
-    fn any_above(self, b: f64) -> bool {
-        <V as Lanes>::splat(b).any_lt(self)
-    }
-}
-
-impl<V: LanesExt> Fused for P2<V> {
-    #[inline(always)]
-    fn fma(self, b: Self, c: Self) -> Self {
-        P2(Lanes::fma(self.0, b.0, c.0), Lanes::fma(self.1, b.1, c.1))
-    }
-    #[inline(always)]
-    fn fnma(self, b: Self, c: Self) -> Self {
-        P2(Lanes::fnma(self.0, b.0, c.0), Lanes::fnma(self.1, b.1, c.1))
-    }
-}
-
-impl<V: LanesExt> Trig for P2<V> {
-    #[inline(always)]
-    fn splat(x: f64) -> Self {
-        let v = <V as Lanes>::splat(x);
-        P2(v, v)
-    }
-    #[inline(always)]
-    fn half_angle_sin_cos(self) -> (Self, Self, Self) {
-        let ((s0, c0, z0), (s1, c1, z1)) = (half_angle_sin_cos(self.0), half_angle_sin_cos(self.1));
-        (P2(s0, s1), P2(c0, c1), P2(z0, z1))
-    }
-    #[inline(always)]
-    fn wide_sin_cos(self, sc: (Self, Self)) -> (Self, Self) {
-        let (s0, c0) = wide_sin_cos(self.0, (sc.0 .0, sc.1 .0));
-        let (s1, c1) = wide_sin_cos(self.1, (sc.0 .1, sc.1 .1));
-        (P2(s0, s1), P2(c0, c1))
-    }
-    #[inline(always)]
-    fn max(self, b: Self) -> Self {
-        P2(self.0.lt_select(b.0, b.0, self.0), self.1.lt_select(b.1, b.1, self.1))
-    }
-    #[inline(always)]
-    fn any_above(self, b: f64) -> bool {
-        let v = <V as Lanes>::splat(b);
-        v.any_lt(self.0) | v.any_lt(self.1)
-    }
+/// Whether any lane of `x` is above `b`.
+#[inline(always)]
+fn any_above<V: Lanes>(x: V, b: f64) -> bool {
+    V::splat(b).any_lt(x)
 }
 
 /// Where the per-segment fields of a block's lanes come from: one record for all of them
@@ -342,7 +247,7 @@ trait Src<A> {
 }
 
 struct Bcast(*const f64);
-impl<A: Trig> Src<A> for Bcast {
+impl<A: Lanes> Src<A> for Bcast {
     #[inline(always)]
     unsafe fn get(&self, off: usize) -> A {
         A::splat(*self.0.add(off))
@@ -352,7 +257,7 @@ impl<A: Trig> Src<A> for Bcast {
 /// Records of the two vectors' lanes transposed into vectors (4×4 transposes of plain
 /// loads: cheaper than one AVX2 gather per field).
 struct Local2<'a, V>(&'a [V], &'a [V]);
-impl<V: LanesExt> Src<P2<V>> for Local2<'_, V> {
+impl<V: Lanes> Src<P2<V>> for Local2<'_, V> {
     #[inline(always)]
     unsafe fn get(&self, off: usize) -> P2<V> {
         P2(*self.0.get_unchecked(off), *self.1.get_unchecked(off))
@@ -363,103 +268,10 @@ impl<V: LanesExt> Src<P2<V>> for Local2<'_, V> {
 const MAX_STRIDE: usize =
     ((6 + MAX_FACTORS * (MAX_DEGREE + 4)).next_multiple_of(4) + 3 * MAX_FACTORS).next_multiple_of(4);
 
-type V3<V> = [V; 3];
-type Q4<V> = [V; 4];
-
-#[inline(always)]
-pub(super) fn qmul<V: Fused>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
-    [
-        a[3].fnma(b[3], a[2].fnma(b[2], a[1].fnma(b[1], a[0] * b[0]))),
-        a[3].fnma(b[2], a[2].fma(b[3], a[1].fma(b[0], a[0] * b[1]))),
-        a[3].fma(b[1], a[2].fma(b[0], a[1].fnma(b[3], a[0] * b[2]))),
-        a[3].fma(b[0], a[2].fnma(b[1], a[1].fma(b[2], a[0] * b[3]))),
-    ]
-}
-
-/// q ⊗ (0, v).
-#[inline(always)]
-fn qmul_pure<V: Fused>(a: Q4<V>, v: V3<V>) -> Q4<V> {
-    [
-        a[3].fnma(v[2], a[2].fnma(v[1], -(a[1] * v[0]))),
-        a[3].fnma(v[1], a[2].fma(v[2], a[0] * v[0])),
-        a[3].fma(v[0], a[1].fnma(v[2], a[0] * v[1])),
-        a[2].fnma(v[0], a[1].fma(v[1], a[0] * v[2])),
-    ]
-}
-
-#[inline(always)]
-pub(super) fn cross<V: Fused>(a: V3<V>, b: V3<V>) -> V3<V> {
-    [a[2].fnma(b[1], a[1] * b[2]), a[0].fnma(b[2], a[2] * b[0]), a[1].fnma(b[0], a[0] * b[1])]
-}
-
-#[inline(always)]
-fn add3<V: Fused>(a: V3<V>, b: V3<V>) -> V3<V> {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-#[inline(always)]
-fn scale3<V: Fused>(a: V3<V>, s: V) -> V3<V> {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-
-#[inline(always)]
-fn add4<V: Fused>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3]]
-}
-
-#[inline(always)]
-fn scale4<V: Fused>(a: Q4<V>, s: V) -> Q4<V> {
-    [a[0] * s, a[1] * s, a[2] * s, a[3] * s]
-}
-
-/// v cos 2θ − sin 2θ (n × v) + (1 − cos 2θ)(n·v) n given s2 = sin 2θ, c2 = cos 2θ,
-/// omc = 1 − cos 2θ: e* v e for e = (cos θ, sin θ n), and e v e* with s2 = −sin 2θ.
-/// (Written as functions, not closures: a closure would not inherit the caller's
-/// `target_feature`, and its vector operations would be calls.)
-#[inline(always)]
-fn rot_axis<V: Fused>(n: V3<V>, s2: V, c2: V, omc: V, v: V3<V>) -> V3<V> {
-    let cr = cross(n, v);
-    let k = omc * dot3(n, v);
-    [
-        k.fma(n[0], s2.fnma(cr[0], c2 * v[0])),
-        k.fma(n[1], s2.fnma(cr[1], c2 * v[1])),
-        k.fma(n[2], s2.fnma(cr[2], c2 * v[2])),
-    ]
-}
-
-/// n·v (the same expression in [`rot_axis`] and its callers, so that it is computed once).
-#[inline(always)]
-fn dot3<V: Fused>(n: V3<V>, v: V3<V>) -> V {
-    n[2].fma(v[2], n[1].fma(v[1], n[0] * v[0]))
-}
-
-/// The vector rotated by the unit quaternion q: x + 2w (v × x) + 2 v × (v × x).
-#[inline(always)]
-pub(super) fn rotate<V: Fused>(q: Q4<V>, x: V3<V>) -> V3<V> {
-    let v = [q[1], q[2], q[3]];
-    let c1 = cross(v, x);
-    let c1 = add3(c1, c1);
-    let c2 = cross(v, c1);
-    [q[0].fma(c1[0], x[0]) + c2[0], q[0].fma(c1[1], x[1]) + c2[1], q[0].fma(c1[2], x[2]) + c2[2]]
-}
-
-/// Output kinds.
-pub(super) const EVAL: u8 = 0;
-pub(super) const BODY: u8 = 1;
-pub(super) const WORLD: u8 = 2;
-
-pub(super) const fn width(k: usize, out: u8) -> usize {
-    if out == EVAL {
-        4 * (k + 1)
-    } else {
-        3
-    }
-}
-
 /// The rate scalars of one factor, ω_j = a n, ω_j' = b n, ω_j'' = c n with a = 2θ', b = 2θ'',
 /// c = 2θ''' (θ^(m) = m! p_m dvar^m), the orders K needs (the others zero).
 #[inline(always)]
-fn factor_rates<A: Trig, const K: usize>(p: [A; 3], dvar: A) -> (A, A, A) {
+fn factor_rates<A: Lanes, const K: usize>(p: [A; 3], dvar: A) -> (A, A, A) {
     let zero = A::splat(0.0);
     let a = A::splat(2.0) * p[0] * dvar;
     let b = if K >= 2 { A::splat(4.0) * p[1] * dvar * dvar } else { zero };
@@ -477,7 +289,7 @@ fn factor_rates<A: Trig, const K: usize>(p: [A; 3], dvar: A) -> (A, A, A) {
 /// with the axis instead of four with scaled axes.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn rate_step<A: Trig, const K: usize>(
+fn rate_step<A: Lanes, const K: usize>(
     n: V3<A>,
     (a, b, c): (A, A, A),
     sg: f64,
@@ -513,7 +325,7 @@ fn rate_step<A: Trig, const K: usize>(
 /// lane times `tv`. The angles of every factor first, then their sin/cos, then the products
 /// and rate recursions: the serial chains see independent work to overlap.
 #[inline(always)]
-unsafe fn block<A: Trig, S: Src<A>, const K: usize, const OUT: u8, const JM: usize>(
+unsafe fn block<A: Lanes, S: Src<A>, const K: usize, const OUT: u8, const JM: usize>(
     nj: usize,
     nd: usize,
     src: &S,
@@ -548,14 +360,14 @@ unsafe fn block<A: Trig, S: Src<A>, const K: usize, const OUT: u8, const JM: usi
     let mut sc = [(zero, zero); JM];
     let mut zmax = zero;
     for j in 0..nj {
-        let (s, c, z) = th[j].half_angle_sin_cos();
+        let (s, c, z) = half_angle_sin_cos(th[j]);
         sc[j] = (s, c);
         zmax = zmax.max(z);
     }
-    if zmax.any_above(HALF_ANGLE_Z) {
+    if any_above(zmax, HALF_ANGLE_Z) {
         // rare: some lane beyond ±π/2 (or not finite)
         for j in 0..nj {
-            sc[j] = th[j].wide_sin_cos(sc[j]);
+            sc[j] = wide_sin_cos(th[j], sc[j]);
         }
     }
     let (one, two) = (A::splat(1.0), A::splat(2.0));
@@ -650,50 +462,10 @@ unsafe fn block<A: Trig, S: Src<A>, const K: usize, const OUT: u8, const JM: usi
     o
 }
 
-/// The samples a kernel body takes at once: two vectors of lanes in lockstep ([`P2`], whose
-/// dependency chains overlap).
-trait Group<V: LanesExt>: Trig {
-    /// Samples per group.
-    const LANES: usize;
-    /// Lane times from `p[0..LANES]`.
-    unsafe fn load(p: *const f64) -> Self;
-    /// Lane l of the 4 groups at `out + l·stride .. + 4`.
-    unsafe fn store_rows4(v: [Self; 4], out: *mut f64, stride: usize);
-    /// The lanes in order.
-    fn lanes(self) -> [f64; 8];
-    /// The vectors of transposed records `a` (lanes 0…N−1) and `b` (N…2N−1) as a source.
-    fn local<'a>(a: &'a [V], b: &'a [V]) -> impl Src<Self> + 'a;
-}
-
-impl<V: LanesExt> Group<V> for P2<V> {
-    const LANES: usize = 2 * V::N;
-    #[inline(always)]
-    unsafe fn load(p: *const f64) -> Self {
-        P2(V::load(p), V::load(p.add(V::N)))
-    }
-    #[inline(always)]
-    unsafe fn store_rows4(v: [Self; 4], out: *mut f64, stride: usize) {
-        V::store_rows4([v[0].0, v[1].0, v[2].0, v[3].0], out, stride);
-        V::store_rows4([v[0].1, v[1].1, v[2].1, v[3].1], out.add(V::N * stride), stride);
-    }
-    #[inline(always)]
-    fn lanes(self) -> [f64; 8] {
-        let (a, b) = (self.0.to_array(), self.1.to_array());
-        let mut o = [0.0; 8];
-        o[..V::N].copy_from_slice(&a[..V::N]);
-        o[V::N..2 * V::N].copy_from_slice(&b[..V::N]);
-        o
-    }
-    #[inline(always)]
-    fn local<'a>(a: &'a [V], b: &'a [V]) -> impl Src<Self> + 'a {
-        Local2(a, b)
-    }
-}
-
 /// Every sample of the run, a group of lanes at a time: the record broadcast when all lanes
 /// share one segment and half, transposed per lane otherwise.
 #[inline(always)]
-unsafe fn run<V: LanesExt, G: Group<V>, const K: usize, const OUT: u8, const JM: usize>(
+unsafe fn run<V: Lanes, const K: usize, const OUT: u8, const JM: usize>(
     tab: &CumulativeTable,
     nj: usize,
     nd: usize,
@@ -707,12 +479,12 @@ unsafe fn run<V: LanesExt, G: Group<V>, const K: usize, const OUT: u8, const JM:
     let stride = tab.stride;
     // the world-frame axes follow the fields the other kernels read
     let len = if OUT == WORLD { stride } else { tab.vlen };
-    let zero = <G as Trig>::splat(0.0);
+    let zero = P2::<V>::splat(0.0);
     // transposed records (written before they are read: no 13 KB memset per call)
     let mut la = std::mem::MaybeUninit::<[V; MAX_STRIDE]>::uninit();
     let mut lb = std::mem::MaybeUninit::<[V; MAX_STRIDE]>::uninit();
     let (pa, pb) = (la.as_mut_ptr() as *mut V, lb.as_mut_ptr() as *mut V);
-    let step = G::LANES;
+    let step = P2::<V>::N;
     let tp = t.as_ptr();
     let sp = seg.as_ptr();
     let op = out.as_mut_ptr();
@@ -724,13 +496,13 @@ unsafe fn run<V: LanesExt, G: Group<V>, const K: usize, const OUT: u8, const JM:
         // store forwarding); a tail repeats its last sample
         let lane = |l: usize| i + l.min(m - 1);
         let tv = if full {
-            G::load(tp.add(i))
+            P2::<V>::load(tp.add(i))
         } else {
             let mut tl = [0.0; 8];
             for (l, x) in tl.iter_mut().enumerate().take(step) {
                 *x = *tp.add(lane(l));
             }
-            G::load(tl.as_ptr())
+            P2::<V>::load(tl.as_ptr())
         };
         // the common case first: every lane in the first lane's segment and half
         let s0 = *sp.add(i);
@@ -739,7 +511,7 @@ unsafe fn run<V: LanesExt, G: Group<V>, const K: usize, const OUT: u8, const JM:
         let mut odd = 0u32;
         if full {
             // a fixed trip count: compiled to a few vector compares
-            for l in 1..G::LANES {
+            for l in 1..step {
                 odd |= (*sp.add(i + l) ^ s0) | ((*tp.add(i + l) > mid0) != h0) as u32;
             }
         } else {
@@ -749,7 +521,7 @@ unsafe fn run<V: LanesExt, G: Group<V>, const K: usize, const OUT: u8, const JM:
         }
         let o = if odd == 0 {
             let rec = base.add((2 * s0 as usize + h0 as usize) * stride);
-            block::<G, _, K, OUT, JM>(nj, nd, &Bcast(rec), tv)
+            block::<P2<V>, _, K, OUT, JM>(nj, nd, &Bcast(rec), tv)
         } else {
             let mut idx = [[0usize; 4]; 2];
             for l in 0..step {
@@ -764,21 +536,21 @@ unsafe fn run<V: LanesExt, G: Group<V>, const K: usize, const OUT: u8, const JM:
                 V::transpose_records(base, &idx[1], len, pb);
             }
             let (fa, fb) = (std::slice::from_raw_parts(pa, len), std::slice::from_raw_parts(pb, len));
-            block::<G, _, K, OUT, JM>(nj, nd, &G::local(fa, fb), tv)
+            block::<P2<V>, _, K, OUT, JM>(nj, nd, &Local2(fa, fb), tv)
         };
         let rows = op.add(i * w);
         if full && OUT == EVAL {
             for b in 0..=K {
                 let c = 4 * b;
-                G::store_rows4([o[c], o[c + 1], o[c + 2], o[c + 3]], rows.add(c), w);
+                P2::<V>::store_rows4([o[c], o[c + 1], o[c + 2], o[c + 3]], rows.add(c), w);
             }
         } else if full && OUT != EVAL && i + m < n {
             // rows of 3 written as rows of 4 in order, each spilling one number into the
             // next row (rewritten right after); not for the last group
-            G::store_rows4([o[0], o[1], o[2], zero], rows, 3);
+            P2::<V>::store_rows4([o[0], o[1], o[2], zero], rows, 3);
         } else {
             for (c, v) in o.iter().take(w).enumerate() {
-                let a = v.lanes();
+                let a = v.to_array();
                 for (l, x) in a.iter().enumerate().take(m) {
                     *rows.add(l * w + c) = *x;
                 }
@@ -788,21 +560,11 @@ unsafe fn run<V: LanesExt, G: Group<V>, const K: usize, const OUT: u8, const JM:
     }
 }
 
-/// `run` on two vectors in lockstep (measured in the release build: faster than one vector
-/// for values and rates alike).
+/// `run` on two vectors in lockstep ([`P2`]; measured in the release build: faster than one
+/// vector for values and rates alike), with the table's shape folded into constants for the
+/// common shapes.
 #[inline(always)]
-unsafe fn shaped<V: LanesExt, const K: usize, const OUT: u8>(
-    tab: &CumulativeTable,
-    seg: &[u32],
-    t: &[f64],
-    out: &mut [f64],
-) {
-    shaped_in::<V, P2<V>, K, OUT>(tab, seg, t, out)
-}
-
-/// `run` with the table's shape folded into constants for the common shapes.
-#[inline(always)]
-unsafe fn shaped_in<V: LanesExt, G: Group<V>, const K: usize, const OUT: u8>(
+unsafe fn shaped<V: Lanes, const K: usize, const OUT: u8>(
     tab: &CumulativeTable,
     seg: &[u32],
     t: &[f64],
@@ -810,117 +572,57 @@ unsafe fn shaped_in<V: LanesExt, G: Group<V>, const K: usize, const OUT: u8>(
 ) {
     match (tab.nj, tab.nd) {
         // (the per-factor arrays sized to the shape: no memset of unused ones per block)
-        (1, 1) => run::<V, G, K, OUT, 1>(tab, 1, 1, seg, t, out),
-        (3, 3) => run::<V, G, K, OUT, 3>(tab, 3, 3, seg, t, out),
-        (3, 7) => run::<V, G, K, OUT, 3>(tab, 3, 7, seg, t, out),
-        (7, 7) => run::<V, G, K, OUT, 7>(tab, 7, 7, seg, t, out),
-        (nj, nd) => run::<V, G, K, OUT, MAX_FACTORS>(tab, nj, nd, seg, t, out),
+        (1, 1) => run::<V, K, OUT, 1>(tab, 1, 1, seg, t, out),
+        (3, 3) => run::<V, K, OUT, 3>(tab, 3, 3, seg, t, out),
+        (3, 7) => run::<V, K, OUT, 3>(tab, 3, 7, seg, t, out),
+        (7, 7) => run::<V, K, OUT, 7>(tab, 7, 7, seg, t, out),
+        (nj, nd) => run::<V, K, OUT, MAX_FACTORS>(tab, nj, nd, seg, t, out),
     }
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn shaped_avx2<const K: usize, const OUT: u8>(
-    tab: &CumulativeTable,
-    seg: &[u32],
-    t: &[f64],
-    out: &mut [f64],
-) {
-    shaped::<super::lanes::Avx2, K, OUT>(tab, seg, t, out)
-}
-
-fn dispatch<const K: usize, const OUT: u8>(
-    isa: Isa,
-    tab: &CumulativeTable,
-    seg: &[u32],
-    t: &[f64],
-    out: &mut [f64],
-) {
-    assert!(seg.len() == t.len() && out.len() == t.len() * width(K, OUT), "cumulative kernel: bad lengths");
-    let nseg = tab.mid.len() as u32;
-    assert!(
-        seg.iter().fold(0, |m, &s| m.max(s)) < nseg || seg.is_empty(),
-        "cumulative kernel: segment out of range"
-    );
-    #[cfg(target_arch = "x86_64")]
-    if isa == Isa::Avx2 && super::avx2_available() {
-        // SAFETY: AVX2 and FMA detected; lengths and segment indices checked above.
-        unsafe { shaped_avx2::<K, OUT>(tab, seg, t, out) };
-        return;
-    }
-    let _ = isa;
-    // SAFETY: lengths and segment indices checked above.
-    unsafe { shaped::<f64, K, OUT>(tab, seg, t, out) }
-}
-
-impl BatchKernel for CumulativeTable {
+impl Kernel for CumulativeTable {
+    const NAME: &'static str = "cumulative";
+    const ORDERS: usize = 3;
+    const RATES: bool = true;
+    const WIDE_REGISTERS: bool = false;
     fn locator(&self) -> &Locator {
         &self.locator
     }
-
-    fn evaluate(&self, isa: Isa, seg: &[u32], t: &[f64], order: usize, out: &mut [f64]) -> bool {
-        match order {
-            0 => dispatch::<0, EVAL>(isa, self, seg, t, out),
-            1 => dispatch::<1, EVAL>(isa, self, seg, t, out),
-            2 => dispatch::<2, EVAL>(isa, self, seg, t, out),
-            _ => dispatch::<3, EVAL>(isa, self, seg, t, out),
-        }
-        true
+    fn segments(&self) -> usize {
+        self.mid.len()
     }
-
-    fn angular(&self, isa: Isa, seg: &[u32], t: &[f64], order: usize, frame: Frame, out: &mut [f64]) -> bool {
-        match (order, frame) {
-            (1, Frame::Body) => dispatch::<1, BODY>(isa, self, seg, t, out),
-            (2, Frame::Body) => dispatch::<2, BODY>(isa, self, seg, t, out),
-            (_, Frame::Body) => dispatch::<3, BODY>(isa, self, seg, t, out),
-            (1, Frame::World) => dispatch::<1, WORLD>(isa, self, seg, t, out),
-            (2, Frame::World) => dispatch::<2, WORLD>(isa, self, seg, t, out),
-            (_, Frame::World) => dispatch::<3, WORLD>(isa, self, seg, t, out),
-        }
-        true
+    #[inline(always)]
+    unsafe fn body<L: Lanes, const K: usize, const OUT: u8>(&self, seg: &[u32], t: &[f64], out: &mut [f64]) {
+        shaped::<L, K, OUT>(self, seg, t, out)
     }
 }
 
-/// The factors' (sin θ, cos θ) as the kernels compute them ([`Trig::half_angle_sin_cos`],
-/// then [`Trig::wide_sin_cos`] when a lane is beyond ±π/2), vectors of `x` in order (for the
-/// accuracy tests).
+/// The factors' (sin θ, cos θ) as the kernels compute them ([`half_angle_sin_cos`], then
+/// [`wide_sin_cos`] when a lane is beyond ±π/2), vectors of `x` in order (for the accuracy
+/// tests).
 #[cfg(test)]
-fn factor_sin_cos_slice(isa: Isa, x: &[f64], s: &mut [f64], c: &mut [f64]) {
-    #[inline(always)]
-    fn one<A: Trig>(x: A) -> (A, A) {
-        let (s, c, z) = x.half_angle_sin_cos();
-        if z.any_above(HALF_ANGLE_Z) {
-            x.wide_sin_cos((s, c))
-        } else {
-            (s, c)
+fn factor_sin_cos_slice(isa: super::Isa, x: &[f64], s: &mut [f64], c: &mut [f64]) {
+    struct Factor;
+    impl super::LaneFn for Factor {
+        #[inline(always)]
+        fn apply<A: Lanes>(&self, x: A, _: A) -> (A, A) {
+            let (s, c, z) = half_angle_sin_cos(x);
+            if any_above(z, HALF_ANGLE_Z) {
+                wide_sin_cos(x, (s, c))
+            } else {
+                (s, c)
+            }
         }
     }
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    unsafe fn avx2(x: &[f64], s: &mut [f64], c: &mut [f64]) {
-        use super::lanes::Avx2;
-        for ((xc, sc), cc) in x.chunks(4).zip(s.chunks_mut(4)).zip(c.chunks_mut(4)) {
-            let mut buf = [0.0; 4];
-            buf[..xc.len()].copy_from_slice(xc);
-            let (vs, vc) = one(<Avx2 as Lanes>::load(buf.as_ptr()));
-            sc.copy_from_slice(&vs.to_array()[..xc.len()]);
-            cc.copy_from_slice(&vc.to_array()[..xc.len()]);
-        }
-    }
-    #[cfg(target_arch = "x86_64")]
-    if isa == Isa::Avx2 && super::avx2_available() {
-        // SAFETY: AVX2 and FMA detected.
-        unsafe { avx2(x, s, c) };
-        return;
-    }
-    for i in 0..x.len() {
-        (s[i], c[i]) = one(x[i]);
-    }
+    let f = super::Elementwise { x, y: &[], pad: (0.0, 0.0), out: (s, Some(c)), f: Factor };
+    // SAFETY: the lengths are the caller's (equal).
+    unsafe { super::dispatch(isa, false, f) }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::simd::Isa;
 
     /// The half-angle sin/cos against libm over the angles the factors meet (and beyond ±π/2,
     /// where lanes take the general kernel), lane by lane: each lane's result is the same

@@ -1,10 +1,11 @@
-//! One kernel body, two instruction sets: the [`Lanes`] trait is a vector of `N` doubles with
-//! the handful of operations the kernels use. `f64` is the portable scalar lane (N = 1, no FMA,
-//! the project's fdlibm `sin_cos`); [`Avx2`] is four lanes of AVX2 + FMA. Kernels are written
-//! once, generically, and instantiated inside a `#[target_feature(enable = "avx2,fma")]`
-//! function, into which every `#[inline(always)]` method here is inlined.
+//! The one lane trait: [`Lanes`] is a vector of `N` doubles with the operations every kernel
+//! uses. `f64` is the portable scalar lane (N = 1, no FMA, the project's fdlibm `sin_cos`,
+//! libm's `atan2`); [`Avx2`] is four lanes of AVX2 + FMA; [`P2`] is two vectors of either in
+//! lockstep. Kernels are written once, generically, and instantiated inside the
+//! `#[target_feature]` functions of `simd::dispatch`, into which every `#[inline(always)]`
+//! method here is inlined.
 
-// fdlibm's kernel constants are kept digit for digit as published.
+// fdlibm's and Cephes' kernel constants are kept digit for digit as published.
 #![allow(clippy::excessive_precision)]
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
@@ -25,15 +26,16 @@ pub(crate) trait Lanes:
     /// Lane l of `out[f]` ← `p[idx[l] + f]` for f < len (records of N lanes, transposed).
     ///
     /// # Safety
-    /// `p[idx[l] .. idx[l] + len.next_multiple_of(4)]` valid for reads, `out` for `len` writes.
-    unsafe fn transpose_records(p: *const f64, idx: &[usize; 4], len: usize, out: *mut Self);
+    /// `idx` has at least `N` entries; `p[idx[l] .. idx[l] + len.next_multiple_of(4)]` valid
+    /// for reads, `out` for `len` writes.
+    unsafe fn transpose_records(p: *const f64, idx: &[usize], len: usize, out: *mut Self);
     /// Stores lane l of the 4 vectors at `out + l·stride .. + 4` (rows of 4).
     ///
     /// # Safety
     /// The N rows must be valid for writes.
     unsafe fn store_rows4(v: [Self; 4], out: *mut f64, stride: usize);
     /// The lanes as an array (the first `N` entries).
-    fn to_array(self) -> [f64; 4];
+    fn to_array(self) -> [f64; 8];
     /// `self · b + c` (fused where the hardware has it).
     fn fma(self, b: Self, c: Self) -> Self;
     /// `c − self · b` (fused where the hardware has it).
@@ -44,6 +46,15 @@ pub(crate) trait Lanes:
     fn sqrt(self) -> Self;
     /// Per lane: `if self < b { x } else { y }`.
     fn lt_select(self, b: Self, x: Self, y: Self) -> Self;
+    /// atan2(self, x) per lane (self = y), within 2 ulp of libm (the f64 lane is libm).
+    fn atan2(self, x: Self) -> Self;
+    /// Whether any lane has `self < b`.
+    fn any_lt(self, b: Self) -> bool;
+    /// The lane-wise larger of `self` and `b` (`self` where either is NaN).
+    #[inline(always)]
+    fn max(self, b: Self) -> Self {
+        self.lt_select(b, b, self)
+    }
 }
 
 impl Lanes for f64 {
@@ -57,7 +68,7 @@ impl Lanes for f64 {
         *p
     }
     #[inline(always)]
-    unsafe fn transpose_records(p: *const f64, idx: &[usize; 4], len: usize, out: *mut Self) {
+    unsafe fn transpose_records(p: *const f64, idx: &[usize], len: usize, out: *mut Self) {
         std::ptr::copy_nonoverlapping(p.add(idx[0]), out, len);
     }
     #[inline(always)]
@@ -65,8 +76,8 @@ impl Lanes for f64 {
         std::ptr::copy_nonoverlapping(v.as_ptr(), out, 4);
     }
     #[inline(always)]
-    fn to_array(self) -> [f64; 4] {
-        [self, 0.0, 0.0, 0.0]
+    fn to_array(self) -> [f64; 8] {
+        [self, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
     }
     #[inline(always)]
     fn fma(self, b: Self, c: Self) -> Self {
@@ -92,6 +103,114 @@ impl Lanes for f64 {
             y
         }
     }
+    #[inline(always)]
+    fn atan2(self, x: Self) -> Self {
+        f64::atan2(self, x)
+    }
+    #[inline(always)]
+    fn any_lt(self, b: Self) -> bool {
+        self < b
+    }
+}
+
+/// Two vectors of samples evaluated in lockstep: every operation is issued for both, so the
+/// long dependency chains of one vector (square root, divisions, sin/cos) overlap those of
+/// the other. Each lane's result is the same as alone.
+#[derive(Clone, Copy)]
+pub(crate) struct P2<V>(pub(crate) V, pub(crate) V);
+
+macro_rules! p2_op {
+    ($tr:ident, $f:ident) => {
+        impl<V: Lanes> $tr for P2<V> {
+            type Output = Self;
+            #[inline(always)]
+            fn $f(self, b: Self) -> Self {
+                P2(self.0.$f(b.0), self.1.$f(b.1))
+            }
+        }
+    };
+}
+p2_op!(Add, add);
+p2_op!(Sub, sub);
+p2_op!(Mul, mul);
+p2_op!(Div, div);
+
+impl<V: Lanes> Neg for P2<V> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        P2(-self.0, -self.1)
+    }
+}
+
+impl<V: Lanes> Lanes for P2<V> {
+    const N: usize = 2 * V::N;
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        P2(V::splat(x), V::splat(x))
+    }
+    #[inline(always)]
+    unsafe fn load(p: *const f64) -> Self {
+        P2(V::load(p), V::load(p.add(V::N)))
+    }
+    #[inline(always)]
+    unsafe fn transpose_records(p: *const f64, idx: &[usize], len: usize, out: *mut Self) {
+        // four fields at a time per half (the halves' transposes read whole blocks of 4)
+        let z = V::splat(0.0);
+        let mut f = 0;
+        while f < len {
+            let (mut a, mut b) = ([z; 4], [z; 4]);
+            let m = (len - f).min(4);
+            V::transpose_records(p.add(f), &idx[..V::N], m, a.as_mut_ptr());
+            V::transpose_records(p.add(f), &idx[V::N..2 * V::N], m, b.as_mut_ptr());
+            for k in 0..m {
+                *out.add(f + k) = P2(a[k], b[k]);
+            }
+            f += 4;
+        }
+    }
+    #[inline(always)]
+    unsafe fn store_rows4(v: [Self; 4], out: *mut f64, stride: usize) {
+        V::store_rows4([v[0].0, v[1].0, v[2].0, v[3].0], out, stride);
+        V::store_rows4([v[0].1, v[1].1, v[2].1, v[3].1], out.add(V::N * stride), stride);
+    }
+    #[inline(always)]
+    fn to_array(self) -> [f64; 8] {
+        let (a, b) = (self.0.to_array(), self.1.to_array());
+        let mut o = [0.0; 8];
+        o[..V::N].copy_from_slice(&a[..V::N]);
+        o[V::N..2 * V::N].copy_from_slice(&b[..V::N]);
+        o
+    }
+    #[inline(always)]
+    fn fma(self, b: Self, c: Self) -> Self {
+        P2(self.0.fma(b.0, c.0), self.1.fma(b.1, c.1))
+    }
+    #[inline(always)]
+    fn fnma(self, b: Self, c: Self) -> Self {
+        P2(self.0.fnma(b.0, c.0), self.1.fnma(b.1, c.1))
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        let ((s0, c0), (s1, c1)) = (self.0.sin_cos(), self.1.sin_cos());
+        (P2(s0, s1), P2(c0, c1))
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        P2(self.0.sqrt(), self.1.sqrt())
+    }
+    #[inline(always)]
+    fn lt_select(self, b: Self, x: Self, y: Self) -> Self {
+        P2(self.0.lt_select(b.0, x.0, y.0), self.1.lt_select(b.1, x.1, y.1))
+    }
+    #[inline(always)]
+    fn atan2(self, x: Self) -> Self {
+        P2(self.0.atan2(x.0), self.1.atan2(x.1))
+    }
+    #[inline(always)]
+    fn any_lt(self, b: Self) -> bool {
+        self.0.any_lt(b.0) | self.1.any_lt(b.1)
+    }
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -101,7 +220,7 @@ pub(crate) use avx2::Avx2;
 mod avx2 {
     use super::Lanes;
     use std::arch::x86_64::*;
-    use std::ops::{Add, Mul, Neg, Sub};
+    use std::ops::{Add, Div, Mul, Neg, Sub};
 
     /// Four f64 lanes in an AVX2 register. Only constructed inside functions compiled with
     /// `#[target_feature(enable = "avx2,fma")]` after `is_x86_feature_detected!` said yes.
@@ -130,7 +249,7 @@ mod avx2 {
             Avx2(unsafe { _mm256_mul_pd(self.0, b.0) })
         }
     }
-    impl std::ops::Div for Avx2 {
+    impl Div for Avx2 {
         type Output = Self;
         #[inline(always)]
         fn div(self, b: Self) -> Self {
@@ -254,153 +373,26 @@ mod avx2 {
         (s_out, c_out)
     }
 
-    impl Lanes for Avx2 {
-        const N: usize = 4;
-        #[inline(always)]
-        fn splat(x: f64) -> Self {
-            Avx2(unsafe { _mm256_set1_pd(x) })
-        }
-        #[inline(always)]
-        unsafe fn load(p: *const f64) -> Self {
-            Avx2(_mm256_loadu_pd(p))
-        }
-        #[inline(always)]
-        unsafe fn transpose_records(p: *const f64, idx: &[usize; 4], len: usize, out: *mut Self) {
-            let mut f = 0;
-            while f < len {
-                let (a, b, c, d) = transpose4(
-                    _mm256_loadu_pd(p.add(idx[0] + f)),
-                    _mm256_loadu_pd(p.add(idx[1] + f)),
-                    _mm256_loadu_pd(p.add(idx[2] + f)),
-                    _mm256_loadu_pd(p.add(idx[3] + f)),
-                );
-                *out.add(f) = Avx2(a);
-                *out.add(f + 1) = Avx2(b);
-                *out.add(f + 2) = Avx2(c);
-                *out.add(f + 3) = Avx2(d);
-                f += 4;
-            }
-        }
-        #[inline(always)]
-        unsafe fn store_rows4(v: [Self; 4], out: *mut f64, stride: usize) {
-            let (a, b, c, d) = transpose4(v[0].0, v[1].0, v[2].0, v[3].0);
-            _mm256_storeu_pd(out, a);
-            _mm256_storeu_pd(out.add(stride), b);
-            _mm256_storeu_pd(out.add(2 * stride), c);
-            _mm256_storeu_pd(out.add(3 * stride), d);
-        }
-        #[inline(always)]
-        fn to_array(self) -> [f64; 4] {
-            let mut a = [0.0; 4];
-            unsafe { _mm256_storeu_pd(a.as_mut_ptr(), self.0) };
-            a
-        }
-        #[inline(always)]
-        fn fma(self, b: Self, c: Self) -> Self {
-            Avx2(unsafe { _mm256_fmadd_pd(self.0, b.0, c.0) })
-        }
-        #[inline(always)]
-        fn fnma(self, b: Self, c: Self) -> Self {
-            Avx2(unsafe { _mm256_fnmadd_pd(self.0, b.0, c.0) })
-        }
-        #[inline(always)]
-        fn sin_cos(self) -> (Self, Self) {
-            let (s, c) = unsafe { sin_cos4(self.0) };
-            (Avx2(s), Avx2(c))
-        }
-        #[inline(always)]
-        fn sqrt(self) -> Self {
-            Avx2(unsafe { _mm256_sqrt_pd(self.0) })
-        }
-        #[inline(always)]
-        fn lt_select(self, b: Self, x: Self, y: Self) -> Self {
-            unsafe { Avx2(_mm256_blendv_pd(y.0, x.0, _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, b.0))) }
-        }
-    }
-
-    /// (sin, cos) of `x.len()` values with the AVX2 kernel (for the accuracy tests and the
-    /// binding's test hook). Caller checked AVX2+FMA.
-    #[target_feature(enable = "avx2,fma")]
-    pub(crate) unsafe fn sin_cos_slice(x: &[f64], s: &mut [f64], c: &mut [f64]) {
-        for ((xc, sc), cc) in x.chunks(4).zip(s.chunks_mut(4)).zip(c.chunks_mut(4)) {
-            let mut buf = [0.0; 4];
-            buf[..xc.len()].copy_from_slice(xc);
-            let (vs, vc) = Avx2::load(buf.as_ptr()).sin_cos();
-            let (a, b) = (vs.to_array(), vc.to_array());
-            sc.copy_from_slice(&a[..xc.len()]);
-            cc.copy_from_slice(&b[..xc.len()]);
-        }
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-pub(crate) use avx2::sin_cos_slice as avx2_sin_cos_slice;
-
-// ------------------------------------------------------------------ slerp-family helpers
-
-/// Cephes `atan`: atan(x) = x + x³ P(x²)/Q(x²) on |x| ≤ 0.66 (Moshier, Cephes Math Library
-/// 2.8, atan.c; peak relative error 2.6e-18 of the rational form), with the reductions
-/// x > tan(3π/8): π/2 − atan(1/x) and 0.66 < x ≤ tan(3π/8): π/4 + atan((x−1)/(x+1)).
-const ATAN_P: [f64; 5] = [
-    -8.750_608_600_031_904_122_785e-1,
-    -1.615_753_718_733_365_076_637e1,
-    -7.500_855_792_314_704_667_340e1,
-    -1.228_866_684_490_136_173_410e2,
-    -6.485_021_904_942_025_371_773e1,
-];
-const ATAN_Q: [f64; 5] = [
-    2.485_846_490_142_306_297_962e1,
-    1.650_270_098_316_988_542_046e2,
-    4.328_810_604_912_902_668_951e2,
-    4.853_903_996_359_136_964_868e2,
-    1.945_506_571_482_613_964_425e2,
-];
-/// π/2 − fl(π/2) (Cephes MOREBITS).
-const MOREBITS: f64 = 6.123_233_995_736_765_886_130e-17;
-const T3P8: f64 = 2.414_213_562_373_095_048_80;
-
-/// What the slerp-family kernels (`squad`, `casteljau`, `pairs`) need beyond [`Lanes`].
-pub(crate) trait LanesExt: Lanes {
-    /// atan2(self, x) per lane (self = y), within 2 ulp of libm (the f64 lane is libm).
-    fn atan2(self, x: Self) -> Self;
-    /// Whether any lane has `self < b`.
-    fn any_lt(self, b: Self) -> bool;
-}
-
-impl LanesExt for f64 {
-    #[inline(always)]
-    fn atan2(self, x: Self) -> Self {
-        f64::atan2(self, x)
-    }
-    #[inline(always)]
-    fn any_lt(self, b: Self) -> bool {
-        self < b
-    }
-}
-
-/// atan2(y, x) of `y.len()` values with the kernel of `isa`'s lanes (accuracy tests).
-pub(crate) fn atan2_slice(avx2: bool, y: &[f64], x: &[f64], out: &mut [f64]) {
-    #[cfg(target_arch = "x86_64")]
-    if avx2 {
-        // SAFETY: the caller checked AVX2 and FMA.
-        unsafe { avx2_ext::atan2_slice(y, x, out) };
-        return;
-    }
-    let _ = avx2;
-    for i in 0..y.len() {
-        out[i] = y[i].atan2(x[i]);
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-mod avx2_ext {
-    use super::{Avx2, Lanes, LanesExt, ATAN_P, ATAN_Q, MOREBITS, T3P8};
-    use std::arch::x86_64::*;
-
-    #[inline(always)]
-    unsafe fn s1(v: f64) -> __m256d {
-        _mm256_set1_pd(v)
-    }
+    /// Cephes `atan`: atan(x) = x + x³ P(x²)/Q(x²) on |x| ≤ 0.66 (Moshier, Cephes Math Library
+    /// 2.8, atan.c; peak relative error 2.6e-18 of the rational form), with the reductions
+    /// x > tan(3π/8): π/2 − atan(1/x) and 0.66 < x ≤ tan(3π/8): π/4 + atan((x−1)/(x+1)).
+    const ATAN_P: [f64; 5] = [
+        -8.750_608_600_031_904_122_785e-1,
+        -1.615_753_718_733_365_076_637e1,
+        -7.500_855_792_314_704_667_340e1,
+        -1.228_866_684_490_136_173_410e2,
+        -6.485_021_904_942_025_371_773e1,
+    ];
+    const ATAN_Q: [f64; 5] = [
+        2.485_846_490_142_306_297_962e1,
+        1.650_270_098_316_988_542_046e2,
+        4.328_810_604_912_902_668_951e2,
+        4.853_903_996_359_136_964_868e2,
+        1.945_506_571_482_613_964_425e2,
+    ];
+    /// π/2 − fl(π/2) (Cephes MOREBITS).
+    const MOREBITS: f64 = 6.123_233_995_736_765_886_130e-17;
+    const T3P8: f64 = 2.414_213_562_373_095_048_80;
 
     /// Four-lane atan2: the Cephes reduction chosen per lane by comparisons of |y| against
     /// multiples of |x| (no division to pick the branch), one division for the reduced
@@ -449,26 +441,75 @@ mod avx2_ext {
         _mm256_or_pd(a, _mm256_and_pd(y, sign))
     }
 
-    impl LanesExt for Avx2 {
+    impl Lanes for Avx2 {
+        const N: usize = 4;
+        #[inline(always)]
+        fn splat(x: f64) -> Self {
+            Avx2(unsafe { _mm256_set1_pd(x) })
+        }
+        #[inline(always)]
+        unsafe fn load(p: *const f64) -> Self {
+            Avx2(_mm256_loadu_pd(p))
+        }
+        #[inline(always)]
+        unsafe fn transpose_records(p: *const f64, idx: &[usize], len: usize, out: *mut Self) {
+            let mut f = 0;
+            while f < len {
+                let (a, b, c, d) = transpose4(
+                    _mm256_loadu_pd(p.add(idx[0] + f)),
+                    _mm256_loadu_pd(p.add(idx[1] + f)),
+                    _mm256_loadu_pd(p.add(idx[2] + f)),
+                    _mm256_loadu_pd(p.add(idx[3] + f)),
+                );
+                *out.add(f) = Avx2(a);
+                *out.add(f + 1) = Avx2(b);
+                *out.add(f + 2) = Avx2(c);
+                *out.add(f + 3) = Avx2(d);
+                f += 4;
+            }
+        }
+        #[inline(always)]
+        unsafe fn store_rows4(v: [Self; 4], out: *mut f64, stride: usize) {
+            let (a, b, c, d) = transpose4(v[0].0, v[1].0, v[2].0, v[3].0);
+            _mm256_storeu_pd(out, a);
+            _mm256_storeu_pd(out.add(stride), b);
+            _mm256_storeu_pd(out.add(2 * stride), c);
+            _mm256_storeu_pd(out.add(3 * stride), d);
+        }
+        #[inline(always)]
+        fn to_array(self) -> [f64; 8] {
+            let mut a = [0.0; 8];
+            unsafe { _mm256_storeu_pd(a.as_mut_ptr(), self.0) };
+            a
+        }
+        #[inline(always)]
+        fn fma(self, b: Self, c: Self) -> Self {
+            Avx2(unsafe { _mm256_fmadd_pd(self.0, b.0, c.0) })
+        }
+        #[inline(always)]
+        fn fnma(self, b: Self, c: Self) -> Self {
+            Avx2(unsafe { _mm256_fnmadd_pd(self.0, b.0, c.0) })
+        }
+        #[inline(always)]
+        fn sin_cos(self) -> (Self, Self) {
+            let (s, c) = unsafe { sin_cos4(self.0) };
+            (Avx2(s), Avx2(c))
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Self {
+            Avx2(unsafe { _mm256_sqrt_pd(self.0) })
+        }
+        #[inline(always)]
+        fn lt_select(self, b: Self, x: Self, y: Self) -> Self {
+            unsafe { Avx2(_mm256_blendv_pd(y.0, x.0, _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, b.0))) }
+        }
         #[inline(always)]
         fn atan2(self, x: Self) -> Self {
-            // SAFETY: an Avx2 value exists only where AVX2+FMA were detected.
             Avx2(unsafe { atan2_4(self.0, x.0) })
         }
         #[inline(always)]
         fn any_lt(self, b: Self) -> bool {
             unsafe { _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LT_OQ>(self.0, b.0)) != 0 }
-        }
-    }
-
-    #[target_feature(enable = "avx2,fma")]
-    pub(super) unsafe fn atan2_slice(y: &[f64], x: &[f64], out: &mut [f64]) {
-        for ((yc, xc), oc) in y.chunks(4).zip(x.chunks(4)).zip(out.chunks_mut(4)) {
-            let (mut by, mut bx) = ([0.0; 4], [1.0; 4]);
-            by[..yc.len()].copy_from_slice(yc);
-            bx[..xc.len()].copy_from_slice(xc);
-            let a = Avx2::load(by.as_ptr()).atan2(Avx2::load(bx.as_ptr())).to_array();
-            oc.copy_from_slice(&a[..oc.len()]);
         }
     }
 }

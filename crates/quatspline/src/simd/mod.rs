@@ -1,9 +1,23 @@
 //! The batch evaluation engine's kernels: per-segment data precomputed flat, samples processed
 //! a vector at a time, the instruction set chosen at run time.
 //!
+//! # Adding a kernel: a table and a body
+//! 1. **Table**: a struct of flat per-segment records (multiples of 4 doubles, so that 4
+//!    records transpose at once) and a [`Locator`], built by the spline's constructor.
+//! 2. **Body**: `unsafe fn body<L: Lanes, const K: usize, const OUT: u8>(&self, seg, t, out)`,
+//!    the rows of order K (`EVAL`, or `BODY` / `WORLD` rates) written once over lanes
+//!    (`lanes.rs`), with quaternion algebra from `quat_lanes.rs` (never a second `qmul`).
+//! 3. **`impl Kernel for Table`**: its name, the orders and rates it covers, and the body. The
+//!    dispatch over instruction sets and `impl BatchKernel` come with it (one blanket impl).
+//! 4. **Spline**: `Spline::batch` returns the table.
+//! 5. **Tests**: the spline joins the lists of `tests/simd_kernels.rs` (shared support in
+//!    `tests/common`), which hold it to the per-sample jets on every instruction set.
+//!
 //! * [`Isa`]: AVX2 + FMA when `is_x86_feature_detected!` finds both, else the portable scalar
 //!   kernel (same code, one lane). One build runs everywhere; nothing needs
-//!   `target-cpu=native`.
+//!   `target-cpu=native`. A kernel may ask for a second AVX2 build compiled where AVX-512 VL
+//!   exists (`Kernel::WIDE_REGISTERS`): the same 256-bit instructions (the same bits) with 32
+//!   vector registers.
 //! * [`mode`] / [`set_mode`]: `QUATSPLINE_SIMD=auto|scalar|reference` (read once) or
 //!   [`set_mode`] at run time. `scalar` forces the portable kernels, `reference` the per-sample
 //!   jet path that every kernel is tested against.
@@ -16,13 +30,14 @@
 //! vector or a thread's chunk), so they are bit-identical for any thread count and chunking.
 
 pub mod cumulative;
-pub mod engine;
 pub(crate) mod lanes;
 pub mod natural;
 pub mod pairs;
+pub(crate) mod quat_lanes;
 pub mod slerp;
 
-use crate::spline::Frame;
+use crate::frame::Frame;
+use lanes::Lanes;
 use std::sync::atomic::{AtomicU8, Ordering};
 
 /// The instruction set a kernel runs on.
@@ -53,6 +68,17 @@ pub enum Mode {
     Scalar,
     /// No batch kernels: the per-sample jet path (the reference).
     Reference,
+}
+
+impl Mode {
+    /// "auto", "scalar" or "reference".
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Auto => "auto",
+            Mode::Scalar => "scalar",
+            Mode::Reference => "reference",
+        }
+    }
 }
 
 const UNSET: u8 = 0;
@@ -116,25 +142,124 @@ pub fn isa() -> Option<Isa> {
     }
 }
 
+/// A call of a kernel over lanes: what [`dispatch`] runs on the lanes of the instruction set
+/// it picks.
+pub(crate) trait OnLanes {
+    /// The call's result.
+    type Out;
+    /// The call on lanes `L`.
+    ///
+    /// # Safety
+    /// The preconditions of the kernel called (checked lengths and indices).
+    unsafe fn run<L: Lanes>(self) -> Self::Out;
+}
+
+/// Runs `f` on the lanes of `isa`: inside a `#[target_feature(enable = "avx2,fma")]`
+/// function (with `wide_registers`, where AVX-512 VL exists, one also compiled with
+/// `avx512f,avx512vl`: the same instructions, 32 vector registers) when `isa` is AVX2 and
+/// the CPU has it, else on the portable `f64` lane. The one dispatch of every kernel.
+///
+/// # Safety
+/// The preconditions of `f`'s kernel.
+#[inline(always)]
+pub(crate) unsafe fn dispatch<F: OnLanes>(isa: Isa, wide_registers: bool, f: F) -> F::Out {
+    #[cfg(target_arch = "x86_64")]
+    if isa == Isa::Avx2 && avx2_available() {
+        if wide_registers
+            && std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512vl")
+        {
+            // SAFETY: AVX2, FMA, AVX-512 F and VL detected.
+            return on_avx2_32regs(f);
+        }
+        // SAFETY: AVX2 and FMA detected.
+        return on_avx2(f);
+    }
+    let _ = (isa, wide_registers);
+    f.run::<f64>()
+}
+
+/// `f` on AVX2 lanes. Caller checked AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+pub(crate) unsafe fn on_avx2<F: OnLanes>(f: F) -> F::Out {
+    f.run::<lanes::Avx2>()
+}
+
+/// `f` on AVX2 lanes, compiled with AVX-512 VL's 32 vector registers. Caller checked AVX2,
+/// FMA, AVX-512 F and VL.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+pub(crate) unsafe fn on_avx2_32regs<F: OnLanes>(f: F) -> F::Out {
+    f.run::<lanes::Avx2>()
+}
+
+/// `f(v)` for every vector `v` of `x`, in order (a tail padded with `pad`): the accuracy
+/// tests' view of a lane function. Results `out[0]`, `out[1]` per element.
+struct Elementwise<'a, F> {
+    x: &'a [f64],
+    y: &'a [f64],
+    pad: (f64, f64),
+    out: (&'a mut [f64], Option<&'a mut [f64]>),
+    f: F,
+}
+
+/// A lane function for [`Elementwise`] (a trait, not a closure: it is generic over lanes).
+trait LaneFn {
+    fn apply<L: Lanes>(&self, x: L, y: L) -> (L, L);
+}
+
+impl<F: LaneFn> OnLanes for Elementwise<'_, F> {
+    type Out = ();
+    #[inline(always)]
+    unsafe fn run<L: Lanes>(self) {
+        let (o0, mut o1) = self.out;
+        for (k, xc) in self.x.chunks(L::N).enumerate() {
+            let (mut bx, mut by) = ([self.pad.0; 8], [self.pad.1; 8]);
+            bx[..xc.len()].copy_from_slice(xc);
+            if !self.y.is_empty() {
+                by[..xc.len()].copy_from_slice(&self.y[k * L::N..k * L::N + xc.len()]);
+            }
+            let (a, b) = self.f.apply(L::load(bx.as_ptr()), L::load(by.as_ptr()));
+            let r = k * L::N..k * L::N + xc.len();
+            o0[r.clone()].copy_from_slice(&a.to_array()[..xc.len()]);
+            if let Some(o1) = o1.as_deref_mut() {
+                o1[r].copy_from_slice(&b.to_array()[..xc.len()]);
+            }
+        }
+    }
+}
+
+struct SinCos;
+impl LaneFn for SinCos {
+    #[inline(always)]
+    fn apply<L: Lanes>(&self, x: L, _: L) -> (L, L) {
+        x.sin_cos()
+    }
+}
+
+struct Atan2;
+impl LaneFn for Atan2 {
+    #[inline(always)]
+    fn apply<L: Lanes>(&self, x: L, y: L) -> (L, L) {
+        (y.atan2(x), x)
+    }
+}
+
 /// (sin x, cos x) elementwise with the kernel `isa` would use (for accuracy tests).
 pub fn sin_cos_slice(isa: Isa, x: &[f64], s: &mut [f64], c: &mut [f64]) {
     assert!(s.len() == x.len() && c.len() == x.len(), "sin_cos_slice: length mismatch");
-    #[cfg(target_arch = "x86_64")]
-    if isa == Isa::Avx2 && avx2_available() {
-        // SAFETY: AVX2 and FMA detected.
-        unsafe { lanes::avx2_sin_cos_slice(x, s, c) };
-        return;
-    }
-    let _ = isa;
-    for i in 0..x.len() {
-        (s[i], c[i]) = crate::special::sin_cos(x[i]);
-    }
+    let f = Elementwise { x, y: &[], pad: (0.0, 0.0), out: (s, Some(c)), f: SinCos };
+    // SAFETY: lengths checked above.
+    unsafe { dispatch(isa, false, f) }
 }
 
 /// atan2(y\[i\], x\[i\]) with the kernel `isa` would use (for accuracy tests).
 pub fn atan2_slice(isa: Isa, y: &[f64], x: &[f64], out: &mut [f64]) {
     assert!(x.len() == y.len() && out.len() == y.len(), "atan2_slice: length mismatch");
-    lanes::atan2_slice(isa == Isa::Avx2 && avx2_available(), y, x, out);
+    let f = Elementwise { x, y, pad: (1.0, 0.0), out: (out, None), f: Atan2 };
+    // SAFETY: lengths checked above.
+    unsafe { dispatch(isa, false, f) }
 }
 
 /// A spline's batch evaluation, offered to the engine by `Spline::batch`.
@@ -154,6 +279,117 @@ pub trait BatchKernel: Send + Sync {
     /// Returns false (writing nothing) where the method has no closed form: the engine then
     /// uses the jets.
     fn angular(&self, isa: Isa, seg: &[u32], t: &[f64], order: usize, frame: Frame, out: &mut [f64]) -> bool;
+}
+
+/// Output kinds of a kernel body: rows q, q', … ([`EVAL`]), angular rates in the body frame
+/// ([`BODY`]) or the world frame ([`WORLD`]).
+pub(crate) const EVAL: u8 = 0;
+/// See [`EVAL`].
+pub(crate) const BODY: u8 = 1;
+/// See [`EVAL`].
+pub(crate) const WORLD: u8 = 2;
+
+/// Numbers per row: 4 (K + 1) for [`EVAL`] up to order K, 3 for rates.
+pub(crate) const fn width(k: usize, out: u8) -> usize {
+    if out == EVAL {
+        4 * (k + 1)
+    } else {
+        3
+    }
+}
+
+/// A kernel: a table of flat per-segment records and its body over lanes (the recipe at the
+/// top of this module). Every `Kernel` is a [`BatchKernel`].
+pub(crate) trait Kernel: Send + Sync {
+    /// Names the kernel in its panics ("natural kernel: bad lengths").
+    const NAME: &'static str;
+    /// The highest derivative order the body evaluates (higher orders keep the jets).
+    const ORDERS: usize;
+    /// Whether the body has closed-form angular rates ([`BODY`], [`WORLD`]).
+    const RATES: bool;
+    /// Whether the AVX2 build is also compiled with AVX-512 VL's 32 vector registers (where
+    /// the CPU has them), for a body whose working set spills with 16.
+    const WIDE_REGISTERS: bool;
+    /// The segment search over the table's joints.
+    fn locator(&self) -> &Locator;
+    /// The number of segments (records).
+    fn segments(&self) -> usize;
+    /// Rows of kind `OUT` up to order `K` (`width(K, OUT)` numbers each) for sample `t[i]` on
+    /// segment `seg[i]`.
+    ///
+    /// # Safety
+    /// `seg.len() == t.len()`, `out.len() == width(K, OUT) · t.len()`, every `seg[i]` below
+    /// `segments()`.
+    unsafe fn body<L: Lanes, const K: usize, const OUT: u8>(&self, seg: &[u32], t: &[f64], out: &mut [f64]);
+}
+
+/// One call of a kernel's body, for [`dispatch`].
+struct Body<'a, T, const K: usize, const OUT: u8> {
+    tab: &'a T,
+    seg: &'a [u32],
+    t: &'a [f64],
+    out: &'a mut [f64],
+}
+
+impl<T: Kernel, const K: usize, const OUT: u8> OnLanes for Body<'_, T, K, OUT> {
+    type Out = ();
+    #[inline(always)]
+    unsafe fn run<L: Lanes>(self) {
+        self.tab.body::<L, K, OUT>(self.seg, self.t, self.out)
+    }
+}
+
+/// The body of order `K`, kind `OUT` on the lanes of `isa`, after checking its preconditions.
+fn run_kernel<T: Kernel, const K: usize, const OUT: u8>(
+    tab: &T,
+    isa: Isa,
+    seg: &[u32],
+    t: &[f64],
+    out: &mut [f64],
+) {
+    assert!(seg.len() == t.len() && out.len() == t.len() * width(K, OUT), "{} kernel: bad lengths", T::NAME);
+    assert!(
+        seg.is_empty() || (seg.iter().fold(0, |m, &s| m.max(s)) as usize) < tab.segments(),
+        "{} kernel: segment out of range",
+        T::NAME
+    );
+    // SAFETY: lengths and segment indices checked above.
+    unsafe { dispatch(isa, T::WIDE_REGISTERS, Body::<T, K, OUT> { tab, seg, t, out }) }
+}
+
+impl<T: Kernel> BatchKernel for T {
+    fn locator(&self) -> &Locator {
+        Kernel::locator(self)
+    }
+
+    fn evaluate(&self, isa: Isa, seg: &[u32], t: &[f64], order: usize, out: &mut [f64]) -> bool {
+        let k = order.min(3);
+        if k > T::ORDERS {
+            return false;
+        }
+        match k {
+            0 => run_kernel::<T, 0, EVAL>(self, isa, seg, t, out),
+            1 => run_kernel::<T, 1, EVAL>(self, isa, seg, t, out),
+            2 => run_kernel::<T, 2, EVAL>(self, isa, seg, t, out),
+            _ => run_kernel::<T, 3, EVAL>(self, isa, seg, t, out),
+        }
+        true
+    }
+
+    fn angular(&self, isa: Isa, seg: &[u32], t: &[f64], order: usize, frame: Frame, out: &mut [f64]) -> bool {
+        if !T::RATES {
+            return false;
+        }
+        match (order, frame) {
+            (1, Frame::Body) => run_kernel::<T, 1, BODY>(self, isa, seg, t, out),
+            (2, Frame::Body) => run_kernel::<T, 2, BODY>(self, isa, seg, t, out),
+            (_, Frame::Body) => run_kernel::<T, 3, BODY>(self, isa, seg, t, out),
+            (1, Frame::World) => run_kernel::<T, 1, WORLD>(self, isa, seg, t, out),
+            (2, Frame::World) => run_kernel::<T, 2, WORLD>(self, isa, seg, t, out),
+            (_, Frame::World) => run_kernel::<T, 3, WORLD>(self, isa, seg, t, out),
+        }
+        true
+    }
 }
 
 /// Flag bit of `Locator::start`: the bucket holds more than one joint.

@@ -14,11 +14,10 @@
 //! jerk = 2 vec(e'* e'' + e* e''') (qᵢ cancels); world frame by one rotation by q
 //! (jerk_w = q jerk q* + ω_w × α_w = q (jerk + ω × α) q*).
 
-use super::cumulative::{cross, qmul, rotate, width, BODY, EVAL, WORLD};
 use super::lanes::Lanes;
-use super::{BatchKernel, Isa, Locator};
+use super::quat_lanes::{cross, dot3, lin3, qmul, rotate, scale3, vec_conj_mul, Q4};
+use super::{width, Kernel, Locator, EVAL, WORLD};
 use crate::quat::Quat;
-use crate::spline::Frame;
 
 const STRIDE: usize = 24;
 
@@ -44,32 +43,6 @@ impl RotvecTable {
         }
         RotvecTable { data, locator: Locator::new(joints) }
     }
-}
-
-type V3<V> = [V; 3];
-type Q4<V> = [V; 4];
-
-/// vec(a* b) for quaternions a = (a₀, a), b = (b₀, b): a₀ b − b₀ a − a × b.
-#[inline(always)]
-fn vec_conj_mul<V: Lanes>(a0: V, a: V3<V>, b0: V, b: V3<V>) -> V3<V> {
-    let c = cross(a, b);
-    [a0.fma(b[0], -(b0 * a[0])) - c[0], a0.fma(b[1], -(b0 * a[1])) - c[1], a0.fma(b[2], -(b0 * a[2])) - c[2]]
-}
-
-/// a x + b y.
-#[inline(always)]
-fn lin3<V: Lanes>(a: V, x: V3<V>, b: V, y: V3<V>) -> V3<V> {
-    [a.fma(x[0], b * y[0]), a.fma(x[1], b * y[1]), a.fma(x[2], b * y[2])]
-}
-
-#[inline(always)]
-fn scale3<V: Lanes>(a: V3<V>, s: V) -> V3<V> {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-
-#[inline(always)]
-fn dot<V: Lanes>(a: V3<V>, b: V3<V>) -> V {
-    a[2].fma(b[2], a[1].fma(b[1], a[0] * b[0]))
 }
 
 /// The polynomial with coefficients `c` (lowest first) at x, by Horner.
@@ -107,7 +80,7 @@ fn block<V: Lanes, const K: usize, const OUT: u8>(f: &[V], s: V) -> [V; 16] {
         }
     }
     let r = p0;
-    let x = dot(r, r);
+    let x = dot3(r, r);
     let th = x.sqrt();
     let (sn, c0) = th.sin_cos();
     // sinc: 1 − x/6 (1 − x/20 (1 − x/42)) below θ = 1e-3 (special::sinc), else sin θ / θ
@@ -141,7 +114,7 @@ fn block<V: Lanes, const K: usize, const OUT: u8>(f: &[V], s: V) -> [V; 16] {
     let r1 = p1;
     let r2 = scale3(p2, two);
     let r3 = scale3(p3, V::splat(6.0));
-    let x1 = two * dot(r, r1);
+    let x1 = two * dot3(r, r1);
     // e' = (C' , S' v + S v')
     let (cd1, sd1) = (c1 * x1, s1 * x1);
     let e1v = lin3(sd1, r, s0, r1);
@@ -149,7 +122,7 @@ fn block<V: Lanes, const K: usize, const OUT: u8>(f: &[V], s: V) -> [V; 16] {
     let (mut x2, mut sd2) = (zero, zero);
     let three = V::splat(3.0);
     if K >= 2 {
-        x2 = two * (dot(r1, r1) + dot(r, r2));
+        x2 = two * (dot3(r1, r1) + dot3(r, r2));
         let x1s = x1 * x1;
         cd2 = c2.fma(x1s, c1 * x2);
         sd2 = s2.fma(x1s, s1 * x2);
@@ -158,7 +131,7 @@ fn block<V: Lanes, const K: usize, const OUT: u8>(f: &[V], s: V) -> [V; 16] {
         e2v = [s0.fma(r2[0], t[0]), s0.fma(r2[1], t[1]), s0.fma(r2[2], t[2])];
     }
     if K >= 3 {
-        let x3 = two * three.fma(dot(r1, r2), dot(r, r3));
+        let x3 = two * three.fma(dot3(r1, r2), dot3(r, r3));
         let x1c = x1 * x1 * x1;
         let m = three * x1 * x2;
         cd3 = c3.fma(x1c, c2.fma(m, c1 * x3));
@@ -280,62 +253,19 @@ unsafe fn run<V: Lanes, const K: usize, const OUT: u8>(
     }
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn run_avx2<const K: usize, const OUT: u8>(
-    tab: &RotvecTable,
-    seg: &[u32],
-    t: &[f64],
-    out: &mut [f64],
-) {
-    run::<super::lanes::Avx2, K, OUT>(tab, seg, t, out)
-}
-
-fn dispatch<const K: usize, const OUT: u8>(
-    tab: &RotvecTable,
-    isa: Isa,
-    seg: &[u32],
-    t: &[f64],
-    out: &mut [f64],
-) {
-    let nseg = tab.data.len() / STRIDE;
-    assert!(seg.len() == t.len() && out.len() == width(K, OUT) * t.len(), "natural kernel: bad lengths");
-    assert!(seg.iter().all(|&s| (s as usize) < nseg), "natural kernel: segment out of range");
-    #[cfg(target_arch = "x86_64")]
-    if isa == Isa::Avx2 && super::avx2_available() {
-        // SAFETY: AVX2 and FMA detected; lengths and segment indices checked above.
-        unsafe { run_avx2::<K, OUT>(tab, seg, t, out) };
-        return;
-    }
-    let _ = isa;
-    // SAFETY: lengths and segment indices checked above.
-    unsafe { run::<f64, K, OUT>(tab, seg, t, out) }
-}
-
-impl BatchKernel for RotvecTable {
+impl Kernel for RotvecTable {
+    const NAME: &'static str = "natural";
+    const ORDERS: usize = 3;
+    const RATES: bool = true;
+    const WIDE_REGISTERS: bool = false;
     fn locator(&self) -> &Locator {
         &self.locator
     }
-
-    fn evaluate(&self, isa: Isa, seg: &[u32], t: &[f64], order: usize, out: &mut [f64]) -> bool {
-        match order {
-            0 => dispatch::<0, EVAL>(self, isa, seg, t, out),
-            1 => dispatch::<1, EVAL>(self, isa, seg, t, out),
-            2 => dispatch::<2, EVAL>(self, isa, seg, t, out),
-            _ => dispatch::<3, EVAL>(self, isa, seg, t, out),
-        }
-        true
+    fn segments(&self) -> usize {
+        self.data.len() / STRIDE
     }
-
-    fn angular(&self, isa: Isa, seg: &[u32], t: &[f64], order: usize, frame: Frame, out: &mut [f64]) -> bool {
-        match (order, frame) {
-            (1, Frame::Body) => dispatch::<1, BODY>(self, isa, seg, t, out),
-            (2, Frame::Body) => dispatch::<2, BODY>(self, isa, seg, t, out),
-            (_, Frame::Body) => dispatch::<3, BODY>(self, isa, seg, t, out),
-            (1, Frame::World) => dispatch::<1, WORLD>(self, isa, seg, t, out),
-            (2, Frame::World) => dispatch::<2, WORLD>(self, isa, seg, t, out),
-            (_, Frame::World) => dispatch::<3, WORLD>(self, isa, seg, t, out),
-        }
-        true
+    #[inline(always)]
+    unsafe fn body<L: Lanes, const K: usize, const OUT: u8>(&self, seg: &[u32], t: &[f64], out: &mut [f64]) {
+        run::<L, K, OUT>(self, seg, t, out)
     }
 }

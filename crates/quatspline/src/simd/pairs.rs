@@ -12,13 +12,12 @@
 //! scalar function; results are a function of each row alone, so they are bit-identical for
 //! any chunking.
 
-use super::lanes::{Lanes, LanesExt};
-use super::slerp::{Arith, P2};
-use super::Isa;
+use super::lanes::{Lanes, P2};
+use super::quat_lanes::{add4, conj, dot4, norm2_plain, normalize, qmul, Q4};
+use super::{dispatch, Isa, OnLanes};
+use crate::dual_quat::DualQuat;
 use crate::error::{Error, Result};
 use crate::quat::Quat;
-
-type Q4<V> = [V; 4];
 
 /// One row by the scalar path (the reference).
 fn scalar_row(q0: &[f64], q1: &[f64], t: &[f64], i: usize, long_path: bool) -> Result<[f64; 4]> {
@@ -51,55 +50,21 @@ fn check(q0: &[f64], q1: &[f64], t: &[f64], out: &[f64]) {
     assert!(q0.len() == 4 * n && q1.len() == 4 * n && out.len() == 4 * n, "slerp_pairs: bad lengths");
 }
 
-#[inline(always)]
-fn dot<V: Arith>(a: Q4<V>, b: Q4<V>) -> V {
-    a[3].fma(b[3], a[2].fma(b[2], a[1].fma(b[1], a[0] * b[0])))
-}
-
-/// q·q summed as `Quat::norm_squared` does (no FMA), so that the unit test below keeps the
-/// same keys' bits as the scalar path.
-#[inline(always)]
-fn norm2_plain<V: Arith>(q: Q4<V>) -> V {
-    q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]
-}
-
-/// `Quat::try_normalize` of a key with a squared norm in [1e-290, 1e290]: the key as given
-/// when |q·q − 1| ≤ 4ε, else (q/m)/|q/m| with m the largest |component| — the same
-/// operations, so the same bits.
-#[inline(always)]
-fn unit<V: Arith>(q: Q4<V>, n2: V) -> Q4<V> {
-    let one = V::splat(1.0);
-    let dev = n2 - one;
-    let tol = V::splat(4.0 * f64::EPSILON);
-    // |dev| ≤ tol  ⇔  not (dev < −tol or tol < dev)
-    if !(dev.any_lt(-tol) || tol.any_lt(dev)) {
-        return q;
-    }
-    let zero = V::splat(0.0);
-    let abs = |x: V| x.lt_select(zero, -x, x);
-    let max = |a: V, b: V| a.lt_select(b, b, a);
-    let m = max(max(max(abs(q[0]), abs(q[1])), abs(q[2])), abs(q[3]));
-    let s = [q[0] / m, q[1] / m, q[2] / m, q[3] / m];
-    let k = one / norm2_plain(s).sqrt();
-    let keep = |c: usize| dev.lt_select(-tol, s[c] * k, tol.lt_select(dev, s[c] * k, q[c]));
-    [keep(0), keep(1), keep(2), keep(3)]
-}
-
 /// Per lane `if a == b { x } else { y }` (no NaN here).
 #[inline(always)]
-fn eq_select<V: Arith>(a: V, b: V, x: V, y: V) -> V {
+fn eq_select<V: Lanes>(a: V, b: V, x: V, y: V) -> V {
     a.lt_select(b, y, b.lt_select(a, y, x))
 }
 
 /// The slerp rows of the lanes (keys as loaded): the results, q0·q1 of the normalised keys
 /// (before the hemisphere flip) and the keys' squared norms, for the caller's checks.
 #[inline(always)]
-fn slerp_lanes<V: Arith>(a: Q4<V>, b: Q4<V>, tv: V, long_path: bool) -> (Q4<V>, V, V, V) {
+fn slerp_lanes<V: Lanes>(a: Q4<V>, b: Q4<V>, tv: V, long_path: bool) -> (Q4<V>, V, V, V) {
     let zero = V::splat(0.0);
     let one = V::splat(1.0);
     let (na, nb) = (norm2_plain(a), norm2_plain(b));
-    let a = unit(a, na);
-    let mut b = unit(b, nb);
+    let a = normalize(a, na);
+    let mut b = normalize(b, nb);
     // q0·q1 as `Quat::dot` sums it: the hemisphere test sees the scalar path's sign
     let mut d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
     let d_in = d;
@@ -109,7 +74,7 @@ fn slerp_lanes<V: Arith>(a: Q4<V>, b: Q4<V>, tv: V, long_path: bool) -> (Q4<V>, 
         d = d * neg;
     }
     let r: Q4<V> = [d.fnma(a[0], b[0]), d.fnma(a[1], b[1]), d.fnma(a[2], b[2]), d.fnma(a[3], b[3])];
-    let s = dot(r, r).sqrt();
+    let s = dot4(r, r).sqrt();
     let th = s.atan2(d);
     let (st, ct) = (tv * th).sin_cos();
     let w = zero.lt_select(s, st / s, tv);
@@ -123,13 +88,7 @@ fn slerp_lanes<V: Arith>(a: Q4<V>, b: Q4<V>, tv: V, long_path: bool) -> (Q4<V>, 
 }
 
 #[inline(always)]
-unsafe fn run<V: LanesExt>(
-    q0: &[f64],
-    q1: &[f64],
-    t: &[f64],
-    long_path: bool,
-    out: &mut [f64],
-) -> Result<()> {
+unsafe fn run<V: Lanes>(q0: &[f64], q1: &[f64], t: &[f64], long_path: bool, out: &mut [f64]) -> Result<()> {
     let n = t.len();
     let w = 2 * V::N;
     let (lo, hi) = (<V as Lanes>::splat(1e-290), <V as Lanes>::splat(1e290));
@@ -178,11 +137,11 @@ unsafe fn run<V: LanesExt>(
         // lanes the vector formula does not cover go through the scalar path, lane by lane
         // (so that no row depends on its neighbours)
         for (h, (na, nb, d)) in [(na.0, nb.0, d_in.0), (na.1, nb.1, d_in.1)].into_iter().enumerate() {
-            let rare = <V as LanesExt>::any_lt(na, lo)
-                || <V as LanesExt>::any_lt(hi, na)
-                || <V as LanesExt>::any_lt(nb, lo)
-                || <V as LanesExt>::any_lt(hi, nb)
-                || (long_path && <V as LanesExt>::any_lt(d, zero));
+            let rare = <V as Lanes>::any_lt(na, lo)
+                || <V as Lanes>::any_lt(hi, na)
+                || <V as Lanes>::any_lt(nb, lo)
+                || <V as Lanes>::any_lt(hi, nb)
+                || (long_path && <V as Lanes>::any_lt(d, zero));
             if !rare {
                 continue;
             }
@@ -200,12 +159,6 @@ unsafe fn run<V: LanesExt>(
     Ok(())
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn run_avx2(q0: &[f64], q1: &[f64], t: &[f64], long_path: bool, out: &mut [f64]) -> Result<()> {
-    run::<super::lanes::Avx2>(q0, q1, t, long_path, out)
-}
-
 /// slerp of independent pairs: rows of 4 in `q0`, `q1` (any nonzero norm; normalised as
 /// `Quat::try_normalize` does), parameters `t` (finite, validated by the caller), rows of 4
 /// out. Errors name the first zero key (`q0`/`q1` and its row).
@@ -218,19 +171,27 @@ pub fn slerp_pairs(
     out: &mut [f64],
 ) -> Result<()> {
     check(q0, q1, t, out);
-    #[cfg(target_arch = "x86_64")]
-    if isa == Isa::Avx2 && super::avx2_available() {
-        // SAFETY: AVX2 and FMA detected; lengths checked above.
-        return unsafe { run_avx2(q0, q1, t, long_path, out) };
-    }
-    let _ = isa;
     // SAFETY: lengths checked above.
-    unsafe { run::<f64>(q0, q1, t, long_path, out) }
+    unsafe { dispatch(isa, false, SlerpPairs { q0, q1, t, long_path, out }) }
+}
+
+struct SlerpPairs<'a> {
+    q0: &'a [f64],
+    q1: &'a [f64],
+    t: &'a [f64],
+    long_path: bool,
+    out: &'a mut [f64],
+}
+
+impl OnLanes for SlerpPairs<'_> {
+    type Out = Result<()>;
+    #[inline(always)]
+    unsafe fn run<L: Lanes>(self) -> Result<()> {
+        run::<L>(self.q0, self.q1, self.t, self.long_path, self.out)
+    }
 }
 
 // ------------------------------------------------------------------------------- sclerp
-
-use crate::dual_quat::DualQuat;
 
 fn unit_dq(rows: &[f64], i: usize, arg: &'static str) -> Result<DualQuat> {
     DualQuat::from_array(rows[8 * i..8 * i + 8].try_into().expect("row of 8"))
@@ -256,29 +217,14 @@ fn check8(a: &[f64], b: &[f64], t: &[f64], out: &[f64]) {
     assert!(a.len() == 8 * n && b.len() == 8 * n && out.len() == 8 * n, "sclerp_pairs: bad lengths");
 }
 
-#[inline(always)]
-fn qmul<V: LanesExt>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
-    super::slerp::qmul(a, b)
-}
-
-#[inline(always)]
-fn conj<V: Lanes>(a: Q4<V>) -> Q4<V> {
-    [a[0], -a[1], -a[2], -a[3]]
-}
-
-#[inline(always)]
-fn add4<V: Lanes>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3]]
-}
-
 /// `DualQuat::try_normalize` (r with the bits of `Quat::try_normalize`, d/|r| made
 /// orthogonal to r) for squared norms of r in [1e-290, 1e290].
 #[inline(always)]
-fn unit_dual<V: LanesExt>(r: Q4<V>, d: Q4<V>, n2: V) -> (Q4<V>, Q4<V>) {
-    let ru = unit(r, n2);
+fn unit_dual<V: Lanes>(r: Q4<V>, d: Q4<V>, n2: V) -> (Q4<V>, Q4<V>) {
+    let ru = normalize(r, n2);
     let k = V::splat(1.0) / n2.sqrt();
     let d = [d[0] * k, d[1] * k, d[2] * k, d[3] * k];
-    let p = dot(ru, d);
+    let p = dot4(ru, d);
     (ru, [p.fnma(ru[0], d[0]), p.fnma(ru[1], d[1]), p.fnma(ru[2], d[2]), p.fnma(ru[3], d[3])])
 }
 
@@ -288,7 +234,7 @@ fn unit_dual<V: LanesExt>(r: Q4<V>, d: Q4<V>, n2: V) -> (Q4<V>, Q4<V>) {
 /// with m = ½ (sin sh (t × u) + (t − (u·t) u) sin(sh)/sin(h) cos h); at |v| = 0 the pure
 /// translation (1, 0) + ε (0, ½ s t).
 #[inline(always)]
-fn screw_power<V: LanesExt>(r: Q4<V>, d: Q4<V>, s: V) -> (Q4<V>, Q4<V>) {
+fn screw_power<V: Lanes>(r: Q4<V>, d: Q4<V>, s: V) -> (Q4<V>, Q4<V>) {
     let zero = V::splat(0.0);
     let (half, one) = (V::splat(0.5), V::splat(1.0));
     let dr = qmul(d, conj(r));
@@ -315,7 +261,7 @@ fn screw_power<V: LanesExt>(r: Q4<V>, d: Q4<V>, s: V) -> (Q4<V>, Q4<V>) {
 }
 
 #[inline(always)]
-unsafe fn run_sclerp<V: LanesExt>(a8: &[f64], b8: &[f64], t: &[f64], out: &mut [f64]) -> Result<()> {
+unsafe fn run_sclerp<V: Lanes>(a8: &[f64], b8: &[f64], t: &[f64], out: &mut [f64]) -> Result<()> {
     let n = t.len();
     let (lo, hi) = (V::splat(1e-290), V::splat(1e290));
     let zero = V::splat(0.0);
@@ -381,24 +327,27 @@ unsafe fn run_sclerp<V: LanesExt>(a8: &[f64], b8: &[f64], t: &[f64], out: &mut [
     Ok(())
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn run_sclerp_avx2(a: &[f64], b: &[f64], t: &[f64], out: &mut [f64]) -> Result<()> {
-    run_sclerp::<super::lanes::Avx2>(a, b, t, out)
-}
-
 /// ScLerp of independent pose pairs: rows of 8 (dual quaternions, normalised as
 /// `DualQuat::try_normalize` does) in `a`, `b`, parameters `t`, rows of 8 out; equals
 /// [`crate::interp::sclerp`] row by row within the kernels' bound. Errors name the first
 /// zero rotation part (`dq0`/`dq1` and its row).
 pub fn sclerp_pairs(isa: Isa, a: &[f64], b: &[f64], t: &[f64], out: &mut [f64]) -> Result<()> {
     check8(a, b, t, out);
-    #[cfg(target_arch = "x86_64")]
-    if isa == Isa::Avx2 && super::avx2_available() {
-        // SAFETY: AVX2 and FMA detected; lengths checked above.
-        return unsafe { run_sclerp_avx2(a, b, t, out) };
-    }
-    let _ = isa;
     // SAFETY: lengths checked above.
-    unsafe { run_sclerp::<f64>(a, b, t, out) }
+    unsafe { dispatch(isa, false, SclerpPairs { a, b, t, out }) }
+}
+
+struct SclerpPairs<'a> {
+    a: &'a [f64],
+    b: &'a [f64],
+    t: &'a [f64],
+    out: &'a mut [f64],
+}
+
+impl OnLanes for SclerpPairs<'_> {
+    type Out = Result<()>;
+    #[inline(always)]
+    unsafe fn run<L: Lanes>(self) -> Result<()> {
+        run_sclerp::<L>(self.a, self.b, self.t, self.out)
+    }
 }

@@ -20,128 +20,11 @@
 //! pyramid: no square root, division or trigonometric function per slerp. Derivatives and
 //! rates keep the exact jets (the kernels decline and the engine falls back per run).
 
-use super::lanes::{Lanes, LanesExt};
-use super::{BatchKernel, Isa, Locator};
+use super::lanes::{Lanes, P2};
+use super::quat_lanes::{slerp, times_exp, Q4};
+use super::{Kernel, Locator};
 use crate::jet::Axis;
 use crate::quat::Quat;
-use crate::spline::Frame;
-use std::ops::{Add, Div, Mul, Neg, Sub};
-
-/// The arithmetic the slerp-family bodies use: any [`LanesExt`] vector, or [`P2`], two of
-/// them in lockstep.
-pub(crate) trait Arith:
-    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
-{
-    fn splat(x: f64) -> Self;
-    fn fma(self, b: Self, c: Self) -> Self;
-    fn fnma(self, b: Self, c: Self) -> Self;
-    fn sin_cos(self) -> (Self, Self);
-    fn sqrt(self) -> Self;
-    fn lt_select(self, b: Self, x: Self, y: Self) -> Self;
-    fn atan2(self, x: Self) -> Self;
-    fn any_lt(self, b: Self) -> bool;
-}
-
-impl<V: LanesExt> Arith for V {
-    #[inline(always)]
-    fn splat(x: f64) -> Self {
-        <V as Lanes>::splat(x)
-    }
-    #[inline(always)]
-    fn fma(self, b: Self, c: Self) -> Self {
-        <V as Lanes>::fma(self, b, c)
-    }
-    #[inline(always)]
-    fn fnma(self, b: Self, c: Self) -> Self {
-        <V as Lanes>::fnma(self, b, c)
-    }
-    #[inline(always)]
-    fn sin_cos(self) -> (Self, Self) {
-        <V as Lanes>::sin_cos(self)
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        <V as Lanes>::sqrt(self)
-    }
-    #[inline(always)]
-    fn lt_select(self, b: Self, x: Self, y: Self) -> Self {
-        <V as Lanes>::lt_select(self, b, x, y)
-    }
-    #[inline(always)]
-    fn atan2(self, x: Self) -> Self {
-        <V as LanesExt>::atan2(self, x)
-    }
-    #[inline(always)]
-    fn any_lt(self, b: Self) -> bool {
-        <V as LanesExt>::any_lt(self, b)
-    }
-}
-
-/// Two vectors of samples evaluated in lockstep: every operation is issued for both, so the
-/// long dependency chains of a slerp (square root, atan2's divisions, sin/cos, division)
-/// of one vector overlap those of the other. Each lane's result is the same as alone.
-#[derive(Clone, Copy)]
-pub(crate) struct P2<V>(pub(crate) V, pub(crate) V);
-
-macro_rules! p2_op {
-    ($tr:ident, $f:ident) => {
-        impl<V: Arith> $tr for P2<V> {
-            type Output = Self;
-            #[inline(always)]
-            fn $f(self, b: Self) -> Self {
-                P2(self.0.$f(b.0), self.1.$f(b.1))
-            }
-        }
-    };
-}
-p2_op!(Add, add);
-p2_op!(Sub, sub);
-p2_op!(Mul, mul);
-p2_op!(Div, div);
-
-impl<V: Arith> Neg for P2<V> {
-    type Output = Self;
-    #[inline(always)]
-    fn neg(self) -> Self {
-        P2(-self.0, -self.1)
-    }
-}
-
-impl<V: Arith> Arith for P2<V> {
-    #[inline(always)]
-    fn splat(x: f64) -> Self {
-        P2(V::splat(x), V::splat(x))
-    }
-    #[inline(always)]
-    fn fma(self, b: Self, c: Self) -> Self {
-        P2(self.0.fma(b.0, c.0), self.1.fma(b.1, c.1))
-    }
-    #[inline(always)]
-    fn fnma(self, b: Self, c: Self) -> Self {
-        P2(self.0.fnma(b.0, c.0), self.1.fnma(b.1, c.1))
-    }
-    #[inline(always)]
-    fn sin_cos(self) -> (Self, Self) {
-        let ((s0, c0), (s1, c1)) = (self.0.sin_cos(), self.1.sin_cos());
-        (P2(s0, s1), P2(c0, c1))
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        P2(self.0.sqrt(), self.1.sqrt())
-    }
-    #[inline(always)]
-    fn lt_select(self, b: Self, x: Self, y: Self) -> Self {
-        P2(self.0.lt_select(b.0, x.0, y.0), self.1.lt_select(b.1, x.1, y.1))
-    }
-    #[inline(always)]
-    fn atan2(self, x: Self) -> Self {
-        P2(self.0.atan2(x.0), self.1.atan2(x.1))
-    }
-    #[inline(always)]
-    fn any_lt(self, b: Self) -> bool {
-        self.0.any_lt(b.0) | self.1.any_lt(b.1)
-    }
-}
 
 /// The most control points a de Casteljau table takes (a cubic segment has 4; spherical
 /// Bézier curves beyond this keep the jets).
@@ -164,66 +47,13 @@ const MAX_TERMS: usize = 12;
 /// Series coefficients βₖ, k = 0…K (entries beyond K unused).
 pub(crate) type Coef<V> = [V; MAX_TERMS + 1];
 
-type Q4<V> = [V; 4];
-
-#[inline(always)]
-pub(crate) fn qmul<V: Arith>(a: Q4<V>, b: Q4<V>) -> Q4<V> {
-    [
-        a[3].fnma(b[3], a[2].fnma(b[2], a[1].fnma(b[1], a[0] * b[0]))),
-        a[3].fnma(b[2], a[2].fma(b[3], a[1].fma(b[0], a[0] * b[1]))),
-        a[3].fma(b[1], a[2].fma(b[0], a[1].fnma(b[3], a[0] * b[2]))),
-        a[3].fma(b[0], a[2].fnma(b[1], a[1].fma(b[2], a[0] * b[3]))),
-    ]
-}
-
-/// c exp(x n) for a constant quaternion c, unit axis n and angle x.
-#[inline(always)]
-fn times_exp<V: Arith>(c: Q4<V>, n: [V; 3], x: V) -> Q4<V> {
-    let (s, co) = x.sin_cos();
-    qmul(c, [co, s * n[0], s * n[1], s * n[2]])
-}
-
-/// slerp(a, b; w) = a exp(w log(a* b)), no hemisphere flip (as `JQuat::slerp`), for unit a
-/// and b, written without quaternion products: with c = a·b and r = b − c a (= a ⊗ vec(a* b),
-/// orthogonal to a, |r| = sin θ), θ = atan2(|r|, c) and the result is
-/// a cos wθ + r sin wθ / |r|. Where |r| = 0 exactly: a, or for c < 0 the reference's
-/// log(−1) = (π, 0, 0) choice, a ⊗ (cos wπ, sin wπ, 0, 0).
-#[inline(always)]
-pub(crate) fn slerp<V: Arith>(a: Q4<V>, b: Q4<V>, w: V) -> Q4<V> {
-    let c = a[3].fma(b[3], a[2].fma(b[2], a[1].fma(b[1], a[0] * b[0])));
-    let r = [c.fnma(a[0], b[0]), c.fnma(a[1], b[1]), c.fnma(a[2], b[2]), c.fnma(a[3], b[3])];
-    let s = r[3].fma(r[3], r[2].fma(r[2], r[1].fma(r[1], r[0] * r[0]))).sqrt();
-    let th = s.atan2(c);
-    let (sn, cs) = (w * th).sin_cos();
-    let zero = V::splat(0.0);
-    let k = zero.lt_select(s, sn / s, zero);
-    let o = [r[0].fma(k, a[0] * cs), r[1].fma(k, a[1] * cs), r[2].fma(k, a[2] * cs), r[3].fma(k, a[3] * cs)];
-    if !s.any_lt(V::splat(f64::MIN_POSITIVE)) {
-        return o;
-    }
-    // a ⊗ (cs, sn, 0, 0) = a cs + (a ⊗ i) sn, a ⊗ i = (−a_x, a_w, a_z, −a_y)
-    let special = [
-        a[1].fnma(sn, a[0] * cs),
-        a[0].fma(sn, a[1] * cs),
-        a[3].fma(sn, a[2] * cs),
-        a[2].fnma(sn, a[3] * cs),
-    ];
-    let tiny = V::splat(f64::MIN_POSITIVE);
-    [
-        s.lt_select(tiny, special[0], o[0]),
-        s.lt_select(tiny, special[1], o[1]),
-        s.lt_select(tiny, special[2], o[2]),
-        s.lt_select(tiny, special[3], o[3]),
-    ]
-}
-
 /// The coefficients βₖ(w) of sin(wθ)/sin θ = Σₖ βₖ(w) xᵏ, x = cos θ − 1 (k = 0…K):
 /// β₀ = w, βₖ = βₖ₋₁ (w² − k²) / (k (2k + 1)) (the hypergeometric series of sin(wθ)/sin θ in
 /// cos θ − 1; Eberly, "A fast and accurate algorithm for computing SLERP", J. Graphics, GPU
 /// and Game Tools 15 (3), 2011, eq. 11, here to double precision). The terms shrink like
 /// sin²(θ/2)ᵏ.
 #[inline(always)]
-pub(crate) fn series_coefficients<V: Arith, const K: usize>(w: V) -> Coef<V> {
+pub(crate) fn series_coefficients<V: Lanes, const K: usize>(w: V) -> Coef<V> {
     let w2 = w * w;
     let mut b = [w; MAX_TERMS + 1];
     for k in 1..=K {
@@ -245,7 +75,7 @@ pub(crate) fn series_coefficients<V: Arith, const K: usize>(w: V) -> Coef<V> {
 /// Horner, which needs no powers (Estrin made Catmull–Rom 20 % slower: 10.1 → 12.1 ns/sample
 /// on both cores, same benchmark).
 #[inline(always)]
-fn series<V: Arith, const K: usize, const ESTRIN: bool>(b: &Coef<V>, p: &[V; 4]) -> V {
+fn series<V: Lanes, const K: usize, const ESTRIN: bool>(b: &Coef<V>, p: &[V; 4]) -> V {
     if !ESTRIN {
         let mut acc = b[K];
         for k in (0..K).rev() {
@@ -271,7 +101,7 @@ fn series<V: Arith, const K: usize, const ESTRIN: bool>(b: &Coef<V>, p: &[V; 4])
 
 /// x, x², x⁴, x⁸ for Estrin's scheme (series of up to 16 terms); x alone for Horner's.
 #[inline(always)]
-fn powers<V: Arith, const ESTRIN: bool>(x: V) -> [V; 4] {
+fn powers<V: Lanes, const ESTRIN: bool>(x: V) -> [V; 4] {
     if !ESTRIN {
         return [x; 4];
     }
@@ -289,7 +119,7 @@ fn powers<V: Arith, const ESTRIN: bool>(x: V) -> [V; 4] {
 /// instead of four). Exact at the ends: βₖ(0) = 0 and βₖ(1) = (1, 0, 0, …), so w = 0 gives a
 /// and w = 1 gives b (Estrin's pairs then hold 1 or 0 exactly).
 #[inline(always)]
-pub(crate) fn slerp_series<V: Arith, const K: usize, const ESTRIN: bool>(
+pub(crate) fn slerp_series<V: Lanes, const K: usize, const ESTRIN: bool>(
     a: Q4<V>,
     b: Q4<V>,
     bw: &Coef<V>,
@@ -305,7 +135,7 @@ pub(crate) fn slerp_series<V: Arith, const K: usize, const ESTRIN: bool>(
 
 /// a sin((1 − w)θ)/sin θ + b sin(wθ)/sin θ for a given x = cos θ − 1.
 #[inline(always)]
-fn lin_series<V: Arith, const K: usize, const ESTRIN: bool>(
+fn lin_series<V: Lanes, const K: usize, const ESTRIN: bool>(
     a: Q4<V>,
     b: Q4<V>,
     x: V,
@@ -415,7 +245,7 @@ fn q4<V: Copy>(f: &[V], h: &[V], o: usize) -> Q4<P2<V>> {
 /// pyramid, the first level included (from cⱼ to eⱼ), is [`slerp_series`] with the same
 /// coefficients βₖ(u), βₖ(1 − u) for all of them.
 #[inline(always)]
-fn body<V: LanesExt, const SQUAD: bool, const TIER: usize>(
+fn body<V: Lanes, const SQUAD: bool, const TIER: usize>(
     f: &[V],
     h: &[V],
     points: usize,
@@ -434,10 +264,10 @@ fn body<V: LanesExt, const SQUAD: bool, const TIER: usize>(
     if SQUAD {
         let a = times_exp(q4(f, h, 4), axis(8), u * g(f, h, 11));
         let b = times_exp(q4(f, h, 12), axis(16), u * g(f, h, 19));
-        let w = (u - u * u) * <P2<V> as Arith>::splat(2.0);
+        let w = (u - u * u) * P2::<V>::splat(2.0);
         return slerp(a, b, w);
     }
-    let zero = <P2<V> as Arith>::splat(0.0);
+    let zero = P2::<V>::splat(0.0);
     let mut b = [[zero; 4]; MAX_POINTS - 1];
     let m = points - 1;
     for (j, bj) in b.iter_mut().enumerate().take(m) {
@@ -456,7 +286,7 @@ fn body<V: LanesExt, const SQUAD: bool, const TIER: usize>(
 /// beyond 4 points, Horner's up to 4 (see [`series`]; `points` is a constant in the common
 /// shapes, so the choice folds away).
 #[inline(always)]
-fn series_pyramid<V: LanesExt, const K: usize>(f: &[V], h: &[V], points: usize, u: P2<V>) -> Q4<P2<V>> {
+fn series_pyramid<V: Lanes, const K: usize>(f: &[V], h: &[V], points: usize, u: P2<V>) -> Q4<P2<V>> {
     if points > 4 {
         pyramid::<V, K, true>(f, h, points, u)
     } else {
@@ -465,15 +295,15 @@ fn series_pyramid<V: LanesExt, const K: usize>(f: &[V], h: &[V], points: usize, 
 }
 
 #[inline(always)]
-fn pyramid<V: LanesExt, const K: usize, const ESTRIN: bool>(
+fn pyramid<V: Lanes, const K: usize, const ESTRIN: bool>(
     f: &[V],
     h: &[V],
     points: usize,
     u: P2<V>,
 ) -> Q4<P2<V>> {
-    let one = <P2<V> as Arith>::splat(1.0);
+    let one = P2::<V>::splat(1.0);
     let (bw, bv) = (series_coefficients::<_, K>(u), series_coefficients::<_, K>(one - u));
-    let zero = <P2<V> as Arith>::splat(0.0);
+    let zero = P2::<V>::splat(0.0);
     let mut b = [[zero; 4]; MAX_POINTS - 1];
     let m = points - 1;
     for (j, bj) in b.iter_mut().enumerate().take(m) {
@@ -490,7 +320,7 @@ fn pyramid<V: LanesExt, const K: usize, const ESTRIN: bool>(
 
 /// 1 in the lanes whose flag is `k`, else 0.
 #[inline(always)]
-fn tier_indicator<V: Arith>(flag: V, k: f64) -> V {
+fn tier_indicator<V: Lanes>(flag: V, k: f64) -> V {
     let (zero, one) = (V::splat(0.0), V::splat(1.0));
     V::splat(k - 0.5).lt_select(flag, flag.lt_select(V::splat(k + 0.5), one, zero), zero)
 }
@@ -498,13 +328,13 @@ fn tier_indicator<V: Arith>(flag: V, k: f64) -> V {
 /// Loads the records of lanes `idx` into `local` (broadcast when they share one; `cached`
 /// remembers a broadcast record).
 #[inline(always)]
-unsafe fn fetch<V: LanesExt>(tab: &SlerpTable, idx: &[usize; 4], local: &mut [V], cached: &mut usize) {
+unsafe fn fetch<V: Lanes>(tab: &SlerpTable, idx: &[usize; 4], local: &mut [V], cached: &mut usize) {
     let stride = tab.stride;
     if idx[..V::N].iter().all(|&x| x == idx[0]) {
         // runs of one segment keep its broadcast record
         if *cached != idx[0] {
             for (o, v) in local.iter_mut().zip(&tab.data[idx[0]..idx[0] + stride]) {
-                *o = <V as Lanes>::splat(*v);
+                *o = V::splat(*v);
             }
             *cached = idx[0];
         }
@@ -515,7 +345,7 @@ unsafe fn fetch<V: LanesExt>(tab: &SlerpTable, idx: &[usize; 4], local: &mut [V]
 }
 
 #[inline(always)]
-unsafe fn run<V: LanesExt, const SQUAD: bool>(
+unsafe fn run<V: Lanes, const SQUAD: bool>(
     tab: &SlerpTable,
     points: usize,
     seg: &[u32],
@@ -524,7 +354,7 @@ unsafe fn run<V: LanesExt, const SQUAD: bool>(
 ) {
     let n = t.len();
     let stride = tab.stride;
-    let z = <V as Lanes>::splat(0.0);
+    let z = V::splat(0.0);
     let (mut la, mut lb) = ([z; MAX_STRIDE], [z; MAX_STRIDE]);
     let (mut ca, mut cb) = (usize::MAX, usize::MAX);
     let w = 2 * V::N;
@@ -550,7 +380,7 @@ unsafe fn run<V: LanesExt, const SQUAD: bool>(
             // paths computes each and blends
             // (no closures here: they would not inherit the caller's target features)
             let flag = P2(la[2], lb[2]);
-            let half = <P2<V> as Arith>::splat(0.5);
+            let half = P2::<V>::splat(0.5);
             let ind = [
                 tier_indicator(flag, 0.0),
                 tier_indicator(flag, 1.0),
@@ -601,7 +431,7 @@ unsafe fn run<V: LanesExt, const SQUAD: bool>(
 
 /// `run` with the common point counts folded into constants.
 #[inline(always)]
-unsafe fn shaped<V: LanesExt>(tab: &SlerpTable, seg: &[u32], t: &[f64], out: &mut [f64]) {
+unsafe fn shaped<V: Lanes>(tab: &SlerpTable, seg: &[u32], t: &[f64], out: &mut [f64]) {
     match (tab.kind, tab.points) {
         (Kind::Squad, _) => run::<V, true>(tab, 4, seg, t, out),
         (_, 4) => run::<V, false>(tab, 4, seg, t, out),
@@ -610,53 +440,23 @@ unsafe fn shaped<V: LanesExt>(tab: &SlerpTable, seg: &[u32], t: &[f64], out: &mu
     }
 }
 
-/// The same AVX2 kernel compiled where AVX-512 VL is present: the instructions are the same
-/// 256-bit operations (so the same bits), but the register allocator has 32 vector registers
-/// instead of 16, which the pyramid's working set needs (fewer spills).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
-unsafe fn shaped_avx2_32regs(tab: &SlerpTable, seg: &[u32], t: &[f64], out: &mut [f64]) {
-    shaped::<super::lanes::Avx2>(tab, seg, t, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn shaped_avx2(tab: &SlerpTable, seg: &[u32], t: &[f64], out: &mut [f64]) {
-    shaped::<super::lanes::Avx2>(tab, seg, t, out)
-}
-
-impl BatchKernel for SlerpTable {
+impl Kernel for SlerpTable {
+    const NAME: &'static str = "slerp";
+    // values only: derivatives and rates keep the exact jets
+    const ORDERS: usize = 0;
+    const RATES: bool = false;
+    // the pyramid's working set needs the 32 vector registers of AVX-512 VL (fewer spills;
+    // the same 256-bit instructions, so the same bits)
+    const WIDE_REGISTERS: bool = true;
     fn locator(&self) -> &Locator {
         &self.locator
     }
-
-    fn evaluate(&self, isa: Isa, seg: &[u32], t: &[f64], order: usize, out: &mut [f64]) -> bool {
-        if order > 0 {
-            return false;
-        }
-        let nseg = self.data.len() / self.stride;
-        assert!(seg.len() == t.len() && out.len() == 4 * t.len(), "slerp kernel: bad lengths");
-        assert!(seg.iter().all(|&s| (s as usize) < nseg), "slerp kernel: segment out of range");
-        #[cfg(target_arch = "x86_64")]
-        if isa == Isa::Avx2 && super::avx2_available() {
-            // SAFETY: AVX2 and FMA detected; lengths and segment indices checked above.
-            if std::arch::is_x86_feature_detected!("avx512f")
-                && std::arch::is_x86_feature_detected!("avx512vl")
-            {
-                unsafe { shaped_avx2_32regs(self, seg, t, out) };
-            } else {
-                unsafe { shaped_avx2(self, seg, t, out) };
-            }
-            return true;
-        }
-        let _ = isa;
-        // SAFETY: lengths and segment indices checked above.
-        unsafe { shaped::<f64>(self, seg, t, out) };
-        true
+    fn segments(&self) -> usize {
+        self.data.len() / self.stride
     }
-
-    fn angular(&self, _: Isa, _: &[u32], _: &[f64], _: usize, _: Frame, _: &mut [f64]) -> bool {
-        false
+    #[inline(always)]
+    unsafe fn body<L: Lanes, const K: usize, const OUT: u8>(&self, seg: &[u32], t: &[f64], out: &mut [f64]) {
+        shaped::<L>(self, seg, t, out)
     }
 }
 
@@ -795,10 +595,11 @@ mod tests {
         let t: Vec<f64> = (0..999).map(|_| joints[nseg] * next()).collect();
         let seg: Vec<u32> = t.iter().map(|&v| tab.locator.locate(v) as u32).collect();
         let (mut a, mut b) = (vec![0.0; 4 * t.len()], vec![0.0; 4 * t.len()]);
+        use crate::simd::{on_avx2, on_avx2_32regs, Body, EVAL};
         // SAFETY: features checked above; lengths and segments valid
         unsafe {
-            shaped_avx2(&tab, &seg, &t, &mut a);
-            shaped_avx2_32regs(&tab, &seg, &t, &mut b);
+            on_avx2(Body::<_, 0, EVAL> { tab: &tab, seg: &seg, t: &t, out: &mut a });
+            on_avx2_32regs(Body::<_, 0, EVAL> { tab: &tab, seg: &seg, t: &t, out: &mut b });
         }
         assert!(a.iter().zip(&b).all(|(p, q)| p.to_bits() == q.to_bits()));
         assert!(a.iter().all(|v| v.is_finite()));

@@ -15,10 +15,12 @@
 
 use super::Spline;
 use crate::error::{Error, Result};
+use crate::frame::Frame;
 use crate::jet::{angular, JQuat, Jet};
 use crate::quat::Quat;
 
-/// What to do with t outside the domain.
+/// What to do with t outside the domain (parsed from "raise", "clamp", "linear" or
+/// "periodic" by its `FromStr`, `names.rs`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Extrapolate {
     /// An error naming the first offending index.
@@ -29,31 +31,6 @@ pub enum Extrapolate {
     Linear,
     /// Repeat the domain: t ↦ a + ((t − a) mod (b − a)).
     Periodic,
-}
-
-impl Extrapolate {
-    /// Parses "raise", "clamp", "linear" or "periodic".
-    pub fn parse(s: &str) -> Result<Self> {
-        match s {
-            "raise" => Ok(Extrapolate::Raise),
-            "clamp" => Ok(Extrapolate::Clamp),
-            "linear" => Ok(Extrapolate::Linear),
-            "periodic" => Ok(Extrapolate::Periodic),
-            other => Err(Error::invalid(
-                "extrapolate",
-                format!("expected \"raise\", \"clamp\", \"linear\" or \"periodic\", got {other:?}"),
-            )),
-        }
-    }
-}
-
-/// The frame of angular rates.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Frame {
-    /// ω = 2 q' q* (vector part), in world coordinates.
-    World,
-    /// ω_b = 2 q* q', in body coordinates.
-    Body,
 }
 
 /// A segment cursor for runs of sorted times: the segment of the previous sample is tried
@@ -177,7 +154,7 @@ pub fn evaluate_into(
 ) -> Result<()> {
     if order <= 3 {
         let reference = |tc: &[f64], f: usize, o: &mut [f64]| evaluate_reference_into(s, tc, f, order, ex, o);
-        if let Some(r) = crate::simd::engine::evaluate(s, t, first, order, reference, out) {
+        if let Some(r) = super::engine::evaluate(s, t, first, order, reference, out) {
             return r;
         }
     }
@@ -224,7 +201,7 @@ pub fn angular_into(
     if (1..=3).contains(&order) {
         let reference =
             |tc: &[f64], f: usize, o: &mut [f64]| angular_reference_into(s, tc, f, order, frame, ex, o);
-        if let Some(r) = crate::simd::engine::angular(s, t, first, order, frame, reference, out) {
+        if let Some(r) = super::engine::angular(s, t, first, order, frame, reference, out) {
             return r;
         }
     }

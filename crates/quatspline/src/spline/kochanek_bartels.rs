@@ -303,17 +303,3 @@ impl Spline for KochanekBartels {
         self.batch_kernel()
     }
 }
-
-/// Maps the binding's `ends` name for Catmull–Rom / Kochanek–Bartels.
-pub fn tcb_ends(name: &str, method: &str) -> Result<TcbEnds> {
-    match name {
-        "reflect" | "open" => Ok(TcbEnds::Reflect),
-        "duplicate" => Ok(TcbEnds::Duplicate),
-        "rest" => Ok(TcbEnds::Rest),
-        "closed" => Ok(TcbEnds::Closed),
-        _ => Err(Error::invalid(
-            "ends",
-            format!("{method} does not support {name:?}; supported: reflect, duplicate, rest, closed"),
-        )),
-    }
-}

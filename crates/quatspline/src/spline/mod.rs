@@ -29,6 +29,7 @@ mod c3;
 mod catmull_rom;
 mod cumulative_bezier;
 mod cumulative_bspline;
+mod engine;
 mod eval;
 mod hermite;
 mod keyframe;
@@ -45,6 +46,7 @@ mod rotvec_segments;
 mod spherical_bezier;
 mod squad;
 
+pub use crate::frame::Frame;
 pub use beta::{BetaJoint, BetaSpline};
 pub use c3::{patent_blending, C3Spline, C3Variant};
 pub use catmull_rom::{CatmullRom, CatmullRomEnds};
@@ -52,7 +54,7 @@ pub use cumulative_bezier::CumulativeBezier;
 pub use cumulative_bspline::{cumulative_blending_matrix, CumulativeBSpline};
 pub use eval::{
     angular_into, angular_reference_into, derivatives_on, evaluate_into, evaluate_reference_into,
-    linear_extrapolation, Cursor, Extrapolate, Frame,
+    linear_extrapolation, Cursor, Extrapolate,
 };
 pub use hermite::Hermite;
 pub use keyframe::{prepare_loop, same_rotation, KeyEnds, KeyLoop};
@@ -60,7 +62,7 @@ pub use keys::{
     canonicalize_chain, chain_logs, check_domain, check_increasing, check_shape, check_span, prepare_keys,
     prepare_times, MAX_TIME, MIN_RELATIVE_SPACING,
 };
-pub use kochanek_bartels::{alpha_times, tcb_ends, KochanekBartels, Tcb, TcbEnds, CATMULL_ROM};
+pub use kochanek_bartels::{alpha_times, KochanekBartels, Tcb, TcbEnds, CATMULL_ROM};
 pub use lin_euler::PiecewiseLinEuler;
 pub use lin_mat::PiecewiseLinMat;
 pub use natural_spline::{NaturalEnds, NaturalSpline};

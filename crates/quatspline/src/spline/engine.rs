@@ -1,12 +1,13 @@
 //! The batch path of `evaluate_into` / `angular_into`: chunks of samples are validated at
-//! once, located (a cursor for sorted runs, the bucket [`Locator`](super::Locator) otherwise)
+//! once, located (a cursor for sorted runs, the bucket [`Locator`](crate::simd::Locator) otherwise)
 //! and handed to the spline's [`BatchKernel`] in runs of in-domain samples. A time outside the
 //! domain (or not finite) goes alone through the per-sample reference path, which raises,
 //! clamps (or extrapolates) and reports the first offending index exactly as before.
 
-use super::{BatchKernel, Isa};
+use super::Spline;
 use crate::error::{Error, Result};
-use crate::spline::{Frame, Spline};
+use crate::frame::Frame;
+use crate::simd::{self, BatchKernel, Isa};
 
 /// Samples per chunk (segment indices live on the stack).
 pub const CHUNK: usize = 256;
@@ -92,7 +93,7 @@ pub fn evaluate(
     out: &mut [f64],
 ) -> Option<Result<()>> {
     let k = s.batch()?;
-    let isa = super::isa()?;
+    let isa = simd::isa()?;
     let kern = |seg: &[u32], tc: &[f64], o: &mut [f64]| k.evaluate(isa, seg, tc, order, o);
     Some(chunks(s, k, isa, t, first, 4 * (order + 1), out, kern, reference))
 }
@@ -108,7 +109,7 @@ pub fn angular(
     out: &mut [f64],
 ) -> Option<Result<()>> {
     let k = s.batch()?;
-    let isa = super::isa()?;
+    let isa = simd::isa()?;
     let kern = |seg: &[u32], tc: &[f64], o: &mut [f64]| k.angular(isa, seg, tc, order, frame, o);
     Some(chunks(s, k, isa, t, first, 3, out, kern, reference))
 }
