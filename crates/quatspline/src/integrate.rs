@@ -22,9 +22,9 @@
 //! the single cross product above appears), so every output is a rotation to rounding.
 
 use crate::error::{Error, Result, Short};
+use crate::frame::Frame;
 use crate::quadrature::GL2_01;
 use crate::quat::Quat;
-use crate::frame::Frame;
 use crate::vec3::{self, Vec3};
 
 /// How the rate varies between samples.
