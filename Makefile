@@ -37,7 +37,8 @@ test: build $(DEV) test-rust test-python lint $(if $(wildcard examples),typechec
 
 test-rust:
 	cargo test --workspace --release
-	QUATSPLINE_SIMD=scalar cargo test -p quatspline --release --test simd_kernels --test simd_slerp_kernels
+	# the same workspace feature set as the line above: the scalar-kernel run reuses its build
+	QUATSPLINE_SIMD=scalar cargo test --workspace --release --test simd_kernels --test simd_slerp_kernels
 
 # The Khronos glTF validator (test-only), installed into the project, never used by the library.
 GLTF_VALIDATOR := .npm/node_modules/gltf-validator/package.json
