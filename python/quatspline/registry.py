@@ -45,6 +45,7 @@ from numpy.typing import ArrayLike
 from . import _core
 from ._util.arrays import as_real, with_width
 from ._util.errors import ParameterError
+from ._util.options import parse_smoothing
 from .core.algebra import conjugate, multiply, normalize
 from .fitting import MinimumEnergySpline, fit
 from .io._common import open_regular
@@ -129,10 +130,9 @@ def float_or_auto(v):
 
 
 def smoothing_spec(v):
-    """λ of ``fit``: "auto" or a number ≥ 0 (CLI strings converted)."""
-    if isinstance(v, str) and v.strip().lower() == "auto":
-        return "auto"
-    return float(v)
+    """λ of ``fit``: "auto" or a number ≥ 0 (CLI strings converted), read by the one parser
+    of λ (:func:`quatspline._util.options.parse_smoothing`)."""
+    return parse_smoothing(v)
 
 
 def str_or_none(v):
@@ -268,6 +268,8 @@ class Param:
         """``v`` converted to the parameter's type (a :class:`ParameterError` naming it)."""
         try:
             return self.type(v)
+        except ParameterError:
+            raise  # a shared option parser's own message (it names the option)
         except (TypeError, ValueError):
             raise ParameterError(f"{name}: expected {self.expects}, got {v!r}") from None
 
