@@ -181,3 +181,19 @@ def test_import_quatspline_does_not_import_the_dask_front_end_or_heavy_extras():
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert r.stdout.strip() == ""
     assert quatspline.batch.__name__ == "quatspline.batch"  # still there on first use
+
+
+def test_no_import_statement_inside_a_function():
+    # an optional third-party package is imported by quatspline._util.optional.need(), which
+    # names its pip extra; the standard library and required packages stand at the top
+    nested = []
+    for name, (path, _) in MODULES.items():
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for fn in ast.walk(tree):
+            if isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                for node in ast.walk(fn):
+                    if isinstance(node, (ast.Import, ast.ImportFrom)):
+                        nested.append(
+                            f"{path.relative_to(PKG.parent)}:{node.lineno} in {fn.name}()"
+                        )
+    assert not nested, "\n".join(nested)

@@ -7,7 +7,6 @@ import numpy as np
 import pytest
 import quatspline as qs
 import quatspline.io as qio
-import tqdm as tqdm_mod
 from quatspline._util import progress_bars as _progress
 from quatspline.io import _fast
 from quatspline.ops._export import to_gltf
@@ -36,7 +35,7 @@ class Recorder:
 
 def test_bars_are_terminal_only_and_delayed(monkeypatch, tmp_path, capsys):
     Recorder.made = []
-    monkeypatch.setattr(tqdm_mod, "tqdm", Recorder)
+    monkeypatch.setattr(_progress, "tqdm", Recorder)
     tr = qio.Trajectory(np.arange(5.0), qs.from_axis_angle([0, 0, 1], np.arange(5.0) * 0.3))
     resample(tr, np.linspace(0, 4, 100))
     to_gltf(tr, tmp_path / "m.glb")
@@ -83,7 +82,7 @@ def test_careful_parser_reports_every_byte_to_a_reading_bar(monkeypatch, tmp_pat
     if fmt != "csv":
         _careful_only(p)
     Recorder.made = []
-    monkeypatch.setattr(tqdm_mod, "tqdm", Recorder)
+    monkeypatch.setattr(_progress, "tqdm", Recorder)
     monkeypatch.setattr(_fast, "table", lambda *a, **k: None)  # the careful parser only
     got = qio.read(p, format=fmt)
     assert np.max(qs.angle_between(got.quats, tr.quats)) < 1e-9
@@ -101,7 +100,7 @@ def test_fast_path_on_a_terminal_reads_large_files_through_the_bar(monkeypatch, 
     qio.write(p, tr)
     plain = _fast.table(p, "ws", 8)  # by path: pandas' own (parallel) reader, no bar
     Recorder.made = []
-    monkeypatch.setattr(tqdm_mod, "tqdm", Recorder)
+    monkeypatch.setattr(_progress, "tqdm", Recorder)
     monkeypatch.setattr(_progress, "on_terminal", lambda: True)
     monkeypatch.setattr(_fast, "BAR_BYTES", 1 << 20)
     barred = _fast.table(p, "ws", 8)
@@ -117,7 +116,7 @@ def test_small_files_and_non_terminals_get_no_reading_bar(monkeypatch, tmp_path)
     qio.write(p, tr)
     _careful_only(p)
     Recorder.made = []
-    monkeypatch.setattr(tqdm_mod, "tqdm", Recorder)
+    monkeypatch.setattr(_progress, "tqdm", Recorder)
     qio.read(p)
     assert Recorder.made == []
     big = tmp_path / "big.tum"

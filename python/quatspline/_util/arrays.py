@@ -12,6 +12,8 @@ argument also accepts datetime64/timedelta64 arrays and pandas ``DatetimeIndex``
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 
@@ -143,8 +145,6 @@ def pose_key_order(first, second, cls: str):
     ``(times, quats, positions)`` is recognised — times are one-dimensional, keys are (N, 4)
     or a scipy ``Rotation`` — and still accepted with a ``DeprecationWarning``.
     """
-    import warnings
-
     if is_scipy_rotation(first):
         return first, second
     try:

@@ -9,6 +9,8 @@ import os
 import sys
 from collections.abc import Iterable, Iterator
 
+from tqdm import tqdm
+
 
 class _Null:
     def update(self, n: int = 1) -> None:
@@ -25,11 +27,6 @@ def progress(
     """A tqdm bar on standard error (``disable=None``: hidden when it is not a terminal,
     ``delay=1``: hidden for work under a second), or a no-op. Extra keywords go to tqdm."""
     if not enabled:
-        yield _Null()
-        return
-    try:
-        from tqdm import tqdm
-    except ImportError:  # pragma: no cover - tqdm is a dependency
         yield _Null()
         return
     with tqdm(

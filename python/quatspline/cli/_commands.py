@@ -10,7 +10,10 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import shutil
 import sys
+import tempfile
+import traceback
 import warnings
 from pathlib import Path
 
@@ -54,9 +57,6 @@ def _write_trajectory(args, traj: qio.Trajectory) -> None:
     if args.output != "-":
         qio.write(args.output, traj, format=args.format)
         return
-    import shutil
-    import tempfile
-
     with tempfile.TemporaryDirectory(prefix="quatspline-") as d:
         tmp = Path(d) / "stdout"
         qio.write(tmp, traj, format=args.format or "csv")
@@ -390,16 +390,12 @@ def _run(args) -> int:
         return 130
     except BrokenPipeError:
         # the reader of standard output went away (``-o - | head``): quiet, like SIGPIPE
-        import os
-
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         os.close(devnull)
         return 128 + 13
     except Exception as e:
         if args.debug:
-            import traceback
-
             traceback.print_exc()
         if isinstance(e, (UsageError, ops.ParameterError)):
             code = 2

@@ -23,6 +23,7 @@ from .._util.arrays import (
     unary,
     with_width,
 )
+from .._util.optional import need
 
 __all__ = [
     "as_euler",
@@ -438,8 +439,5 @@ def to_scipy(q: ArrayLike) -> Any:
     >>> r.as_euler("xyz", degrees=True).round(10)
     array([ 0.,  0., 90.])
     """
-    try:
-        from scipy.spatial.transform import Rotation
-    except ImportError as e:  # pragma: no cover - depends on the environment
-        raise ImportError("to_scipy needs scipy: pip install scipy") from e
-    return Rotation.from_quat(as_xyzw(q))
+    transform = need("scipy.spatial.transform", extra="scipy", what="to_scipy")
+    return transform.Rotation.from_quat(as_xyzw(q))

@@ -23,6 +23,7 @@ import numbers
 import warnings
 
 import numpy as np
+from tqdm import tqdm
 
 from .. import _core
 from .._util.arrays import as_real, with_width
@@ -109,10 +110,6 @@ def _progress(progress, total: int | None = None):
     if progress is None or progress is False:
         return None
     if progress is True:
-        try:
-            from tqdm import tqdm
-        except ImportError:  # pragma: no cover - tqdm is a core dependency
-            return None
         bar = tqdm(total=total, desc="fit", unit="it", leave=False)
 
         def cb(stage, it, step):
