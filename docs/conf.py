@@ -80,6 +80,8 @@ SECTIONS = {  # module (or package) of a name's definition → its section; long
     "quatspline.splines": "Splines",
     "quatspline.registry": "Splines by name",
     "quatspline.fitting": "Fitting",
+    "quatspline.ops._fit": "Fitting",
+    "quatspline.ops": "Operations on recordings",
     "quatspline.core.algebra": "Quaternion algebra",
     "quatspline.core.interpolate": "Two-key interpolation",
     "quatspline.core.convert": "Conversions",
@@ -103,7 +105,7 @@ def _section(name: str, obj: object) -> str:
         if mod == prefix or mod.startswith(prefix + "."):
             return SECTIONS[prefix]
     # a module added later: its own section, titled after the module
-    return mod.rsplit(".", 1)[-1].replace("_", " ").capitalize()
+    return mod.rsplit(".", 1)[-1].strip("_").replace("_", " ").capitalize()
 
 
 def write_api_reference() -> None:
