@@ -98,28 +98,59 @@ fn dot2(terms: impl Iterator<Item = (f64, f64)>) -> f64 {
     s + err
 }
 
-/// Power coefficients in u of Σ c_l C(D,l) uˡ (1−u)^(D−l).
-fn bernstein_to_power(c: &[f64]) -> Vec<f64> {
-    let d = c.len() - 1;
-    (0..=d)
-        .map(|k| {
-            dot2((0..=k).map(|l| {
-                let sign = if (k - l) % 2 == 0 { 1.0 } else { -1.0 };
-                (binom(d, l) * binom(d - l, k - l) * sign, c[l])
-            }))
-        })
-        .collect()
+/// The integer weights of the basis changes, tabulated once: `bern[d][k][l]` =
+/// C(d,l) C(d−l,k−l) (−1)^(k−l) (the weight of c_l in the coefficient of u^k of a degree-d
+/// Bernstein sum) and `binom[k][m]` = C(k,m). Products of small integers, exact: the table
+/// holds the very numbers [`binom`] gives in place.
+struct Weights {
+    bern: [[[f64; MAX_DEGREE + 1]; MAX_DEGREE + 1]; MAX_DEGREE + 1],
+    binom: [[f64; MAX_DEGREE + 1]; MAX_DEGREE + 1],
 }
 
-/// Power coefficients in v = 1 − u of Σ p_k u^k.
-fn reflect_power(p: &[f64]) -> Vec<f64> {
-    (0..p.len())
-        .map(|m| {
-            let sign = if m % 2 == 0 { 1.0 } else { -1.0 };
-            sign * dot2((m..p.len()).map(|k| (binom(k, m), p[k])))
-        })
-        .collect()
+fn weights() -> &'static Weights {
+    static W: std::sync::OnceLock<Weights> = std::sync::OnceLock::new();
+    W.get_or_init(|| {
+        let mut w = Weights {
+            bern: [[[0.0; MAX_DEGREE + 1]; MAX_DEGREE + 1]; MAX_DEGREE + 1],
+            binom: [[0.0; MAX_DEGREE + 1]; MAX_DEGREE + 1],
+        };
+        for d in 0..=MAX_DEGREE {
+            for k in 0..=d {
+                for l in 0..=k {
+                    let sign = if (k - l) % 2 == 0 { 1.0 } else { -1.0 };
+                    w.bern[d][k][l] = binom(d, l) * binom(d - l, k - l) * sign;
+                }
+            }
+            for m in 0..=d {
+                w.binom[d][m] = binom(d, m);
+            }
+        }
+        w
+    })
 }
+
+/// Power coefficients in u of Σ c_l C(D,l) uˡ (1−u)^(D−l), c read forwards (`rev` false) or
+/// backwards, into `out[..=D]`.
+fn bernstein_to_power(c: &[f64], rev: bool, out: &mut [f64]) {
+    let d = c.len() - 1;
+    let w = &weights().bern[d];
+    let at = |l: usize| if rev { c[d - l] } else { c[l] };
+    for (k, o) in out[..=d].iter_mut().enumerate() {
+        *o = dot2((0..=k).map(|l| (w[k][l], at(l))));
+    }
+}
+
+/// Power coefficients in v = 1 − u of Σ p_k u^k, into `out[..p.len()]`.
+fn reflect_power(p: &[f64], out: &mut [f64]) {
+    let b = &weights().binom;
+    for (m, o) in out[..p.len()].iter_mut().enumerate() {
+        let sign = if m % 2 == 0 { 1.0 } else { -1.0 };
+        *o = sign * dot2((m..p.len()).map(|k| (b[k][m], p[k])));
+    }
+}
+
+/// Segments per parallel task when a table is built.
+const BUILD_CHUNK: usize = 2048;
 
 impl CumulativeTable {
     /// Builds the table from the joints and, per segment, its form. None when the form has
@@ -129,50 +160,92 @@ impl CumulativeTable {
         let forms: Vec<SegmentForm> = (0..nseg).map(&mut form).collect();
         let nj = forms.iter().map(|f| f.factors.len()).max()?;
         let nd = forms.iter().flat_map(|f| f.factors.iter().map(|(_, c)| c.len().saturating_sub(1))).max()?;
-        if nj == 0 || nj > MAX_FACTORS || nd > MAX_DEGREE {
+        Self::with_shape(joints, basis, nj, nd, |s, out| {
+            out.extend(forms[s].factors.iter().map(|(a, c)| (*a, c.as_slice())));
+            forms[s].base
+        })
+    }
+
+    /// As [`CumulativeTable::new`] for a caller that knows the shape (at most `nj` factors of
+    /// degree at most `nd` in every segment): `form(s, factors)` pushes segment s's factors
+    /// (log, weight coefficients) and returns its base. No per-segment allocation; built in
+    /// parallel for many segments (the same numbers as one thread).
+    pub fn with_shape<'a>(
+        joints: &[f64],
+        basis: Basis,
+        nj: usize,
+        nd: usize,
+        form: impl Fn(usize, &mut Vec<(Axis, &'a [f64])>) -> Quat + Sync,
+    ) -> Option<Self> {
+        use rayon::prelude::*;
+        let nseg = joints.len() - 1;
+        if nseg == 0 || nj == 0 || nj > MAX_FACTORS || nd > MAX_DEGREE {
             return None;
         }
         // multiples of 4, so that records can be read 4 doubles at a time
         let vlen = (6 + nj * (nd + 4)).next_multiple_of(4);
         let stride = (vlen + 3 * nj).next_multiple_of(4);
         let mut data = vec![0.0; 2 * nseg * stride];
-        let mut mid = Vec::with_capacity(nseg);
-        for (s, f) in forms.iter().enumerate() {
+        let fill = |factors: &mut Vec<(Axis, &'a [f64])>, s: usize, rec: &mut [f64]| -> bool {
+            factors.clear();
+            let base = form(s, factors);
+            if factors.len() > nj || factors.iter().any(|(_, c)| c.len() > nd + 1) {
+                return false;
+            }
             let (t0, t1) = (joints[s], joints[s + 1]);
             let h = t1 - t0;
-            mid.push(t0 + 0.5 * h);
-            for half in 0..2 {
-                let r = &mut data[(2 * s + half) * stride..(2 * s + half + 1) * stride];
-                r[0] = if half == 0 { t0 } else { t1 };
-                r[1] = if half == 0 { 1.0 / h } else { -1.0 / h };
-                r[2..6].copy_from_slice(&f.base.to_wxyz());
-                for (j, (ax, c)) in f.factors.iter().enumerate() {
-                    let off = 6 + j * (nd + 4);
+            let (r0, r1) = rec.split_at_mut(stride);
+            r0[0] = t0;
+            r0[1] = 1.0 / h;
+            r1[0] = t1;
+            r1[1] = -1.0 / h;
+            let b = base.to_wxyz();
+            r0[2..6].copy_from_slice(&b);
+            r1[2..6].copy_from_slice(&b);
+            let (mut lo, mut hi) = ([0.0; MAX_DEGREE + 1], [0.0; MAX_DEGREE + 1]);
+            for (j, (ax, c)) in factors.iter().enumerate() {
+                let off = 6 + j * (nd + 4);
+                let len = c.len();
+                match basis {
+                    Basis::Power => {
+                        lo[..len].copy_from_slice(c);
+                        reflect_power(c, &mut hi);
+                    }
+                    Basis::Bernstein => {
+                        bernstein_to_power(c, false, &mut lo);
+                        bernstein_to_power(c, true, &mut hi);
+                    }
+                }
+                // the axis in the world frame, q_s n q_s* (the world-frame rate recursion)
+                let mw = base.rotate(ax.n);
+                for (r, p) in [(&mut *r0, &lo), (&mut *r1, &hi)] {
                     r[off..off + 3].copy_from_slice(&ax.n);
-                    let lo = match basis {
-                        Basis::Power => c.clone(),
-                        Basis::Bernstein => bernstein_to_power(c),
-                    };
-                    let p = if half == 0 {
-                        lo
-                    } else {
-                        match basis {
-                            Basis::Power => reflect_power(&lo),
-                            Basis::Bernstein => {
-                                bernstein_to_power(&c.iter().rev().copied().collect::<Vec<_>>())
-                            }
-                        }
-                    };
-                    for (m, v) in p.iter().enumerate() {
+                    for (m, v) in p[..len].iter().enumerate() {
                         r[off + 3 + m] = v * ax.a;
                     }
-                    // the axis in the world frame, q_s n q_s* (the world-frame rate recursion)
-                    let mw = f.base.rotate(ax.n);
                     r[vlen + 3 * j..vlen + 3 * j + 3].copy_from_slice(&mw);
                 }
-                // factors beyond this segment's count stay zero: exp(0) = 1, exact
             }
+            // factors beyond this segment's count stay zero: exp(0) = 1, exact
+            true
+        };
+        let ok = data
+            .par_chunks_mut(2 * stride * BUILD_CHUNK)
+            .enumerate()
+            .map(|(c, block)| {
+                let mut factors = Vec::with_capacity(nj);
+                block
+                    .chunks_mut(2 * stride)
+                    .enumerate()
+                    .all(|(i, rec)| fill(&mut factors, c * BUILD_CHUNK + i, rec))
+            })
+            .collect::<Vec<bool>>()
+            .into_iter()
+            .all(|b| b);
+        if !ok {
+            return None;
         }
+        let mid = joints.windows(2).map(|w| w[0] + 0.5 * (w[1] - w[0])).collect();
         Some(CumulativeTable { nj, nd, stride, vlen, data, mid, locator: Locator::new(joints) })
     }
 
@@ -664,8 +737,28 @@ mod tests {
     #[test]
     fn bernstein_and_reflection_round_trip() {
         // cumulative cubic Bernstein weight 1 − (1−u)³ = 3u − 3u² + u³
-        assert_eq!(bernstein_to_power(&[0.0, 1.0, 1.0, 1.0]), vec![0.0, 3.0, -3.0, 1.0]);
+        let mut p = [0.0; 4];
+        bernstein_to_power(&[0.0, 1.0, 1.0, 1.0], false, &mut p);
+        assert_eq!(p, [0.0, 3.0, -3.0, 1.0]);
+        // read backwards: 1 − u³, the weight's reflection
+        bernstein_to_power(&[0.0, 1.0, 1.0, 1.0], true, &mut p);
+        assert_eq!(p, [1.0, 0.0, 0.0, -1.0]);
         // in v = 1 − u: 1 − v³
-        assert_eq!(reflect_power(&[0.0, 3.0, -3.0, 1.0]), vec![1.0, 0.0, 0.0, -1.0]);
+        reflect_power(&[0.0, 3.0, -3.0, 1.0], &mut p);
+        assert_eq!(p, [1.0, 0.0, 0.0, -1.0]);
+    }
+
+    #[test]
+    fn tabulated_weights_are_the_binomials_computed_in_place() {
+        let w = weights();
+        for d in 0..=MAX_DEGREE {
+            for k in 0..=d {
+                assert_eq!(w.binom[d][k], binom(d, k));
+                for l in 0..=k {
+                    let sign = if (k - l) % 2 == 0 { 1.0 } else { -1.0 };
+                    assert_eq!(w.bern[d][k][l], binom(d, l) * binom(d - l, k - l) * sign);
+                }
+            }
+        }
     }
 }

@@ -21,7 +21,7 @@ use super::{segment_jets, Spline};
 use crate::error::{Error, Result};
 use crate::jet::{Axis, JQuat, Jet};
 use crate::quat::Quat;
-use crate::simd::cumulative::{Basis, CumulativeTable, SegmentForm};
+use crate::simd::cumulative::{Basis, CumulativeTable};
 
 /// Where the shape parameters live.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -186,7 +186,13 @@ impl C3Spline {
             .collect();
         let hold = if holds { kl.hold_keys() } else { vec![false; n] };
         let pinned = |key: usize| hold[key] || (ends == KeyEnds::Rest && (key == 0 || key == n - 1));
-        let blend: Vec<[[f64; 8]; 4]> = match variant {
+        // Per segment, the blending functions C₀ … C₃ as the cumulative C̃₁, C̃₂, C̃₃.
+        let cumulative = |c: [[f64; 8]; 4]| -> [[f64; 8]; 3] {
+            let c1t: [f64; 8] = std::array::from_fn(|k| 1.0 - c[0][k]);
+            let c2t: [f64; 8] = std::array::from_fn(|k| c[2][k] + c[3][k]);
+            [c1t, c2t, c[3]]
+        };
+        let basis: Vec<[[f64; 8]; 3]> = match variant {
             C3Variant::Patent => {
                 let (a, b) = (
                     per(alpha, segs, "alpha", "one per segment")?,
@@ -208,7 +214,7 @@ impl C3Spline {
                                 cj[4..7].fill(v);
                             }
                         }
-                        c
+                        cumulative(c)
                     })
                     .collect()
             }
@@ -264,22 +270,14 @@ impl C3Spline {
                             let v = if j == 2 { 1.0 } else { 0.0 };
                             [v, w1[0][j - 1], w1[1][j - 1], w1[2][j - 1]]
                         };
-                        std::array::from_fn(|j| hermite7(at0(j), at1(j)))
+                        cumulative(std::array::from_fn(|j| hermite7(at0(j), at1(j))))
                     })
                     .collect()
             }
         };
-        let basis: Vec<[[f64; 8]; 3]> = blend
-            .iter()
-            .map(|c| {
-                let c1t: [f64; 8] = std::array::from_fn(|k| 1.0 - c[0][k]);
-                let c2t: [f64; 8] = std::array::from_fn(|k| c[2][k] + c[3][k]);
-                [c1t, c2t, c[3]]
-            })
-            .collect();
-        let batch = CumulativeTable::new(&times, Basis::Bernstein, |s| SegmentForm {
-            base: padded[s],
-            factors: (0..3).map(|j| (logs[s + 1 + j], basis[s][j].to_vec())).collect(),
+        let batch = CumulativeTable::with_shape(&times, Basis::Bernstein, 3, 7, |s, factors| {
+            factors.extend((0..3).map(|j| (logs[s + 1 + j], &basis[s][j][..])));
+            padded[s]
         });
         Ok(C3Spline { base: padded, logs, times, basis, batch, closed })
     }

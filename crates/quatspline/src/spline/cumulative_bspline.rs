@@ -13,7 +13,7 @@ use super::{local, prepare_keys, segment_jets, Spline};
 use crate::error::{Error, Result, Short};
 use crate::jet::{Axis, JQuat, Jet};
 use crate::quat::Quat;
-use crate::simd::cumulative::{Basis, CumulativeTable, SegmentForm};
+use crate::simd::cumulative::{Basis, CumulativeTable};
 
 /// The cumulative blending matrix M̃ (k×k, row j = coefficients of B̃ⱼ in powers of u).
 pub fn cumulative_blending_matrix(k: usize) -> Vec<Vec<f64>> {
@@ -108,9 +108,10 @@ impl CumulativeBSpline {
         logs.extend(super::chain_logs(&ctrl));
         let joints: Vec<f64> = (0..=segs).map(|i| t0 + i as f64 * dt).collect();
         let basis = cumulative_blending_matrix(order);
-        let batch = CumulativeTable::new(&joints, Basis::Power, |i| SegmentForm {
-            base: ctrl[i],
-            factors: (1..order).map(|j| (logs[i + j], basis[j].clone())).collect(),
+        let degree = basis[1..order].iter().map(|c| c.len().saturating_sub(1)).max().unwrap_or(0);
+        let batch = CumulativeTable::with_shape(&joints, Basis::Power, order - 1, degree, |i, factors| {
+            factors.extend((1..order).map(|j| (logs[i + j], basis[j].as_slice())));
+            ctrl[i]
         });
         Ok(CumulativeBSpline { ctrl, logs, basis, order, joints, batch, closed })
     }

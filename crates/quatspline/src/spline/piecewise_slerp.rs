@@ -8,7 +8,7 @@ use super::{local, prepare_keys, prepare_times, segment_jets, Spline};
 use crate::error::Result;
 use crate::jet::{Axis, JQuat};
 use crate::quat::Quat;
-use crate::simd::cumulative::{Basis, CumulativeTable, SegmentForm};
+use crate::simd::cumulative::{Basis, CumulativeTable};
 
 /// Slerp between consecutive keys.
 #[derive(Debug, Clone)]
@@ -27,9 +27,10 @@ impl PiecewiseSlerp {
         let keys = prepare_keys(keys, "quats", 2, canonicalize)?;
         let times = prepare_times(times, keys.len())?;
         let logs = super::chain_logs(&keys);
-        let batch = CumulativeTable::new(&times, Basis::Power, |i| SegmentForm {
-            base: keys[i],
-            factors: vec![(logs[i], vec![0.0, 1.0])],
+        const LINEAR: [f64; 2] = [0.0, 1.0];
+        let batch = CumulativeTable::with_shape(&times, Basis::Power, 1, 1, |i, factors| {
+            factors.push((logs[i], &LINEAR[..]));
+            keys[i]
         });
         Ok(PiecewiseSlerp { keys, times, logs, batch })
     }
