@@ -24,7 +24,6 @@ import sys
 import time
 
 import numpy as np
-
 import quatspline as qs
 
 METHODS = {

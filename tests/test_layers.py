@@ -187,7 +187,7 @@ def test_no_import_statement_inside_a_function():
     # an optional third-party package is imported by quatspline._util.optional.need(), which
     # names its pip extra; the standard library and required packages stand at the top
     nested = []
-    for name, (path, _) in MODULES.items():
+    for path, _ in MODULES.values():
         tree = ast.parse(path.read_text(encoding="utf-8"))
         for fn in ast.walk(tree):
             if isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
