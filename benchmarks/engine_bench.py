@@ -1,7 +1,9 @@
 """The evaluation engine's rows of ``make bench`` (issue 2.5): which kernel ran, 1 vs 2
 threads, sorted vs unsorted times, derivative orders and angular rates, per-call cost of small
-calls, AVX2 against the forced scalar kernels and the per-sample reference path — with scipy's
-``RotationSpline`` timed in the same run for the ratios.
+calls, AVX-512 against AVX2 (both forced, issue 3.6), AVX2 against the forced scalar kernels
+and the per-sample reference path — with scipy's ``RotationSpline`` timed in the same run for
+the ratios. ``python benchmarks/engine_bench.py --isa [--n N] [--repeat R]`` prints the
+AVX-512 / AVX2 table alone.
 
 Every figure is the best of ``repeat`` runs (the machine is shared; the minimum is the least
 disturbed run), in ns per sample unless stated; the figures of a ratio (sorted and unsorted;
@@ -65,7 +67,7 @@ def cpu_model() -> str:
                     flags = set(v.split())
     except OSError:
         return platform.processor() or platform.machine()
-    simd = "+".join(f for f in ("avx2", "fma", "avx512f") if f in flags) or "no avx2"
+    simd = "+".join(f for f in ("avx2", "fma", "avx512f", "avx512dq") if f in flags) or "no avx2"
     return f"{name} (family {fam}, model {model}, stepping {step}; {simd})"
 
 
@@ -198,7 +200,68 @@ def engine(n: int, repeat: int, keys: int = 1000) -> None:
         qs.set_simd(mode)
         print(f"| {name} | {auto:.1f} | {scal:.1f} | {scal / auto:.2f}× |")
 
+    isa_ratios(n, repeat, methods, t_all)
     pairs(n, repeat)
+
+
+CUMULATIVE = ("CumulativeBSpline", "BetaSpline", "C3Spline (knot)", "CumulativeBezier (8 points)")
+
+
+def isa_ratios(n: int, repeat: int, methods=None, t_all=None, keys: int = 1000) -> list[tuple]:
+    """AVX-512 (8 lanes) against AVX2 (4 lanes), the two forced by ``set_simd`` and taking turns
+    run by run (2 threads, sorted times): values of every kernel, ω (world) of the cumulative
+    family and the natural spline, and the pairs kernels. Returns the rows (name, quantity,
+    avx2 ns, avx512 ns, ratio); prints nothing but a note where the CPU lacks AVX-512."""
+    mode = qs.simd_status()[0]
+    have = []
+    for isa in ("avx2", "avx512"):
+        qs.set_simd(isa)
+        have.append(qs.simd_status()[1] == isa)
+    qs.set_simd(mode)
+    print("\n### AVX-512 against AVX2 (2 threads, sorted; the two forced, taking turns)\n")
+    if not all(have):
+        print("(this CPU lacks AVX-512 F/DQ or AVX2: no comparison)")
+        return []
+    if methods is None:
+        methods = _methods(keys)
+    if t_all is None:
+        t_all = {name: (np.linspace(*s.domain, n), None) for name, s in methods}
+
+    def forced(isa, fn):
+        def run():
+            qs.set_simd(isa)
+            fn()
+
+        return run
+
+    def compare(fn):
+        return best_ns_interleaved([forced("avx2", fn), forced("avx512", fn)], n, repeat)
+
+    rows = []
+    for name, s in methods:
+        if s._core.kernel == "jets":
+            continue
+        ts = t_all[name][0]
+        rows.append((name, "q", *compare(lambda s=s, ts=ts: s(ts))))
+        if name in CUMULATIVE or name == "NaturalSpline":
+            rows.append((name, "ω world", *compare(lambda s=s, ts=ts: s.angular_velocity(ts))))
+    from bench import random_quats
+
+    a, b = random_quats(n, 1), random_quats(n, 2)
+    t = np.random.default_rng(3).uniform(0, 1, n)
+    rows.append(("slerp pairs", "q", *compare(lambda: qs.slerp(a, b, t))))
+    rng = np.random.default_rng(6)
+    da = qs.dq_from_pose(random_quats(n, 5), rng.normal(size=(n, 3)))
+    db = qs.dq_from_pose(random_quats(n, 7), rng.normal(size=(n, 3)))
+    rows.append(("sclerp pairs", "dq", *compare(lambda: qs.sclerp(da, db, t))))
+    qs.set_simd(mode)
+    print("| method | quantity | avx2 ns | avx512 ns | avx2 / avx512 |")
+    print("|---|---|---:|---:|---:|")
+    out = []
+    for name, what, x2, x5 in rows:
+        print(f"| {name} | {what} | {x2:.2f} | {x5:.2f} | {x2 / x5:.2f}× |")
+        out.append((name, what, x2, x5, x2 / x5))
+    return out
 
 
 def pairs(n: int, repeat: int) -> None:
@@ -238,3 +301,18 @@ def lscpu() -> str:
     except (OSError, subprocess.CalledProcessError):
         return ""
     return next((ln for ln in out.splitlines() if ln.startswith("Model name")), "")
+
+
+if __name__ == "__main__":
+    import argparse
+
+    p = argparse.ArgumentParser(description=__doc__)
+    p.add_argument("--isa", action="store_true", help="only the AVX-512 / AVX2 table")
+    p.add_argument("--n", type=int, default=1_000_000, help="samples per call")
+    p.add_argument("--repeat", type=int, default=5, help="runs per figure (the best is kept)")
+    args = p.parse_args()
+    print(f"CPU: {cpu_model()}")
+    if args.isa:
+        isa_ratios(args.n, args.repeat)
+    else:
+        engine(args.n, args.repeat)

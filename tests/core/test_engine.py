@@ -10,7 +10,7 @@ import pytest
 import quatspline as qs
 
 from ..splinekit import random_times, random_walk
-from .test_simd import worst
+from .test_simd import MODES, force, worst
 
 Q = random_walk(40, 1)
 T = random_times(40, 1)
@@ -43,8 +43,16 @@ def sample_sets(s):
     }
 
 
+@pytest.fixture(autouse=True)
+def _restore_mode():
+    yield
+    qs.set_simd("auto")
+
+
 @pytest.mark.parametrize("name", list(SPLINES))
-def test_engine_equals_scalar_path(name):
+@pytest.mark.parametrize("mode", MODES)
+def test_engine_equals_scalar_path(name, mode):
+    force(mode)
     s = SPLINES[name]
     for kind, t in sample_sets(s).items():
         for order in (0, 1, 2, 3):
@@ -55,7 +63,9 @@ def test_engine_equals_scalar_path(name):
             assert worst(s, t, fast, ref, 4, 0) <= 1.0, (kind, order)
 
 
-def test_thread_count_independence():
+@pytest.mark.parametrize("mode", MODES)
+def test_thread_count_independence(mode):
+    force(mode)
     s = SPLINES["c3"]
     t = np.random.default_rng(1).uniform(*s.domain, 100_000)
     results = []

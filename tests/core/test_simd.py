@@ -1,6 +1,7 @@
 """The SIMD evaluation engine (issue 2.5): every batch kernel against the per-sample reference
-path through the Python API, on both instruction sets; the forced-scalar switch (function and
-environment variable); thread-count independence; the vector sin/cos against mpmath.
+path through the Python API, on every instruction set the CPU has (AVX-512, AVX2, scalar);
+the forcing switch (function and environment variable); thread-count independence; the vector
+sin/cos against mpmath.
 
 Bound: |kernel − reference| ≤ TOL[k] · max(1, |quantity|, h⁻ᵏ, |ω|ᵏ) per component, for the
 k-th derivative (the quantity is the quaternion or rate vector the component belongs to, h the
@@ -43,6 +44,28 @@ TOL = {0: 1e-14, 1: 1e-14, 2: 5e-14, 3: 2e-13}  # by derivative order (see the m
 def _restore_mode():
     yield
     qs.set_simd("auto")
+
+
+def cpu_has(isa):
+    """Whether the engine runs `isa` ("avx512", "avx2", "scalar") on this CPU."""
+    mode = qs.simd_status()[0]
+    qs.set_simd(isa)
+    ok = qs.simd_status()[1] == isa
+    qs.set_simd(mode)
+    return ok
+
+
+# every mode that forces batch kernels; a mode the CPU lacks is skipped
+MODES = ["auto", "avx512", "avx2", "scalar"]
+
+
+def force(mode):
+    """Sets `mode`, skipping the test where the CPU lacks its instruction set."""
+    if mode in ("avx512", "avx2") and not cpu_has(mode):
+        pytest.skip(f"no {mode} on this CPU")
+    qs.set_simd(mode)
+    if mode in ("avx512", "avx2"):
+        assert qs.simd_status() == (mode, mode)
 
 
 def worst(s, t, a, b, block, order):
@@ -97,12 +120,12 @@ def run_all(s):
 
 
 @pytest.mark.parametrize("name", list(BATCH))
-@pytest.mark.parametrize("mode", ["auto", "scalar"])
+@pytest.mark.parametrize("mode", MODES)
 def test_kernels_equal_reference(name, mode):
     s = BATCH[name]()
     qs.set_simd("reference")
     ref = run_all(s)
-    qs.set_simd(mode)
+    force(mode)
     assert qs.simd_status()[0] == mode
     got = run_all(s)
     for key, (t, r) in ref.items():
@@ -121,13 +144,18 @@ def test_kernel_actually_in_use():
     qs.set_simd("reference")
     ref = s(t)
     qs.set_simd("auto")
-    assert qs.simd_status()[1] in ("avx2", "scalar")
+    assert qs.simd_status()[1] in ("avx512", "avx2", "scalar")
+    if cpu_has("avx512"):
+        # auto picks the widest instruction set
+        assert qs.simd_status()[1] == "avx512"
     assert not np.array_equal(s(t), ref)
     assert np.max(np.abs(s(t) - ref)) <= 1e-14
 
 
 @pytest.mark.parametrize("name", ["bspline", "c3 knot", "slerp", "natural"])
-def test_thread_count_independent_bits(name):
+@pytest.mark.parametrize("mode", MODES)
+def test_thread_count_independent_bits(name, mode):
+    force(mode)
     s = BATCH[name]()
     rng = np.random.default_rng(4)
     t = rng.uniform(*s.domain, 60_000)  # unsorted, several parallel chunks
@@ -166,7 +194,7 @@ def test_clamp_and_errors_unchanged():
         r.angular_velocity(t)
 
 
-@pytest.mark.parametrize("value", ["off", "scalar", "reference"])
+@pytest.mark.parametrize("value", ["off", "scalar", "reference", "avx2", "avx512"])
 def test_environment_variable_forces_the_mode(value):
     code = (
         "import numpy as np, quatspline as qs\n"
@@ -179,17 +207,25 @@ def test_environment_variable_forces_the_mode(value):
         "b = s.derivatives(t, 3)\n"
         "print(float(np.max(np.abs(a - b) / np.maximum(1, np.abs(b)))))\n"
     )
+    if value in ("avx2", "avx512") and not cpu_has(value):
+        pytest.skip(f"no {value} on this CPU")
     env = dict(os.environ, QUATSPLINE_SIMD=value)
     r = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     status, err = r.stdout.splitlines()
-    want = {"off": "scalar scalar", "scalar": "scalar scalar", "reference": "reference reference"}
+    want = {
+        "off": "scalar scalar",
+        "scalar": "scalar scalar",
+        "reference": "reference reference",
+        "avx2": "avx2 avx2",
+        "avx512": "avx512 avx512",
+    }
     assert status == want[value]
     assert float(err) <= 1e-13
 
 
 def test_set_simd_rejects_bad_modes():
-    with pytest.raises(ValueError, match="mode: expected 'auto', 'scalar' or 'reference'"):
+    with pytest.raises(ValueError, match="mode: expected 'auto', 'avx512', 'avx2', 'scalar' or 'reference'"):
         qs.set_simd("fast")
     with pytest.raises(TypeError, match="mode: expected a str"):
         qs.set_simd(1)
@@ -206,12 +242,10 @@ def _ulps(got, x, fn):
     return float(err.max())
 
 
-@pytest.mark.parametrize("isa", ["scalar", "avx2"])
+@pytest.mark.parametrize("isa", ["scalar", "avx2", "avx512"])
 def test_vector_sin_cos_within_two_ulp_of_mpmath(isa):
-    if isa == "avx2" and qs.simd_status()[1] != "avx2":
-        qs.set_simd("auto")
-        if qs.simd_status()[1] != "avx2":
-            pytest.skip("no AVX2+FMA on this CPU")
+    if isa != "scalar" and not cpu_has(isa):
+        pytest.skip(f"no {isa} on this CPU")
     rng = np.random.default_rng(5)
     x = np.concatenate(
         [
@@ -304,13 +338,13 @@ SLERP_FAMILY = {
 
 
 @pytest.mark.parametrize("name", list(SLERP_FAMILY))
-@pytest.mark.parametrize("mode", ["auto", "scalar"])
+@pytest.mark.parametrize("mode", MODES)
 def test_slerp_family_kernels_equal_reference(name, mode):
     # values by the kernels; derivatives and rates by the batched jets (same rows as reference)
     s = SLERP_FAMILY[name]()
     qs.set_simd("reference")
     ref = run_all(s)
-    qs.set_simd(mode)
+    force(mode)
     got = run_all(s)
     for key, (t, r) in ref.items():
         kind, what, order = key
@@ -320,12 +354,14 @@ def test_slerp_family_kernels_equal_reference(name, mode):
     t = sample_sets(s)["sorted"]
     qs.set_simd("reference")
     r0 = s(t)
-    qs.set_simd(mode)
+    force(mode)
     assert not np.array_equal(s(t), r0)  # the kernel, not the reference, ran
 
 
 @pytest.mark.parametrize("name", ["squad", "catmull_rom", "bezier 8"])
-def test_slerp_family_thread_count_independent_bits(name):
+@pytest.mark.parametrize("mode", MODES)
+def test_slerp_family_thread_count_independent_bits(name, mode):
+    force(mode)
     s = SLERP_FAMILY[name]()
     t = np.random.default_rng(4).uniform(*s.domain, 60_000)
     try:
@@ -353,13 +389,13 @@ def _pairs(n, seed):
     return a, b, t
 
 
-@pytest.mark.parametrize("mode", ["auto", "scalar"])
+@pytest.mark.parametrize("mode", MODES)
 @pytest.mark.parametrize("long_path", [False, True])
 def test_slerp_pairs_equal_reference(mode, long_path):
     a, b, t = _pairs(40_003, 1)  # several parallel blocks and a tail
     qs.set_simd("reference")
     ref = qs.slerp(a, b, t, long_path=long_path)
-    qs.set_simd(mode)
+    force(mode)
     got = qs.slerp(a, b, t, long_path=long_path)
     assert np.max(np.abs(got - ref)) <= 1e-14
     ends = (t == 0.0) | (t == 1.0)
@@ -418,7 +454,7 @@ def test_sclerp_pairs_bad_input_errors_name_first(threads):
         qs.set_num_threads(0)
 
 
-@pytest.mark.parametrize("mode", ["auto", "scalar"])
+@pytest.mark.parametrize("mode", MODES)
 def test_sclerp_pairs_equal_reference(mode):
     rng = np.random.default_rng(2)
     n = 30_001
@@ -428,7 +464,7 @@ def test_sclerp_pairs_equal_reference(mode):
     t = rng.uniform(-0.2, 1.2, n)
     qs.set_simd("reference")
     ref = qs.sclerp(a, b, t)
-    qs.set_simd(mode)
+    force(mode)
     got = qs.sclerp(a, b, t)
     scale = np.maximum(1.0, np.linalg.norm(ref, axis=1))[:, None]
     assert np.max(np.abs(got - ref) / scale) <= 1e-14

@@ -185,7 +185,8 @@ impl PySpline {
         })
     }
 
-    /// Which kernel evaluates this spline now: "avx2", "scalar" (batch kernels) or "jets"
+    /// Which kernel evaluates this spline now: "avx512", "avx2", "scalar" (batch kernels) or
+    /// "jets"
     /// (the per-sample path: no batch kernel for this method, or reference mode).
     #[getter]
     fn kernel(&self) -> &'static str {

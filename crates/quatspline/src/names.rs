@@ -191,21 +191,24 @@ impl FromStr for EulerSeq {
 
 impl FromStr for Mode {
     type Err = Error;
-    /// "auto" (aliases "on", "1", ""), "scalar" ("off", "0") or "reference" ("ref"), any case
-    /// ([`simd::parse_mode`]).
+    /// "auto" (aliases "on", "1", ""), "avx512", "avx2", "scalar" ("off", "0") or "reference"
+    /// ("ref"), any case ([`simd::parse_mode`]).
     fn from_str(s: &str) -> Result<Self> {
-        simd::parse_mode(s).ok_or_else(|| unknown("mode", s, &["auto", "scalar", "reference"]))
+        simd::parse_mode(s)
+            .ok_or_else(|| unknown("mode", s, &["auto", "avx512", "avx2", "scalar", "reference"]))
     }
 }
 
 impl FromStr for Isa {
     type Err = Error;
-    /// "avx2" or "scalar" (whether this CPU has AVX2 is the caller's question).
+    /// "avx512", "avx2" or "scalar" (whether this CPU has it is the caller's question:
+    /// [`Isa::available`]).
     fn from_str(s: &str) -> Result<Self> {
         match s {
+            "avx512" => Ok(Isa::Avx512),
             "avx2" => Ok(Isa::Avx2),
             "scalar" => Ok(Isa::Scalar),
-            _ => Err(unknown("isa", s, &["avx2", "scalar"])),
+            _ => Err(unknown("isa", s, &["avx512", "avx2", "scalar"])),
         }
     }
 }
@@ -229,7 +232,7 @@ mod tests {
         assert_eq!(m("up".parse::<Frame>().unwrap_err()), "frame: expected 'world' or 'body', got 'up'");
         assert_eq!(
             m("fast".parse::<Mode>().unwrap_err()),
-            "mode: expected 'auto', 'scalar' or 'reference', got 'fast'"
+            "mode: expected 'auto', 'avx512', 'avx2', 'scalar' or 'reference', got 'fast'"
         );
         assert_eq!(
             m(KeyEnds::for_method("loop", "squad").unwrap_err()),

@@ -252,6 +252,10 @@ fn rows_do_not_depend_on_chunking_and_isas_agree() {
                 max_rel(s, &t, &kernel_values(s, Isa::Avx2, &t), &kernel_values(s, Isa::Scalar, &t), 4, 0);
             assert!(e <= 1.0, "{name}: {e:e}");
         }
+        // AVX-512 (8 lanes) gives AVX2's (4 lanes) rows bit for bit
+        if simd::avx512_available() {
+            assert!(kernel_values(s, Isa::Avx512, &t) == kernel_values(s, Isa::Avx2, &t), "{name}");
+        }
     }
 }
 

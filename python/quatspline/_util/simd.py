@@ -1,11 +1,13 @@
 """The evaluation engine's switches: which kernels evaluate splines.
 
 Splines of the cumulative family (``CumulativeBSpline``, ``BetaSpline``, ``C3Spline``,
-``CumulativeBezier``) and ``PiecewiseSlerp`` are evaluated by batch kernels: AVX2 + FMA, four
-samples per vector, where the CPU has them (detected at run time), else a portable scalar
-kernel. The per-sample jet path remains as the reference every kernel is tested against.
-The environment variable ``QUATSPLINE_SIMD`` (``auto``, ``scalar``/``off``, ``reference``)
-sets the mode at start-up; :func:`set_simd` changes it at run time.
+``CumulativeBezier``), the slerp family (``PiecewiseSlerp``, ``Squad``, ``CatmullRom``,
+``KochanekBartels``, ``SphericalBezier``) and ``NaturalSpline`` are evaluated by batch
+kernels: AVX-512 F + DQ, eight samples per vector, where the CPU has them, else AVX2 + FMA,
+four samples per vector (both detected at run time), else a portable scalar kernel. The
+per-sample jet path remains as the reference every kernel is tested against. The environment
+variable ``QUATSPLINE_SIMD`` (``auto``, ``avx512``, ``avx2``, ``scalar``/``off``,
+``reference``) sets the mode at start-up; :func:`set_simd` changes it at run time.
 """
 
 from __future__ import annotations
@@ -21,8 +23,10 @@ def set_simd(mode: str) -> None:
     Parameters
     ----------
     mode : str
-        ``"auto"`` (AVX2 where available), ``"scalar"`` (portable batch kernels) or
-        ``"reference"`` (the per-sample jet path).
+        ``"auto"`` (the widest instruction set available: AVX-512, else AVX2),
+        ``"avx512"`` or ``"avx2"`` (at most that instruction set: a CPU without it runs the
+        best one below), ``"scalar"`` (portable batch kernels) or ``"reference"`` (the
+        per-sample jet path).
 
     Raises
     ------
@@ -48,13 +52,13 @@ def simd_status() -> tuple[str, str]:
     Returns
     -------
     tuple of str
-        ``(mode, kernel)``: mode ``"auto"``, ``"scalar"`` or ``"reference"``; kernel
-        ``"avx2"``, ``"scalar"`` or ``"reference"``.
+        ``(mode, kernel)``: mode ``"auto"``, ``"avx512"``, ``"avx2"``, ``"scalar"`` or
+        ``"reference"``; kernel ``"avx512"``, ``"avx2"``, ``"scalar"`` or ``"reference"``.
 
     Examples
     --------
     >>> import quatspline as qs
-    >>> qs.simd_status()[1] in ("avx2", "scalar", "reference")
+    >>> qs.simd_status()[1] in ("avx512", "avx2", "scalar", "reference")
     True
     """
     return _core.simd_status()

@@ -21,7 +21,7 @@
 //! one rotation by q (jerk_w = q j q* + ω_w × α_w); q' = ½ q ω, q'' = ½ (q' ω + q α),
 //! q''' = ½ (q'' ω + 2 q' α + q j) give the quaternion derivatives.
 
-use super::lanes::{Lanes, P2};
+use super::lanes::{Lanes, MAX_LANES, P2};
 use super::quat_lanes::{add4, cross, dot3, qmul, qmul_pure, rot_axis, scale3, scale4, Q4, V3};
 use super::{width, Kernel, Locator, BODY, EVAL, WORLD};
 use crate::jet::Axis;
@@ -571,7 +571,7 @@ unsafe fn run<V: Lanes, const K: usize, const OUT: u8, const JM: usize>(
         let tv = if full {
             P2::<V>::load(tp.add(i))
         } else {
-            let mut tl = [0.0; 8];
+            let mut tl = [0.0; MAX_LANES];
             for (l, x) in tl.iter_mut().enumerate().take(step) {
                 *x = *tp.add(lane(l));
             }
@@ -596,7 +596,7 @@ unsafe fn run<V: Lanes, const K: usize, const OUT: u8, const JM: usize>(
             let rec = base.add((2 * s0 as usize + h0 as usize) * stride);
             block::<P2<V>, _, K, OUT, JM>(nj, nd, &Bcast(rec), tv)
         } else {
-            let mut idx = [[0usize; 4]; 2];
+            let mut idx = [[0usize; MAX_LANES / 2]; 2];
             for l in 0..step {
                 let k = lane(l);
                 let s = *sp.add(k) as usize;
@@ -705,7 +705,7 @@ mod tests {
         let mut x: Vec<f64> = (0..200_001).map(|i| -4.0 + 8.0 * i as f64 / 200_000.0).collect();
         let h = std::f64::consts::FRAC_PI_2;
         x.extend([h, -h, h.next_up(), (-h).next_down(), h.next_down(), 0.0, -0.0, 1e-300, 30.0, -1e6]);
-        for isa in [Isa::Scalar, Isa::Avx2] {
+        for isa in [Isa::Scalar, Isa::Avx2, Isa::Avx512].into_iter().filter(|i| i.available()) {
             let (mut s, mut c) = (vec![0.0; x.len()], vec![0.0; x.len()]);
             factor_sin_cos_slice(isa, &x, &mut s, &mut c);
             for i in 0..x.len() {

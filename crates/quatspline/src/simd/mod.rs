@@ -13,14 +13,19 @@
 //! 5. **Tests**: the spline joins the lists of `tests/simd_kernels.rs` (shared support in
 //!    `tests/common`), which hold it to the per-sample jets on every instruction set.
 //!
-//! * [`Isa`]: AVX2 + FMA when `is_x86_feature_detected!` finds both, else the portable scalar
-//!   kernel (same code, one lane). One build runs everywhere; nothing needs
-//!   `target-cpu=native`. A kernel may ask for a second AVX2 build compiled where AVX-512 VL
-//!   exists (`Kernel::WIDE_REGISTERS`): the same 256-bit instructions (the same bits) with 32
-//!   vector registers.
-//! * [`mode`] / [`set_mode`]: `QUATSPLINE_SIMD=auto|scalar|reference` (read once) or
-//!   [`set_mode`] at run time. `scalar` forces the portable kernels, `reference` the per-sample
-//!   jet path that every kernel is tested against.
+//! * [`Isa`]: AVX-512 F + DQ (eight lanes) when `is_x86_feature_detected!` finds them (with
+//!   AVX2 + FMA), else AVX2 + FMA (four lanes), else the portable scalar kernel (same code,
+//!   one lane). One build runs everywhere; nothing needs `target-cpu=native`. Every kernel
+//!   that goes through [`dispatch`] runs on all three: the cumulative family, the slerp
+//!   family (piecewise slerp, Squad, Catmull–Rom / Kochanek–Bartels, spherical Bézier), the
+//!   natural (rotation-vector Hermite) kernel, and the slerp/ScLerp pair kernels. A kernel
+//!   may ask for a second AVX2 build compiled where AVX-512 VL exists
+//!   (`Kernel::WIDE_REGISTERS`): the same 256-bit instructions (the same bits) with 32 vector
+//!   registers.
+//! * [`mode`] / [`set_mode`]: `QUATSPLINE_SIMD=auto|avx512|avx2|scalar|reference` (read once)
+//!   or [`set_mode`] at run time. `avx512` / `avx2` cap the instruction set (a CPU without it
+//!   gets the best one below), `scalar` forces the portable kernels, `reference` the
+//!   per-sample jet path that every kernel is tested against.
 //! * [`BatchKernel`]: what a spline offers the engine (`Spline::batch`): rows for samples
 //!   whose segments the engine has located.
 //! * [`Locator`]: segment search for unsorted times in O(1) expected (bucket index), picking
@@ -47,14 +52,36 @@ pub enum Isa {
     Scalar,
     /// AVX2 + FMA, four samples per vector (x86-64, detected at run time).
     Avx2,
+    /// AVX-512 F + DQ (with AVX2 + FMA), eight samples per vector (x86-64, detected at run
+    /// time).
+    Avx512,
 }
 
 impl Isa {
-    /// "avx2" or "scalar".
+    /// "avx512", "avx2" or "scalar".
     pub fn name(self) -> &'static str {
         match self {
             Isa::Scalar => "scalar",
             Isa::Avx2 => "avx2",
+            Isa::Avx512 => "avx512",
+        }
+    }
+
+    /// Whether this CPU runs the instruction set.
+    pub fn available(self) -> bool {
+        match self {
+            Isa::Scalar => true,
+            Isa::Avx2 => avx2_available(),
+            Isa::Avx512 => avx512_available(),
+        }
+    }
+
+    /// The best instruction set this CPU has, at most `cap`.
+    pub fn best_up_to(cap: Isa) -> Isa {
+        match cap {
+            Isa::Avx512 if avx512_available() => Isa::Avx512,
+            Isa::Avx512 | Isa::Avx2 if avx2_available() => Isa::Avx2,
+            _ => Isa::Scalar,
         }
     }
 }
@@ -64,6 +91,10 @@ impl Isa {
 pub enum Mode {
     /// The best kernels the CPU supports.
     Auto,
+    /// Batch kernels, at most AVX-512 (the same as `Auto` today).
+    Avx512,
+    /// Batch kernels, at most AVX2 (four lanes).
+    Avx2,
     /// Batch kernels, portable scalar instruction set.
     Scalar,
     /// No batch kernels: the per-sample jet path (the reference).
@@ -71,10 +102,12 @@ pub enum Mode {
 }
 
 impl Mode {
-    /// "auto", "scalar" or "reference".
+    /// "auto", "avx512", "avx2", "scalar" or "reference".
     pub fn name(self) -> &'static str {
         match self {
             Mode::Auto => "auto",
+            Mode::Avx512 => "avx512",
+            Mode::Avx2 => "avx2",
             Mode::Scalar => "scalar",
             Mode::Reference => "reference",
         }
@@ -89,13 +122,17 @@ fn encode(m: Mode) -> u8 {
         Mode::Auto => 1,
         Mode::Scalar => 2,
         Mode::Reference => 3,
+        Mode::Avx2 => 4,
+        Mode::Avx512 => 5,
     }
 }
 
-/// Parses a mode name: `auto`/`on`, `scalar`/`off`, `reference`.
+/// Parses a mode name: `auto`/`on`, `avx512`, `avx2`, `scalar`/`off`, `reference`.
 pub fn parse_mode(s: &str) -> Option<Mode> {
     match s.trim().to_ascii_lowercase().as_str() {
         "" | "auto" | "on" | "1" => Some(Mode::Auto),
+        "avx512" => Some(Mode::Avx512),
+        "avx2" => Some(Mode::Avx2),
         "scalar" | "off" | "0" => Some(Mode::Scalar),
         "reference" | "ref" => Some(Mode::Reference),
         _ => None,
@@ -108,6 +145,8 @@ pub fn mode() -> Mode {
         1 => Mode::Auto,
         2 => Mode::Scalar,
         3 => Mode::Reference,
+        4 => Mode::Avx2,
+        5 => Mode::Avx512,
         _ => {
             let m = std::env::var("QUATSPLINE_SIMD").ok().and_then(|v| parse_mode(&v)).unwrap_or(Mode::Auto);
             MODE.store(encode(m), Ordering::Relaxed);
@@ -133,12 +172,27 @@ pub fn avx2_available() -> bool {
     }
 }
 
+/// Whether this CPU has AVX-512 F and DQ (and AVX2 + FMA, which the 8-lane kernels also use).
+pub fn avx512_available() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        avx2_available()
+            && std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512dq")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
 /// The instruction set batch kernels use now; None in reference mode.
 pub fn isa() -> Option<Isa> {
     match mode() {
         Mode::Reference => None,
         Mode::Scalar => Some(Isa::Scalar),
-        Mode::Auto => Some(if avx2_available() { Isa::Avx2 } else { Isa::Scalar }),
+        Mode::Avx2 => Some(Isa::best_up_to(Isa::Avx2)),
+        Mode::Auto | Mode::Avx512 => Some(Isa::best_up_to(Isa::Avx512)),
     }
 }
 
@@ -154,17 +208,24 @@ pub(crate) trait OnLanes {
     unsafe fn run<L: Lanes>(self) -> Self::Out;
 }
 
-/// Runs `f` on the lanes of `isa`: inside a `#[target_feature(enable = "avx2,fma")]`
-/// function (with `wide_registers`, where AVX-512 VL exists, one also compiled with
-/// `avx512f,avx512vl`: the same instructions, 32 vector registers) when `isa` is AVX2 and
-/// the CPU has it, else on the portable `f64` lane. The one dispatch of every kernel.
+/// Runs `f` on the lanes of `isa`: inside a `#[target_feature(enable = "avx512f,avx512dq")]`
+/// function on eight lanes when `isa` is AVX-512 and the CPU has it; inside a
+/// `#[target_feature(enable = "avx2,fma")]` function (with `wide_registers`, where AVX-512
+/// VL exists, one also compiled with `avx512f,avx512vl`: the same instructions, 32 vector
+/// registers) when `isa` is AVX2 (or AVX-512 on a CPU without it) and the CPU has AVX2;
+/// else on the portable `f64` lane. The one dispatch of every kernel.
 ///
 /// # Safety
 /// The preconditions of `f`'s kernel.
 #[inline(always)]
 pub(crate) unsafe fn dispatch<F: OnLanes>(isa: Isa, wide_registers: bool, f: F) -> F::Out {
     #[cfg(target_arch = "x86_64")]
-    if isa == Isa::Avx2 && avx2_available() {
+    if isa == Isa::Avx512 && avx512_available() {
+        // SAFETY: AVX2, FMA, AVX-512 F and DQ detected.
+        return on_avx512(f);
+    }
+    #[cfg(target_arch = "x86_64")]
+    if matches!(isa, Isa::Avx2 | Isa::Avx512) && avx2_available() {
         if wide_registers
             && std::arch::is_x86_feature_detected!("avx512f")
             && std::arch::is_x86_feature_detected!("avx512vl")
@@ -184,6 +245,13 @@ pub(crate) unsafe fn dispatch<F: OnLanes>(isa: Isa, wide_registers: bool, f: F) 
 #[target_feature(enable = "avx2,fma")]
 pub(crate) unsafe fn on_avx2<F: OnLanes>(f: F) -> F::Out {
     f.run::<lanes::Avx2>()
+}
+
+/// `f` on AVX-512 lanes (eight). Caller checked AVX2, FMA, AVX-512 F and DQ.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,avx512f,avx512dq")]
+pub(crate) unsafe fn on_avx512<F: OnLanes>(f: F) -> F::Out {
+    f.run::<lanes::Avx512>()
 }
 
 /// `f` on AVX2 lanes, compiled with AVX-512 VL's 32 vector registers. Caller checked AVX2,
@@ -215,7 +283,7 @@ impl<F: LaneFn> OnLanes for Elementwise<'_, F> {
     unsafe fn run<L: Lanes>(self) {
         let (o0, mut o1) = self.out;
         for (k, xc) in self.x.chunks(L::N).enumerate() {
-            let (mut bx, mut by) = ([self.pad.0; 8], [self.pad.1; 8]);
+            let (mut bx, mut by) = ([self.pad.0; lanes::MAX_LANES], [self.pad.1; lanes::MAX_LANES]);
             bx[..xc.len()].copy_from_slice(xc);
             if !self.y.is_empty() {
                 by[..xc.len()].copy_from_slice(&self.y[k * L::N..k * L::N + xc.len()]);
@@ -541,7 +609,7 @@ impl Locator {
         let mut done = 0;
         #[cfg(target_arch = "x86_64")]
         // (bucket indices as i32 lanes: below 2³¹ buckets, i.e. 2³⁰ segments)
-        if isa == Isa::Avx2 && avx2_available() && start.len() < i32::MAX as usize {
+        if matches!(isa, Isa::Avx2 | Isa::Avx512) && avx2_available() && start.len() < i32::MAX as usize {
             // SAFETY: AVX2 and FMA detected; t and seg have the same length; every bucket
             // index fits an i32 lane
             done = unsafe { self.locate_unsorted_avx2(t, seg) };
@@ -741,9 +809,13 @@ mod tests {
                     if sorted && !c.windows(2).all(|w| w[0] <= w[1]) {
                         continue;
                     }
-                    for (start_cur, isa) in
-                        [(0, Isa::Scalar), (last / 2, Isa::Avx2), (last, Isa::Scalar), (0, Isa::Avx2)]
-                    {
+                    for (start_cur, isa) in [
+                        (0, Isa::Scalar),
+                        (last / 2, Isa::Avx2),
+                        (last, Isa::Scalar),
+                        (0, Isa::Avx2),
+                        (last / 3, Isa::Avx512),
+                    ] {
                         let mut seg = vec![u32::MAX; c.len()];
                         let mut cur = start_cur;
                         loc.locate_run(isa, c, &mut seg, &mut cur, sorted);
@@ -768,6 +840,8 @@ mod tests {
         assert_eq!(parse_mode("off"), Some(Mode::Scalar));
         assert_eq!(parse_mode("Reference"), Some(Mode::Reference));
         assert_eq!(parse_mode("auto"), Some(Mode::Auto));
+        assert_eq!(parse_mode("AVX512"), Some(Mode::Avx512));
+        assert_eq!(parse_mode("avx2"), Some(Mode::Avx2));
         assert_eq!(parse_mode("bogus"), None);
     }
 
@@ -779,7 +853,7 @@ mod tests {
     /// shape-parameter-scaled angles up to 1e5) and the fallback range beyond 823549.6.
     #[test]
     fn vector_sin_cos_within_two_ulp_of_libm() {
-        for isa in [Isa::Scalar, Isa::Avx2] {
+        for isa in [Isa::Scalar, Isa::Avx2, Isa::Avx512].into_iter().filter(|i| i.available()) {
             let mut x: Vec<f64> = (0..400_001).map(|i| -20.0 + 40.0 * i as f64 / 400_000.0).collect();
             x.extend((0..20_000).map(|i| 1e5 * (i as f64 / 20_000.0).powi(3)));
             x.extend([0.0, -0.0, 1e-300, 5e-324, 1e-8, 823_549.5, 823_549.7, 1e7, -3e9, 1e300]);

@@ -14,7 +14,7 @@
 //! jerk = 2 vec(e'* e'' + e* e''') (qᵢ cancels); world frame by one rotation by q
 //! (jerk_w = q jerk q* + ω_w × α_w = q (jerk + ω × α) q*).
 
-use super::lanes::Lanes;
+use super::lanes::{Lanes, MAX_LANES};
 use super::quat_lanes::{cross, dot3, lin3, qmul, rotate, scale3, vec_conj_mul, Q4};
 use super::{width, Kernel, Locator, EVAL, WORLD};
 use crate::quat::Quat;
@@ -208,13 +208,13 @@ unsafe fn run<V: Lanes, const K: usize, const OUT: u8>(
         let tv = if m == V::N {
             V::load(t.as_ptr().add(i))
         } else {
-            let mut tl = [0.0; 4];
+            let mut tl = [0.0; MAX_LANES];
             for (l, x) in tl.iter_mut().enumerate().take(V::N) {
                 *x = t[i + l.min(m - 1)];
             }
             V::load(tl.as_ptr())
         };
-        let mut idx = [0usize; 4];
+        let mut idx = [0usize; MAX_LANES];
         for (l, x) in idx.iter_mut().enumerate().take(V::N) {
             *x = seg[i + l.min(m - 1)] as usize * STRIDE;
         }

@@ -12,7 +12,7 @@
 //! scalar function; results are a function of each row alone, so they are bit-identical for
 //! any chunking.
 
-use super::lanes::{Lanes, P2};
+use super::lanes::{Lanes, MAX_LANES, P2};
 use super::quat_lanes::{add4, conj, dot4, norm2_plain, normalize, qmul, Q4};
 use super::{dispatch, Isa, OnLanes};
 use crate::dual_quat::DualQuat;
@@ -98,7 +98,7 @@ unsafe fn run<V: Lanes>(q0: &[f64], q1: &[f64], t: &[f64], long_path: bool, out:
         // two vectors in lockstep; full blocks read the rows in place, a tail is padded with
         // copies of its last row
         let m = (n - i).min(w);
-        let (mut pa, mut pb, mut pt) = ([0.0; 32], [0.0; 32], [0.0; 8]);
+        let (mut pa, mut pb, mut pt) = ([0.0; 4 * MAX_LANES], [0.0; 4 * MAX_LANES], [0.0; MAX_LANES]);
         let (ap, bp, tp) = if m == w {
             (q0.as_ptr().add(4 * i), q1.as_ptr().add(4 * i), t.as_ptr().add(i))
         } else {
@@ -110,7 +110,7 @@ unsafe fn run<V: Lanes>(q0: &[f64], q1: &[f64], t: &[f64], long_path: bool, out:
             }
             (pa.as_ptr(), pb.as_ptr(), pt.as_ptr())
         };
-        let idx = [0, 4, 8, 12];
+        let idx: [usize; MAX_LANES / 2] = std::array::from_fn(|l| 4 * l);
         let mut f = [[zero; 4]; 4];
         for (h, fh) in f.iter_mut().enumerate() {
             let src = if h < 2 { ap } else { bp };
@@ -268,11 +268,11 @@ unsafe fn run_sclerp<V: Lanes>(a8: &[f64], b8: &[f64], t: &[f64], out: &mut [f64
     let mut i = 0;
     while i < n {
         let m = (n - i).min(V::N);
-        let (mut pa, mut pb, mut pt) = ([0.0; 32], [0.0; 32], [0.0; 4]);
+        let (mut pa, mut pb, mut pt) = ([0.0; 4 * MAX_LANES], [0.0; 4 * MAX_LANES], [0.0; MAX_LANES / 2]);
         let (ap, bp, tp) = if m == V::N {
             (a8.as_ptr().add(8 * i), b8.as_ptr().add(8 * i), t.as_ptr().add(i))
         } else {
-            for l in 0..4 {
+            for l in 0..V::N {
                 let k = i + l.min(m - 1);
                 pa[8 * l..8 * l + 8].copy_from_slice(&a8[8 * k..8 * k + 8]);
                 pb[8 * l..8 * l + 8].copy_from_slice(&b8[8 * k..8 * k + 8]);
@@ -280,7 +280,7 @@ unsafe fn run_sclerp<V: Lanes>(a8: &[f64], b8: &[f64], t: &[f64], out: &mut [f64
             }
             (pa.as_ptr(), pb.as_ptr(), pt.as_ptr())
         };
-        let idx = [0, 8, 16, 24];
+        let idx: [usize; MAX_LANES / 2] = std::array::from_fn(|l| 8 * l);
         let (mut fa, mut fb) = ([zero; 8], [zero; 8]);
         V::transpose_records(ap, &idx, 8, fa.as_mut_ptr());
         V::transpose_records(bp, &idx, 8, fb.as_mut_ptr());

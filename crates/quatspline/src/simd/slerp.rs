@@ -20,7 +20,7 @@
 //! pyramid: no square root, division or trigonometric function per slerp. Derivatives and
 //! rates keep the exact jets (the kernels decline and the engine falls back per run).
 
-use super::lanes::{Lanes, P2};
+use super::lanes::{Lanes, MAX_LANES, P2};
 use super::quat_lanes::{slerp, times_exp, Q4};
 use super::{Kernel, Locator};
 use crate::jet::Axis;
@@ -328,7 +328,12 @@ fn tier_indicator<V: Lanes>(flag: V, k: f64) -> V {
 /// Loads the records of lanes `idx` into `local` (broadcast when they share one; `cached`
 /// remembers a broadcast record).
 #[inline(always)]
-unsafe fn fetch<V: Lanes>(tab: &SlerpTable, idx: &[usize; 4], local: &mut [V], cached: &mut usize) {
+unsafe fn fetch<V: Lanes>(
+    tab: &SlerpTable,
+    idx: &[usize; MAX_LANES / 2],
+    local: &mut [V],
+    cached: &mut usize,
+) {
     let stride = tab.stride;
     if idx[..V::N].iter().all(|&x| x == idx[0]) {
         // runs of one segment keep its broadcast record
@@ -362,8 +367,8 @@ unsafe fn run<V: Lanes, const SQUAD: bool>(
     while i < n {
         // two vectors of lanes; a tail is padded with copies of its last sample
         let m = (n - i).min(w);
-        let mut tl = [0.0; 8];
-        let mut idx = [[0usize; 4]; 2];
+        let mut tl = [0.0; MAX_LANES];
+        let mut idx = [[0usize; MAX_LANES / 2]; 2];
         for l in 0..w {
             let k = i + l.min(m - 1);
             tl[l] = t[k];

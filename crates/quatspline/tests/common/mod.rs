@@ -97,6 +97,9 @@ pub fn isas() -> Vec<Isa> {
     if simd::avx2_available() {
         v.push(Isa::Avx2);
     }
+    if simd::avx512_available() {
+        v.push(Isa::Avx512);
+    }
     v
 }
 
