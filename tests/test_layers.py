@@ -87,6 +87,8 @@ def _imports(name: str, path: Path, is_pkg: bool):
             base = _resolve(name, is_pkg, node)
             subs = [f"{base}.{a.name}" for a in node.names]
             targets = [s for s in subs if s in KNOWN] or [base]
+            if node.module is None and base != "quatspline":
+                targets.append(base)  # `from . import x` runs (and binds from) the face too
         else:
             continue
         for t in targets:

@@ -22,9 +22,9 @@ import numpy as np
 from .._util import progress_bars as _progress
 from .._util.atomic import atomic_write
 from ..core.convert import from_euler
-from . import _fast
 from ._columns import EULER, POSITIONS, QUATS, TIME, clean, find, positions_for
 from ._common import bounded_lines, check_for_writing, fmt, open_regular, parse_float, read_line
+from ._fast import table as fast_table
 from .trajectory import Trajectory, TrajectoryError, finish
 
 
@@ -64,7 +64,7 @@ def read(
                 )
         pi = find(names, positions_for(names, qi))
         ncol = len(header)
-        fast = _fast.table(path, delim, ncol, skip=1)
+        fast = fast_table(path, delim, ncol, skip=1)
         if fast is not None:
             out = _from_fast(path, fast, ti, qi, pi, euler, degrees, sort, dedupe)
             if out is not None:

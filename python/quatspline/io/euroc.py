@@ -11,7 +11,6 @@ import numpy as np
 
 from .._util import progress_bars as _progress
 from .._util.atomic import atomic_write
-from . import _fast
 from ._common import (
     bounded_lines,
     check_for_writing,
@@ -21,6 +20,7 @@ from ._common import (
     read_line,
     refuse_extra,
 )
+from ._fast import table as fast_table
 from .trajectory import Trajectory, TrajectoryError, finish
 
 NAMES = ("timestamp", "p_x", "p_y", "p_z", "q_w", "q_x", "q_y", "q_z")
@@ -34,7 +34,7 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
         header = read_line(f, path, 1)
         if not header.startswith("#"):
             raise TrajectoryError(f"{path}:1: bad header: expected '#timestamp [ns], p_RS_R_x …'")
-        fast = _fast.table(path, ",", None, skip=1, int_first=True, min_cols=8)
+        fast = fast_table(path, ",", None, skip=1, int_first=True, min_cols=8)
         if fast is not None:
             ns, a = fast
             try:

@@ -21,8 +21,8 @@ import numpy as np
 from .._util import progress_bars as _progress
 from .._util.atomic import atomic_write, atomic_write_pair, committed_pair
 from ..core.convert import as_matrix, from_matrix
-from . import _fast
 from ._common import bounded_lines, check_for_writing, fmt, open_regular, parse_float, refuse_extra
+from ._fast import table as fast_table
 from .trajectory import Trajectory, TrajectoryError, finish
 
 #: Largest entry of |RᵀR − I| accepted in a 3×3 block: real KITTI files print 6–9
@@ -89,7 +89,7 @@ def read(path, times=None, sort: bool = False, dedupe: bool = False) -> Trajecto
         if isinstance(times, (str, Path)):
             times = pending.get(Path(os.path.realpath(times)), times)
         path = pending.get(Path(os.path.realpath(path)), path)
-    fast = _fast.table(path, "ws", 12)
+    fast = fast_table(path, "ws", 12)
     if fast is not None:
         try:
             return from_rows(path, fast, np.arange(1, len(fast) + 1), times, sort, dedupe)

@@ -9,15 +9,15 @@ import numpy as np
 
 from .._util import progress_bars as _progress
 from .._util.atomic import atomic_write
-from . import _fast
 from ._common import bounded_lines, check_for_writing, fmt, open_regular, parse_float, refuse_extra
+from ._fast import table as fast_table
 from .trajectory import Trajectory, TrajectoryError, finish
 
 NAMES = ("timestamp", "tx", "ty", "tz", "qx", "qy", "qz", "qw")
 
 
 def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
-    fast = _fast.table(path, "ws", 8)
+    fast = fast_table(path, "ws", 8)
     if fast is not None:
         try:
             return finish(path, fast[:, 0], fast[:, [7, 4, 5, 6]], fast[:, 1:4], None, sort, dedupe)
