@@ -36,6 +36,7 @@ RANK = {
     "quatspline.examples": 3,
     "quatspline.registry": 4,
     "quatspline.poses": 5,
+    "quatspline.imu": 5,
     "quatspline.ops": 6,
     "quatspline.arguments": 7,
     "quatspline.viewer": 7,
