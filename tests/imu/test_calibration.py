@@ -11,11 +11,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from scipy.spatial.transform import Rotation
 import quatspline as qs
 from quatspline.imu import Calibration, calibrate
 from quatspline.imu.calibration import COMPONENTS, _kabsch, _Problem
 from quatspline.io import ImuData, Trajectory
+from scipy.spatial.transform import Rotation
 
 DATA = Path(__file__).resolve().parents[2] / "data"
 
@@ -32,7 +32,10 @@ def _motion(duration=20.0, seed=0):
     return qs.spline("c3", qs.from_rotvec(rv), tk)
 
 
-def _gyro(motion, t, rot=ROT, bias=BIAS, k=np.diag(SCALE), offset=OFFSET):
+K_TRUE = np.diag(SCALE)
+
+
+def _gyro(motion, t, rot=ROT, bias=BIAS, k=K_TRUE, offset=OFFSET):
     """The model written out independently: ω_meas(t) = K R_bsᵀ ω_body(t + δ) + b."""
     r = qs.as_matrix(rot)
     w = motion.angular_velocity(t + offset, frame="body")

@@ -106,8 +106,8 @@ class Calibration:
         δ in seconds: the sample stamped ``t`` measures the motion at ``t + δ``.
     standard_errors : dict of str to numpy.ndarray
         One per parameter (``"rotation"``: rad, about the sensor's axes; ``"gyro_bias"``:
-        rad/s; ``"scale"``, ``"misalignment"``: arrays of 3; ``"time_offset"``: a float, s). 0 for a parameter not
-        estimated, inf for one the motion does not excite.
+        rad/s; ``"scale"``, ``"misalignment"``: arrays of 3; ``"time_offset"``: a float,
+        s). 0 for a parameter not estimated, inf for one the motion does not excite.
     covariance : numpy.ndarray, shape (13, 13)
         Of the components :data:`COMPONENTS` (rotation as the right perturbation).
     times : numpy.ndarray, shape (N,)
