@@ -13,7 +13,11 @@ single-file command over many files. The groups, and what translates each:
 - fit: ``--smoothing --penalty --robust --knots`` (:func:`fit_options`);
 - compare: ``--methods --holdout`` (:func:`compare_options`);
 - export: ``--node --max-error --max-position-error --interpolation --empty --fps``
-  (:func:`export_options`).
+  (:func:`export_options`);
+- IMU simulation: ``--rate --noise --seed --fit`` with the method and fit groups
+  (:func:`imu_simulate_options`);
+- IMU calibration: ``--estimate --max-offset --robust --smoothing --imu-format``
+  (:func:`imu_calibrate_options`).
 
 Every string → value conversion is one of :mod:`quatspline._util.options`; a bad value is a
 :class:`~quatspline._util.errors.ParameterError` naming the option (exit code 2).
@@ -30,12 +34,14 @@ from . import ops
 from ._util.errors import ParameterError
 from ._util.options import (
     parse_angle,
+    parse_choice,
     parse_length,
     parse_list,
     parse_pairs,
     parse_smoothing,
     parse_spacing_or_file,
 )
+from .imu.calibration import DEFAULT_ESTIMATE, ESTIMATES
 from .io.kitti import read_times
 from .registry import METHODS
 
@@ -47,6 +53,8 @@ __all__ = [
     "add_compare_options",
     "add_export_options",
     "add_fit_options",
+    "add_imu_calibrate_options",
+    "add_imu_simulate_options",
     "add_input_options",
     "add_method_options",
     "add_sampling_options",
@@ -55,6 +63,8 @@ __all__ = [
     "compare_options",
     "export_options",
     "fit_options",
+    "imu_calibrate_options",
+    "imu_simulate_options",
     "knots_of",
     "method_options",
     "read_input",
@@ -168,6 +178,58 @@ def add_export_options(p) -> None:
     p.add_argument("--interpolation", choices=INTERPOLATIONS, default="linear")
     p.add_argument("--empty", action="store_true", help="an empty node instead of an axes mesh")
     p.add_argument("--fps", type=float, help="BVH: frame rate (default: from the key spacing)")
+
+
+def add_imu_simulate_options(p) -> None:
+    """The IMU's rate, noise and seed, and the motion: the method group (the spline through
+    the keys) or ``--fit`` with the fit group."""
+    p.add_argument("--rate", type=float, required=True, help="IMU sample rate, Hz")
+    p.add_argument(
+        "--noise",
+        metavar="IMU.YAML",
+        help="Kalibr imu.yaml noise densities (default: noise-free, exact rates)",
+    )
+    p.add_argument("--seed", type=int, help="random seed of the noise (default: fresh)")
+    p.add_argument(
+        "--max-samples",
+        type=int,
+        default=ops.DEFAULT_MAX_SAMPLES,
+        metavar="N",
+        help=f"refuse to simulate more than N samples (default: {ops.DEFAULT_MAX_SAMPLES:,})",
+    )
+    p.add_argument(
+        "--fit",
+        action="store_true",
+        help="the motion is a smoothing fit of the keys (--smoothing, --penalty, …) instead "
+        "of the --method spline through them (for noisy motion capture)",
+    )
+    add_method_options(p, what="spline through the keys, the motion")
+    add_fit_options(p)
+
+
+def add_imu_calibrate_options(p) -> None:
+    """What to estimate, the offset searched, a robust loss, the reference's smoothing and
+    the IMU file's format."""
+    p.add_argument(
+        "--estimate",
+        default=",".join(DEFAULT_ESTIMATE),
+        metavar="LIST",
+        help=f"comma-separated, some of {', '.join(ESTIMATES)} (default: "
+        f"{','.join(DEFAULT_ESTIMATE)})",
+    )
+    p.add_argument(
+        "--max-offset",
+        default="1",
+        metavar="SECONDS",
+        help="largest time offset searched (default: 1)",
+    )
+    p.add_argument("--robust", choices=ROBUST_LOSSES, help="robust loss against glitches")
+    p.add_argument(
+        "--smoothing", default="auto", help="λ of the reference's fit: auto (GCV) or a number ≥ 0"
+    )
+    p.add_argument(
+        "--imu-format", choices=sorted(qio.IMU_FORMATS), help="IMU file format (default: guessed)"
+    )
 
 
 # ---- the translation: parsed arguments → the library's keyword arguments -----------------------
@@ -304,4 +366,43 @@ def export_options(args) -> dict:
         "node": args.node,
         "mesh": None if args.empty else "axes",
         "fps": args.fps,
+    }
+
+
+def imu_simulate_options(args) -> dict:
+    """The keyword arguments of :func:`quatspline.ops.simulate_imu`: ``rate``, ``method``,
+    ``params``, ``fit`` (the fit group's options with ``--fit``, else None), ``noise`` (the
+    imu.yaml path), ``seed`` and ``max_samples``."""
+    out = {
+        "rate": args.rate,
+        **method_options(args),
+        "fit": fit_options(args) if args.fit else None,
+        "noise": args.noise,
+        "seed": args.seed,
+        "max_samples": args.max_samples,
+    }
+    return out
+
+
+def imu_calibrate_options(args) -> dict:
+    """The keyword arguments of :func:`quatspline.ops.calibrate_imu`: ``estimate`` (each one
+    of :data:`quatspline.imu.calibration.ESTIMATES`), ``max_offset`` (seconds ≥ 0),
+    ``robust``, ``smoothing`` and ``imu_format``."""
+    estimate = tuple(
+        parse_choice(e, "--estimate", ESTIMATES) for e in parse_list(args.estimate, "--estimate")
+    )
+    try:
+        max_offset = float(str(args.max_offset).strip())
+    except ValueError:
+        raise ParameterError(
+            f"--max-offset: expected a number of seconds ≥ 0, got {args.max_offset!r}"
+        ) from None
+    if not (np.isfinite(max_offset) and max_offset >= 0):
+        raise ParameterError(f"--max-offset: expected a finite number ≥ 0, got {max_offset:g}")
+    return {
+        "estimate": estimate,
+        "max_offset": max_offset,
+        "robust": args.robust,
+        "smoothing": parse_smoothing(args.smoothing, "--smoothing"),
+        "imu_format": args.imu_format,
     }

@@ -12,9 +12,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 import quatspline as qs
-from quatspline.imu import Calibration, calibrate
+from quatspline.imu import Calibration, SensorModel, calibrate, simulate
 from quatspline.imu.calibration import COMPONENTS, _kabsch, _Problem
-from quatspline.io import ImuData, Trajectory
+from quatspline.io import ImuData, ImuNoise, Trajectory
 from scipy.spatial.transform import Rotation
 
 DATA = Path(__file__).resolve().parents[2] / "data"
@@ -285,3 +285,34 @@ def test_correct_inverts_the_model():
     np.testing.assert_allclose(
         cal.correct(g), m.angular_velocity(t + cal.time_offset, frame="body"), atol=1e-9
     )
+
+
+def test_recovers_what_simulate_planted_through_a_sensor_model():
+    """The conventions agree with quatspline.imu.simulate's SensorModel: its rotation (body
+    from sensor), time offset (sample stamped t measures the motion at t + δ), gyro matrix
+    and bias come back from calibrate, noise-free to 1e-6."""
+    m = _motion()
+    k = np.array([[1.02, 0.004, -0.003], [0.0, 0.99, 0.006], [0.0, 0.0, 1.01]])
+    sensor = SensorModel(rotation=ROT, time_offset=-0.021, gyro_matrix=k, gyro_bias=BIAS)
+    data = simulate(m, times=np.arange(0.5, 19.5, 0.005), sensor=sensor)
+    est = ("rotation", "bias", "scale", "misalignment", "time_offset")
+    cal = calibrate(m, data, estimate=est)
+    assert _angle(cal.rotation, ROT) <= 1e-6
+    assert abs(cal.time_offset + 0.021) <= 1e-6
+    np.testing.assert_allclose(cal.scale_matrix, k, atol=1e-6)
+    np.testing.assert_allclose(cal.gyro_bias, BIAS, atol=1e-6)
+
+
+def test_recovers_simulated_noise_within_its_standard_errors():
+    """A consumer MEMS noise model (white only: the model has a constant bias) through
+    simulate: rotation, bias and offset within 3 standard errors."""
+    m = _motion()
+    noise = ImuNoise(gyroscope_noise_density=0.0003)
+    sensor = SensorModel(rotation=ROT, time_offset=0.0077, gyro_bias=BIAS)
+    data = simulate(m, rate=200.0, sensor=sensor, noise=noise, seed=4)
+    cal = calibrate(m, data)
+    se = cal.standard_errors
+    e = qs.as_rotvec(qs.from_matrix(cal.rotation_matrix.T @ qs.as_matrix(ROT)))
+    assert np.all(np.abs(e) < 3 * se["rotation"])
+    assert np.all(np.abs(cal.gyro_bias - BIAS) < 3 * se["gyro_bias"])
+    assert abs(cal.time_offset - 0.0077) < 3 * se["time_offset"]

@@ -1,4 +1,4 @@
-"""The ``quatspline`` command line: sample, compare, plot, demo.
+"""The ``quatspline`` command line: sample, fit, compare, plot, export, imu, demo, batch, view.
 
 Exit codes: 0 success, 1 bad data (a file or its content), 2 bad usage (unknown options,
 methods or parameters). Outputs are written atomically and never over an input file unless
@@ -21,7 +21,7 @@ from .. import arguments as options
 from .. import batch, demo, ops, plot, viewer
 from .. import io as qio
 from .._core import __version__
-from .._util.atomic import resolve_output
+from .._util.atomic import atomic_write, resolve_output
 from ..poses.pose_spline import PoseSpline
 from ..registry import METHODS
 
@@ -81,7 +81,9 @@ def _input_files(args) -> list[tuple[str, Path]]:
     """Every file the command reads, with the argument that names it: the input and the
     auxiliary files (a KITTI ``--times`` file, ``--at`` times, ``--knots`` FILE)."""
     files = [("the input file", Path(args.input))]
-    for opt in ("times", "at", "knots"):
+    if getattr(args, "imu", None) is not None:
+        files.append(("the IMU file", Path(args.imu)))
+    for opt in ("times", "at", "knots", "noise"):
         value = getattr(args, opt, None)
         if value is None or (opt == "knots" and _is_number(value)):
             continue
@@ -222,6 +224,57 @@ def cmd_export(args) -> int:
     return 0
 
 
+# ---- imu ------------------------------------------------------------------------------------
+def cmd_imu_simulate(args) -> int:
+    """``quatspline imu simulate``: the IMU a recording's motion would produce (thin: the
+    work is :func:`quatspline.ops.simulate_imu`, the file
+    :func:`quatspline.ops.write_simulated`)."""
+    ext = Path(args.output).suffix.lower()
+    if ext not in qio.IMU_WRITE_EXTENSIONS:
+        raise UsageError(
+            f"{args.output}: expected an IMU output file: .csv (EuRoC imu0/data.csv), .bag or .mcap"
+        )
+    resolve_output(args.output)
+    _guard_output(Path(args.output), args)
+    traj = _read(args)
+    data = ops.simulate_imu(traj, **options.imu_simulate_options(args))
+    ops.write_simulated(args.output, data)
+    what = "gyroscope and accelerometer" if data.accel is not None else "gyroscope only"
+    motion = "a smoothing fit" if args.fit else f"{args.method} through the keys"
+    print(
+        f"wrote {args.output}: {len(data)} IMU samples at {args.rate:g} Hz ({what}) of "
+        f"{motion} ({len(traj)} keys){', with noise' if args.noise else ', noise-free'}"
+    )
+    return 0
+
+
+def _check_side_output(path, args, exts: tuple[str, ...], option: str) -> None:
+    if Path(path).suffix.lower() not in exts:
+        raise UsageError(f"{option} {path}: expected a {', '.join(exts)} file")
+    resolve_output(path)
+    _guard_output(Path(path), args)
+
+
+def cmd_imu_calibrate(args) -> int:
+    """``quatspline imu calibrate``: a gyroscope against the recording's motion (thin: the
+    work is :func:`quatspline.ops.calibrate_imu`)."""
+    if args.figure:
+        _check_side_output(args.figure, args, (".png", ".svg", ".pdf"), "--figure")
+    if args.json:
+        _check_side_output(args.json, args, (".json",), "--json")
+    traj = _read(args)
+    cal = ops.calibrate_imu(traj, args.imu, **options.imu_calibrate_options(args))
+    print(cal.table())
+    if args.json:
+        with atomic_write(args.json) as f:
+            f.write(json.dumps(cal.to_dict(), indent=1) + "\n")
+        print(f"wrote {args.json}")
+    if args.figure:
+        cal.plot_residuals(args.figure, name=Path(args.imu).name)
+        print(f"wrote {args.figure}")
+    return 0
+
+
 # ---- demo -----------------------------------------------------------------------------------
 def cmd_demo(args) -> int:
     return demo.run(Path(args.out), recording=Path(args.recording) if args.recording else None)
@@ -325,6 +378,47 @@ def build_parser() -> argparse.ArgumentParser:
     batch.add_arguments(b, parser_class=_Parser)
     b.set_defaults(func=cmd_batch)
 
+    im = sub.add_parser(
+        "imu", help="simulate an IMU on a recording's motion, or calibrate one against it"
+    )
+    imu = im.add_subparsers(
+        dest="imu_command", metavar="IMU_COMMAND", required=True, parser_class=_Parser
+    )
+    si = imu.add_parser(
+        "simulate",
+        help="the gyroscope (and accelerometer) samples a recording's motion would produce",
+        description="The IMU samples of the motion through a recording's keys (the --method "
+        "spline, a pose spline when the file has positions: then the accelerometer too; or a "
+        "smoothing fit with --fit), exact or with Kalibr imu.yaml noise. Times on the "
+        "recording's clock.",
+        epilog=IMU_SIMULATE_EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    options.add_input_options(si)
+    si.add_argument(
+        "-o", "--output", required=True, help="IMU file: .csv (EuRoC imu0/data.csv), .bag, .mcap"
+    )
+    options.add_imu_simulate_options(si)
+    si.add_argument("--force", action="store_true", help="allow overwriting an input file")
+    si.set_defaults(func=cmd_imu_simulate)
+
+    ca = imu.add_parser(
+        "calibrate",
+        help="a gyroscope's mounting, bias, scale and time offset against a recording",
+        description="Calibrates the IMU's gyroscope against the recording's orientations "
+        "(smoothed by a fit): the model ω_meas(t) = K R_bsᵀ ω_body(t + δ) + b. Prints the "
+        "estimates with their standard errors and the RMS residual per axis.",
+        epilog=IMU_CALIBRATE_EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    options.add_input_options(ca)
+    ca.add_argument("imu", help="IMU file (EuRoC imu0/data.csv, RepoIMU, ROS bag)")
+    options.add_imu_calibrate_options(ca)
+    ca.add_argument("--figure", metavar="FILE", help="residual figure (.png, .svg, .pdf)")
+    ca.add_argument("--json", metavar="FILE", help="the result as JSON (.json)")
+    ca.add_argument("--force", action="store_true", help="allow overwriting an input file")
+    ca.set_defaults(func=cmd_imu_calibrate)
+
     v = sub.add_parser("view", help="design attitude motion in the browser (local web page)")
     v.add_argument("input", nargs="?", help="keys file, recording or trajectory (default: example)")
     v.add_argument("--port", type=int, default=0, help="port (default: a free one)")
@@ -332,6 +426,16 @@ def build_parser() -> argparse.ArgumentParser:
     v.set_defaults(func=cmd_view)
     return p
 
+
+IMU_SIMULATE_EXAMPLES = """examples:
+  quatspline imu simulate poses.csv -o imu.csv --rate 200
+  quatspline imu simulate mocap.csv -o imu.csv --rate 200 --fit --noise imu.yaml --seed 1
+  quatspline imu simulate keys.json -o imu.mcap --rate 100 --method squad"""
+
+IMU_CALIBRATE_EXAMPLES = """examples:
+  quatspline imu calibrate vicon.csv imu0/data.csv
+  quatspline imu calibrate repoIMU.csv repoIMU.csv --figure residuals.png --json cal.json
+  quatspline imu calibrate mocap.csv imu.bag --estimate rotation,bias,time_offset --robust huber"""
 
 _CLI_NAMES = {
     "method": "--method",
@@ -345,6 +449,9 @@ _CLI_NAMES = {
     "fps": "--fps",
     "max_error": "--max-error",
     "max_position_error": "--max-position-error",
+    "max_offset": "--max-offset",
+    "estimate": "--estimate",
+    "noise": "--noise",
 }
 
 

@@ -316,16 +316,19 @@ def _as_data(data) -> ImuData:
     raise TypeError(f"data: expected an ImuData or a (times, gyro) pair, got {type(data).__name__}")
 
 
-def _as_motion(motion, smoothing):
-    """The reference spline: a spline as given; a Trajectory through a smoothing fit."""
+def _as_motion(motion, smoothing) -> tuple:
+    """The reference spline and the time its clock starts at: a spline as given (0); a
+    Trajectory through a smoothing fit on times relative to its first (for accuracy with
+    large time stamps: the IMU's times are shifted alike)."""
     if isinstance(motion, Trajectory):
-        return fit(motion.times, motion.quats, smoothing=smoothing)
+        t0 = float(motion.times[0])
+        return fit(motion.times - t0, motion.quats, smoothing=smoothing), t0
     if not (hasattr(motion, "angular_velocity") and hasattr(motion, "domain")):
         raise TypeError(
             "motion: expected a rotation or pose spline (with angular_velocity and domain) or a "
             f"quatspline.io.Trajectory, got {type(motion).__name__}"
         )
-    return motion
+    return motion, 0.0
 
 
 def _coarse_offset(motion, t: np.ndarray, g: np.ndarray, max_offset: float) -> tuple:
@@ -503,13 +506,14 @@ def calibrate(
     if robust is not None:
         robust = choice(robust, "robust", ROBUST)
     data = _as_data(data)
-    motion = _as_motion(motion, smoothing)
+    motion, t0 = _as_motion(motion, smoothing)
     a, b = (float(v) for v in motion.domain)
-    t_all, g_all = data.times, data.gyro
+    t_all, g_all = data.times - t0, data.gyro
     if t_all.size == 0 or t_all[-1] + max_offset < a or t_all[0] - max_offset > b:
-        span = "no samples" if t_all.size == 0 else f"[{t_all[0]:g}, {t_all[-1]:g}]"
+        span = "no samples" if t_all.size == 0 else f"[{t_all[0] + t0:g}, {t_all[-1] + t0:g}]"
         raise ValueError(
-            f"data: the IMU's times {span} do not overlap the motion's domain [{a:g}, {b:g}] "
+            f"data: the IMU's times {span} do not overlap the motion's domain "
+            f"[{a + t0:g}, {b + t0:g}] "
             f"(within max_offset = {max_offset:g} s)"
         )
 
@@ -535,7 +539,8 @@ def calibrate(
         n = int(np.count_nonzero(inside))
         if n < MIN_SAMPLES:
             raise ValueError(
-                f"data: {n} IMU samples inside the motion's domain [{a:g}, {b:g}] after the "
+                f"data: {n} IMU samples inside the motion's domain [{a + t0:g}, {b + t0:g}] "
+                "after the "
                 f"time offset {x[12]:.6g} s; at least {MIN_SAMPLES} are needed"
             )
         t, g = t_all[inside], g_all[inside]
@@ -553,7 +558,9 @@ def calibrate(
         x[0:3] = 0.0
         if moved <= margin:
             break
-    return _result(problem, r0, x, fitted, free, estimate)
+    cal = _result(problem, r0, x, fitted, free, estimate)
+    cal.times += t0
+    return cal
 
 
 def _solve(problem: _Problem, x0: np.ndarray, free: np.ndarray, robust, opt) -> dict:
