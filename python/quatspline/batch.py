@@ -42,6 +42,7 @@ Dask is an optional dependency: ``pip install "quatspline[dask]"``.
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import fnmatch
 import glob
@@ -1269,8 +1270,20 @@ def add_arguments(p, parser_class=None) -> None:
         "imu-simulate": "simulate the IMU of each file's motion, EuRoC csv (as quatspline imu "
         "simulate -o FILE.csv; --seed gives every file the same seed, as that command would)",
     }
+    examples = {
+        "imu-simulate": "examples:\n"
+        "  quatspline batch imu-simulate recordings/ -o imu/ --rate 200\n"
+        "  quatspline batch imu-simulate 'mocap/**/*.csv' -o imu/ --rate 200 --fit "
+        "--noise imu.yaml"
+    }
     for op in OPERATIONS:
-        o = sub.add_parser(op, help=helps[op], description=helps[op])
+        extra = {}
+        if op in examples:
+            extra = {
+                "epilog": examples[op],
+                "formatter_class": argparse.RawDescriptionHelpFormatter,
+            }
+        o = sub.add_parser(op, help=helps[op], description=helps[op], **extra)
         add_input_options(o, many=True)
         o.add_argument("-o", "--output", required=True, help="output directory")
         where = o.add_mutually_exclusive_group()

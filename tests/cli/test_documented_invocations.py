@@ -23,6 +23,7 @@ COMMANDS = (
     "plot",
     "export",
     "batch",
+    "imu",
     "view",
     "demo",
     "info",

@@ -379,7 +379,12 @@ def build_parser() -> argparse.ArgumentParser:
     b.set_defaults(func=cmd_batch)
 
     im = sub.add_parser(
-        "imu", help="simulate an IMU on a recording's motion, or calibrate one against it"
+        "imu",
+        help="simulate an IMU on a recording's motion, or calibrate one against it",
+        description="Inertial measurements: simulate the IMU a recording's motion would "
+        "produce, or calibrate a recorded gyroscope against the recording.",
+        epilog=IMU_SIMULATE_EXAMPLES + "\n" + IMU_CALIBRATE_EXAMPLES.replace("examples:\n", ""),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     imu = im.add_subparsers(
         dest="imu_command", metavar="IMU_COMMAND", required=True, parser_class=_Parser
