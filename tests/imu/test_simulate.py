@@ -230,6 +230,8 @@ def test_bias_random_walk_gives_the_plus_half_slope():
         (dict(rate=10, noise="loud"), TypeError, "noise"),
         (dict(rate=10, noise={"gyroscope_noise_density": 1e-3}), ValueError, "missing keys"),
         (dict(rate=10, sensor="imu"), TypeError, "sensor"),
+        (dict(rate=10, seed="abc"), TypeError, "seed"),
+        (dict(rate=10, seed=-1), ValueError, "seed"),
         (dict(rate=10, gravity=[0, 9.8]), ValueError, "gravity"),
         (dict(rate=10, gravity=[0, 0, np.inf]), ValueError, "gravity"),
         (dict(times=[10.4], sensor=SensorModel(time_offset=0.2)), ValueError, "time_offset"),

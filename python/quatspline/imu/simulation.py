@@ -202,7 +202,13 @@ def simulate(
     if accel is not None and sensor.accel_matrix is not None:
         accel = times_matrix(sensor.accel_matrix, accel)
 
-    streams = np.random.default_rng(seed).spawn(4)
+    try:
+        streams = np.random.default_rng(seed).spawn(4)
+    except (TypeError, ValueError) as e:
+        kind = TypeError if isinstance(e, TypeError) else ValueError
+        raise kind(
+            f"seed: expected an integer ≥ 0, a numpy Generator or None, got {seed!r:.40}"
+        ) from e
     dt = np.diff(t)
     white_rate = float(rate) if rate is not None else (1.0 / np.median(dt) if n > 1 else None)
     white_g = model.gyroscope_noise_density
