@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import quatspline as qs
-from quatspline.imu import ImuNoise, SensorModel, allan_deviation, simulate
+from quatspline.imu import ImuNoise, SensorModel, allan_deviation, simulate, simulation
 from scipy.spatial.transform import Rotation
 
 G = np.array([0.0, 0.0, -9.80665])
@@ -266,3 +266,13 @@ def test_extrapolating_motion_accepts_times_outside():
     )
     d = simulate(pose, times=[-1.0, 0.5, 2.0])
     np.testing.assert_allclose(d.gyro, [[0, 0, 1.0]] * 3, atol=1e-12)
+
+
+def test_blocks_do_not_change_the_result(pose, monkeypatch):
+    sensor = SensorModel(rotation=[0.9, 0.1, -0.3, 0.2], lever_arm=[0.1, 0.2, 0.3])
+    noise = ImuNoise(1e-3, 1e-4, 1e-2, 1e-3)
+    whole = simulate(pose, rate=20, sensor=sensor, noise=noise, seed=4)
+    monkeypatch.setattr(simulation, "_BLOCK", 7)
+    blocks = simulate(pose, rate=20, sensor=sensor, noise=noise, seed=4)
+    np.testing.assert_array_equal(blocks.gyro, whole.gyro)
+    np.testing.assert_array_equal(blocks.accel, whole.accel)
