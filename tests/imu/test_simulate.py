@@ -276,3 +276,39 @@ def test_blocks_do_not_change_the_result(pose, monkeypatch):
     blocks = simulate(pose, rate=20, sensor=sensor, noise=noise, seed=4)
     np.testing.assert_array_equal(blocks.gyro, whole.gyro)
     np.testing.assert_array_equal(blocks.accel, whole.accel)
+
+
+def _motions():
+    rng = np.random.default_rng(8)
+    q = qs.from_rotvec(_smooth(rng, np.arange(8.0), 0.5))
+    p = _smooth(rng, np.arange(8.0), 1.0)
+    return {
+        "ScrewSpline": qs.ScrewSpline(q, np.arange(8.0), p, smooth=True),
+        "PoseBSpline se3": qs.PoseBSpline(q, p, dt=1.0, order=5),
+        "PoseBSpline split": qs.PoseBSpline(q, p, dt=1.0, order=4, formulation="split"),
+        "PoseSpline squad": qs.PoseSpline(q, np.arange(8.0), p, rotation="squad"),
+    }
+
+
+@pytest.mark.parametrize("name", list(_motions()))
+def test_every_pose_kind_with_a_lever_arm(name):
+    m = _motions()[name]
+    r = np.array([0.2, -0.1, 0.25])
+    mount = Rotation.from_rotvec([0.3, -0.5, 1.1])
+    joints = m.joints if hasattr(m, "joints") else m.rotation.joints
+    a, b = m.domain
+    t = _away_from(joints, np.linspace(a + 0.05, b - 0.05, 60), 0.006)
+    d = simulate(m, times=t, sensor=SensorModel(rotation=mount, lever_arm=r))
+
+    def sensor_position(tt):
+        return m.position(tt) + _rot(m.orientation(tt)).apply(r)
+
+    pdd = _second_derivative(sensor_position, t)
+    r_ws = _rot(m.orientation(t)) * mount
+    np.testing.assert_allclose(d.accel, r_ws.apply(pdd - G, inverse=True), atol=1e-6)
+
+    def sensor_orientation(tt):
+        xyzw = (_rot(m.orientation(tt)) * mount).as_quat()
+        return np.concatenate([xyzw[..., 3:], xyzw[..., :3]], axis=-1)
+
+    np.testing.assert_allclose(d.gyro, _fd_body_rate(sensor_orientation, t), atol=1e-5)
