@@ -94,11 +94,11 @@ def _noise_model(noise) -> ImuNoise:
 
 def _random_walk(rng, start: np.ndarray, step_std: np.ndarray, n: int) -> np.ndarray:
     """b[0] = start, b[k+1] = b[k] + N(0, step_std[k]²) per axis; shape (n, 3)."""
+    if not np.any(step_std):
+        return np.zeros((n, 3)) if not np.any(start) else np.tile(start, (n, 1))
     out = np.empty((n, 3))
     out[0] = start
-    if n > 1 and not np.any(step_std):
-        out[1:] = start
-    elif n > 1:
+    if n > 1:
         steps = out[1:]
         rng.standard_normal(out=steps)
         scale = step_std[0]
@@ -252,7 +252,8 @@ def simulate(
     gyro_bias = _random_walk(
         streams[0], sensor.gyro_bias, model.gyroscope_random_walk * np.sqrt(dt), n
     )
-    gyro = gyro + gyro_bias
+    if np.any(sensor.gyro_bias) or model.gyroscope_random_walk > 0:
+        gyro += gyro_bias
     if white_g > 0:
         _add_white(streams[1], gyro, white_g * np.sqrt(white_rate))
     accel_bias = None
@@ -260,7 +261,8 @@ def simulate(
         accel_bias = _random_walk(
             streams[2], sensor.accel_bias, model.accelerometer_random_walk * np.sqrt(dt), n
         )
-        accel = accel + accel_bias
+        if np.any(sensor.accel_bias) or model.accelerometer_random_walk > 0:
+            accel += accel_bias
         if white_a > 0:
             _add_white(streams[3], accel, white_a * np.sqrt(white_rate))
     return ImuData(
