@@ -312,3 +312,15 @@ def test_every_pose_kind_with_a_lever_arm(name):
         return np.concatenate([xyzw[..., 3:], xyzw[..., :3]], axis=-1)
 
     np.testing.assert_allclose(d.gyro, _fd_body_rate(sensor_orientation, t), atol=1e-5)
+
+
+def test_bias_steps_follow_the_actual_intervals():
+    # irregular stamps: the random walk steps by sigma_b * sqrt(dt_k) over each interval
+    dt = np.tile([0.01, 0.04], 100_000)
+    t = np.concatenate([[0.0], np.cumsum(dt)])
+    d = simulate(_rest(t[-1]), times=t, noise=ImuNoise(gyroscope_random_walk=0.5), seed=9)
+    steps = np.diff(d.gyro_bias, axis=0)
+    short, long = steps[0::2], steps[1::2]
+    np.testing.assert_allclose(np.std(short, axis=0), 0.5 * np.sqrt(0.01), rtol=0.02)
+    np.testing.assert_allclose(np.std(long, axis=0), 0.5 * np.sqrt(0.04), rtol=0.02)
+    np.testing.assert_allclose(d.gyro, d.gyro_bias, atol=1e-12)  # no white noise asked for
