@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import quatspline as qs
-from quatspline.imu import ImuData, SensorModel, integrate, simulate
+from quatspline.imu import ImuData, SensorModel, integrate, simulate, strapdown
 from scipy.spatial.transform import Rotation
 
 
@@ -158,3 +158,30 @@ def test_bad_input(args, kwargs, exc, match):
     args = (data if args[0] is None else args[0], *args[1:])
     with pytest.raises(exc, match=match):
         integrate(*args, **kwargs)
+
+
+def test_blocks_do_not_change_the_result(monkeypatch):
+    # the quadrature runs in blocks of intervals; a block boundary is invisible
+    rng = np.random.default_rng(5)
+    n = 203
+    t = np.cumsum(rng.uniform(0.004, 0.006, n))
+    data = ImuData(t, rng.normal(0, 1, (n, 3)), accel=rng.normal(0, 5, (n, 3)))
+    whole = integrate(data, [1.0, 0, 0, 0])
+    monkeypatch.setattr(strapdown, "_BLOCK", 7)
+    blocks = integrate(data, [1.0, 0, 0, 0])
+    np.testing.assert_array_equal(blocks.positions, whole.positions)
+    np.testing.assert_array_equal(blocks.extra["velocity"], whole.extra["velocity"])
+
+
+def test_a_time_offset_shifts_the_trajectory_by_it():
+    rng = np.random.default_rng(6)
+    tk = np.arange(0.0, 11.0, 1.0)
+    pose = qs.PoseSpline(qs.from_rotvec(_smooth(rng, tk, 0.5)), tk, _smooth(rng, tk, 1.0))
+    delta = 0.0123
+    d = simulate(pose, rate=200, sensor=SensorModel(time_offset=delta))
+    t0 = d.times[0] + delta
+    tr = integrate(
+        d, (pose.orientation(t0), pose.position(t0)), initial_velocity=pose.linear_velocity(t0)
+    )
+    assert _angle(tr.quats, pose.orientation(d.times + delta)).max() < 1e-8
+    assert np.abs(tr.positions - pose.position(d.times + delta)).max() < 1e-4

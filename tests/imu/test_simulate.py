@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import quatspline as qs
-from quatspline.imu import ImuNoise, SensorModel, allan_deviation, simulate
+from quatspline.imu import ImuNoise, SensorModel, allan_deviation, simulate, simulation
 from scipy.spatial.transform import Rotation
 
 G = np.array([0.0, 0.0, -9.80665])
@@ -230,6 +230,8 @@ def test_bias_random_walk_gives_the_plus_half_slope():
         (dict(rate=10, noise="loud"), TypeError, "noise"),
         (dict(rate=10, noise={"gyroscope_noise_density": 1e-3}), ValueError, "missing keys"),
         (dict(rate=10, sensor="imu"), TypeError, "sensor"),
+        (dict(rate=10, seed="abc"), TypeError, "seed"),
+        (dict(rate=10, seed=-1), ValueError, "seed"),
         (dict(rate=10, gravity=[0, 9.8]), ValueError, "gravity"),
         (dict(rate=10, gravity=[0, 0, np.inf]), ValueError, "gravity"),
         (dict(times=[10.4], sensor=SensorModel(time_offset=0.2)), ValueError, "time_offset"),
@@ -264,3 +266,61 @@ def test_extrapolating_motion_accepts_times_outside():
     )
     d = simulate(pose, times=[-1.0, 0.5, 2.0])
     np.testing.assert_allclose(d.gyro, [[0, 0, 1.0]] * 3, atol=1e-12)
+
+
+def test_blocks_do_not_change_the_result(pose, monkeypatch):
+    sensor = SensorModel(rotation=[0.9, 0.1, -0.3, 0.2], lever_arm=[0.1, 0.2, 0.3])
+    noise = ImuNoise(1e-3, 1e-4, 1e-2, 1e-3)
+    whole = simulate(pose, rate=20, sensor=sensor, noise=noise, seed=4)
+    monkeypatch.setattr(simulation, "_BLOCK", 7)
+    blocks = simulate(pose, rate=20, sensor=sensor, noise=noise, seed=4)
+    np.testing.assert_array_equal(blocks.gyro, whole.gyro)
+    np.testing.assert_array_equal(blocks.accel, whole.accel)
+
+
+def _motions():
+    rng = np.random.default_rng(8)
+    q = qs.from_rotvec(_smooth(rng, np.arange(8.0), 0.5))
+    p = _smooth(rng, np.arange(8.0), 1.0)
+    return {
+        "ScrewSpline": qs.ScrewSpline(q, np.arange(8.0), p, smooth=True),
+        "PoseBSpline se3": qs.PoseBSpline(q, p, dt=1.0, order=5),
+        "PoseBSpline split": qs.PoseBSpline(q, p, dt=1.0, order=4, formulation="split"),
+        "PoseSpline squad": qs.PoseSpline(q, np.arange(8.0), p, rotation="squad"),
+    }
+
+
+@pytest.mark.parametrize("name", list(_motions()))
+def test_every_pose_kind_with_a_lever_arm(name):
+    m = _motions()[name]
+    r = np.array([0.2, -0.1, 0.25])
+    mount = Rotation.from_rotvec([0.3, -0.5, 1.1])
+    joints = m.joints if hasattr(m, "joints") else m.rotation.joints
+    a, b = m.domain
+    t = _away_from(joints, np.linspace(a + 0.05, b - 0.05, 60), 0.006)
+    d = simulate(m, times=t, sensor=SensorModel(rotation=mount, lever_arm=r))
+
+    def sensor_position(tt):
+        return m.position(tt) + _rot(m.orientation(tt)).apply(r)
+
+    pdd = _second_derivative(sensor_position, t)
+    r_ws = _rot(m.orientation(t)) * mount
+    np.testing.assert_allclose(d.accel, r_ws.apply(pdd - G, inverse=True), atol=1e-6)
+
+    def sensor_orientation(tt):
+        xyzw = (_rot(m.orientation(tt)) * mount).as_quat()
+        return np.concatenate([xyzw[..., 3:], xyzw[..., :3]], axis=-1)
+
+    np.testing.assert_allclose(d.gyro, _fd_body_rate(sensor_orientation, t), atol=1e-5)
+
+
+def test_bias_steps_follow_the_actual_intervals():
+    # irregular stamps: the random walk steps by sigma_b * sqrt(dt_k) over each interval
+    dt = np.tile([0.01, 0.04], 100_000)
+    t = np.concatenate([[0.0], np.cumsum(dt)])
+    d = simulate(_rest(t[-1]), times=t, noise=ImuNoise(gyroscope_random_walk=0.5), seed=9)
+    steps = np.diff(d.gyro_bias, axis=0)
+    short, long = steps[0::2], steps[1::2]
+    np.testing.assert_allclose(np.std(short, axis=0), 0.5 * np.sqrt(0.01), rtol=0.02)
+    np.testing.assert_allclose(np.std(long, axis=0), 0.5 * np.sqrt(0.04), rtol=0.02)
+    np.testing.assert_allclose(d.gyro, d.gyro_bias, atol=1e-12)  # no white noise asked for

@@ -17,6 +17,8 @@ from .sensor import SensorModel
 
 __all__ = ["simulate"]
 
+_BLOCK = 1 << 15  # samples per block
+
 
 def _kind(motion) -> str:
     """ "pose" (orientation and position), "rotation" (orientation only), or a TypeError."""
@@ -61,6 +63,25 @@ def _motion_times(motion, rate, times, offset: float) -> tuple[np.ndarray, np.nd
     return t, tm
 
 
+def _ideal(motion, tm, g, sensor: SensorModel, turned: bool, gyro, accel) -> None:
+    """The noise-free, undistorted sensor readings at motion times ``tm``, into ``gyro`` and
+    (for a pose) ``accel``."""
+    n = tm.size
+    w_body = np.asarray(motion.angular_velocity(tm, frame="body"), dtype=float).reshape(n, 3)
+    to_sensor = conjugate(sensor.rotation)
+    gyro[...] = rotate(to_sensor, w_body) if turned else w_body
+    if accel is None:
+        return
+    q = np.asarray(motion.orientation(tm), dtype=float).reshape(n, 4)
+    a_world = np.asarray(motion.linear_acceleration(tm), dtype=float).reshape(n, 3)
+    f_body = rotate(conjugate(q), a_world - g)
+    r = sensor.lever_arm
+    if np.any(r):
+        alpha = np.asarray(motion.angular_acceleration(tm, frame="body"), dtype=float)
+        f_body += cross(alpha.reshape(n, 3), r) + cross(w_body, cross(w_body, r))
+    accel[...] = rotate(to_sensor, f_body) if turned else f_body
+
+
 def _noise_model(noise) -> ImuNoise:
     if noise is None:
         return ImuNoise()
@@ -73,15 +94,28 @@ def _noise_model(noise) -> ImuNoise:
 
 def _random_walk(rng, start: np.ndarray, step_std: np.ndarray, n: int) -> np.ndarray:
     """b[0] = start, b[k+1] = b[k] + N(0, step_std[k]²) per axis; shape (n, 3)."""
+    if not np.any(step_std):
+        return np.zeros((n, 3)) if not np.any(start) else np.tile(start, (n, 1))
     out = np.empty((n, 3))
     out[0] = start
-    if n > 1 and not np.any(step_std):
-        out[1:] = start
-    elif n > 1:
-        steps = rng.standard_normal((n - 1, 3)) * step_std[:, None]
-        np.cumsum(steps, axis=0, out=out[1:])
-        out[1:] += start
+    if n > 1:
+        steps = out[1:]
+        rng.standard_normal(out=steps)
+        scale = step_std[0]
+        if np.all(np.abs(step_std - scale) <= 1e-9 * scale):  # regular sampling: one scale
+            steps *= scale
+        else:
+            steps *= step_std[:, None]
+        np.cumsum(steps, axis=0, out=steps)
+        steps += start
     return out
+
+
+def _add_white(rng, values: np.ndarray, std: float) -> None:
+    """values += N(0, std²) per element, in place."""
+    noise = rng.standard_normal(values.shape)
+    noise *= std
+    values += noise
 
 
 def simulate(
@@ -182,27 +216,33 @@ def simulate(
     t, tm = _motion_times(motion, rate, times, sensor.time_offset)
     n = t.size
 
-    w_body = np.asarray(motion.angular_velocity(tm, frame="body"), dtype=float).reshape(n, 3)
     turned = not np.array_equal(sensor.rotation, (1.0, 0.0, 0.0, 0.0))
-    to_sensor = conjugate(sensor.rotation)
-    gyro = rotate(to_sensor, w_body) if turned else w_body
-    accel = None
-    if kind == "pose":
-        q = np.asarray(motion.orientation(tm), dtype=float).reshape(n, 4)
-        a_world = np.asarray(motion.linear_acceleration(tm), dtype=float).reshape(n, 3)
-        f_body = rotate(conjugate(q), a_world - g)
-        r = sensor.lever_arm
-        if np.any(r):
-            alpha = np.asarray(motion.angular_acceleration(tm, frame="body"), dtype=float)
-            alpha = alpha.reshape(n, 3)
-            f_body += cross(alpha, r) + cross(w_body, cross(w_body, r))
-        accel = rotate(to_sensor, f_body) if turned else f_body
+    gyro = np.empty((n, 3))
+    accel = np.empty((n, 3)) if kind == "pose" else None
+    # blocks of samples, so that the temporaries stay in cache
+    for first in range(0, n, _BLOCK):
+        stop = min(first + _BLOCK, n)
+        _ideal(
+            motion,
+            tm[first:stop],
+            g,
+            sensor,
+            turned,
+            gyro[first:stop],
+            None if accel is None else accel[first:stop],
+        )
     if sensor.gyro_matrix is not None:
         gyro = times_matrix(sensor.gyro_matrix, gyro)
     if accel is not None and sensor.accel_matrix is not None:
         accel = times_matrix(sensor.accel_matrix, accel)
 
-    streams = np.random.default_rng(seed).spawn(4)
+    try:
+        streams = np.random.default_rng(seed).spawn(4)
+    except (TypeError, ValueError) as e:
+        kind = TypeError if isinstance(e, TypeError) else ValueError
+        raise kind(
+            f"seed: expected an integer ≥ 0, a numpy Generator or None, got {seed!r:.40}"
+        ) from e
     dt = np.diff(t)
     white_rate = float(rate) if rate is not None else (1.0 / np.median(dt) if n > 1 else None)
     white_g = model.gyroscope_noise_density
@@ -212,17 +252,19 @@ def simulate(
     gyro_bias = _random_walk(
         streams[0], sensor.gyro_bias, model.gyroscope_random_walk * np.sqrt(dt), n
     )
-    gyro = gyro + gyro_bias
+    if np.any(sensor.gyro_bias) or model.gyroscope_random_walk > 0:
+        gyro += gyro_bias
     if white_g > 0:
-        gyro += streams[1].standard_normal((n, 3)) * (white_g * np.sqrt(white_rate))
+        _add_white(streams[1], gyro, white_g * np.sqrt(white_rate))
     accel_bias = None
     if accel is not None:
         accel_bias = _random_walk(
             streams[2], sensor.accel_bias, model.accelerometer_random_walk * np.sqrt(dt), n
         )
-        accel = accel + accel_bias
+        if np.any(sensor.accel_bias) or model.accelerometer_random_walk > 0:
+            accel += accel_bias
         if white_a > 0:
-            accel += streams[3].standard_normal((n, 3)) * (white_a * np.sqrt(white_rate))
+            _add_white(streams[3], accel, white_a * np.sqrt(white_rate))
     return ImuData(
         times=t,
         gyro=gyro,

@@ -56,47 +56,52 @@ __all__ = ["integrate"]
 _C1 = 0.5 - np.sqrt(3.0) / 6.0
 _C2 = 0.5 + np.sqrt(3.0) / 6.0
 _SQRT3_12 = np.sqrt(3.0) / 12.0
-
-
-def _product(factors: list[np.ndarray]) -> np.ndarray:
-    out = factors[0].copy()
-    for f in factors[1:]:
-        out *= f
-    return out
+_BLOCK = 1 << 15  # intervals per block
 
 
 class _Cubic:
-    """The local Lagrange cubic through the four samples nearest each interval (the stencil
-    of :func:`quatspline.integrate`'s ``"cubic"`` model: samples k−1 … k+2, shifted inside
-    at the ends; fewer samples when there are fewer than four)."""
+    """The local cubic through the four samples nearest each interval, in Newton's form.
 
-    def __init__(self, t: np.ndarray, values: dict[str, np.ndarray]):
+    The stencil is that of :func:`quatspline.integrate`'s ``"cubic"`` model: samples
+    k−1 … k+2 for the interval [t_k, t_{k+1}], shifted inside at the ends, fewer samples
+    when there are fewer than four. The divided differences are computed once per interval;
+    an evaluation is then three multiply-adds (Horner's scheme on the Newton form).
+    """
+
+    def __init__(self, t: np.ndarray, values: dict[str, np.ndarray], first: int, stop: int):
+        """The intervals ``first … stop − 1`` of the samples at times ``t``."""
         n = t.size
-        self.m = m = min(4, n)
-        k = np.arange(n - 1)
+        m = min(4, n)
+        k = np.arange(first, stop)
         lo = np.clip(k - 1, 0, n - m)
-        # runs of intervals whose stencil starts at k + offset (at most three)
+        t0 = t[first:stop]
+        self.nodes = [t[lo + i] - t0 for i in range(m)]  # relative to each interval's start
+        # runs of intervals whose stencil starts at k + offset (at most three): slices, not
+        # fancy indexing, to gather the samples
         offset = lo - k
-        cuts = [0, *(np.flatnonzero(np.diff(offset)) + 1).tolist(), n - 1]
-        self.runs = [(a, b, int(offset[a])) for a, b in zip(cuts[:-1], cuts[1:]) if b > a]
-        t0 = t[:-1]
-        # nodes relative to each interval's start, and Π_{j≠i} (t_i − t_j)
-        self.nodes = [t[lo + i] - t0 for i in range(m)]
-        self.denominator = [
-            _product([self.nodes[i] - self.nodes[j] for j in range(m) if j != i]) for i in range(m)
+        cuts = [0, *(np.flatnonzero(np.diff(offset)) + 1).tolist(), k.size]
+        runs = [
+            (first + a, first + b, int(offset[a])) for a, b in zip(cuts[:-1], cuts[1:]) if b > a
         ]
-        self.values = values
+        self.coefficients = {}
+        for name, v in values.items():
+            y = [
+                np.concatenate([v[a + off + i : b + off + i] for a, b, off in runs])
+                for i in range(m)
+            ]
+            # divided differences: y[i] becomes f[x_0, …, x_i] in place
+            for level in range(1, m):
+                for i in range(m - 1, level - 1, -1):
+                    y[i] = (y[i] - y[i - 1]) / (self.nodes[i] - self.nodes[i - level])[:, None]
+            self.coefficients[name] = y
 
     def __call__(self, name: str, x: np.ndarray) -> np.ndarray:
         """The interpolant of ``name`` at ``t_k + x_k`` for each interval k."""
-        y = self.values[name]
-        d = [x - node for node in self.nodes]
-        out = np.zeros((x.size, 3))
-        for i in range(self.m):
-            w = _product([d[j] for j in range(self.m) if j != i]) if self.m > 1 else np.ones_like(x)
-            w /= self.denominator[i]
-            for a, b, off in self.runs:
-                out[a:b] += w[a:b, None] * y[a + off + i : b + off + i]
+        c = self.coefficients[name]
+        out = c[-1].copy()
+        for i in range(len(c) - 2, -1, -1):
+            out *= (x - self.nodes[i])[:, None]
+            out += c[i]
         return out
 
 
@@ -172,6 +177,14 @@ def integrate(
     ValueError
         An initial pose or velocity of the wrong shape, not finite, or not a rotation.
 
+    Notes
+    -----
+    The error is :math:`O(h^4)` in the sample interval h for motion whose rates are smooth
+    (C³ or better between samples): at 200 Hz a 60 s motion with rates up to 1.7 rad/s comes
+    back within a few nrad. A kink in the measured rates — the acceleration of a natural
+    cubic position spline jumps in slope at each key — cannot be located from point samples
+    and costs :math:`O(h^2)` per kink in velocity; ``benchmarks/imu.py`` shows both cases.
+
     See Also
     --------
     simulate, quatspline.integrate : orientation only, from angular-rate samples.
@@ -218,17 +231,27 @@ def integrate(
     v[0], p[0] = v0, p0
     if n > 1:
         h = np.diff(t)
-        cubic = _Cubic(t, {"gyro": data.gyro, "accel": data.accel})
-        a = []
-        for c in (_C1, _C2):
-            phi = _magnus(cubic, c * h)
-            f = cubic("accel", c * h)
-            a.append(rotate(multiply(quats[:-1], from_rotvec(phi)), f))
         hh = h[:, None]
-        dv = 0.5 * hh * (a[0] + a[1]) + hh * g
+        samples = {"gyro": data.gyro, "accel": data.accel}
+        dv = np.empty((n - 1, 3))  # ∫ a over each interval
+        da = np.empty((n - 1, 3))  # ∫ (t_{k+1} − s) a(s) ds over each interval, / h²
+        # blocks of intervals, so that the temporaries stay in cache
+        for first in range(0, n - 1, _BLOCK):
+            stop = min(first + _BLOCK, n - 1)
+            cubic = _Cubic(t, samples, first, stop)
+            hb = h[first:stop]
+            a = []
+            for c in (_C1, _C2):
+                phi = _magnus(cubic, c * hb)
+                f = cubic("accel", c * hb)
+                a.append(rotate(multiply(quats[first:stop], from_rotvec(phi)), f))
+            dv[first:stop] = a[0] + a[1]
+            da[first:stop] = (1 - _C1) * a[0] + (1 - _C2) * a[1]
+        dv *= 0.5 * hh
+        dv += hh * g
         np.cumsum(dv, axis=0, out=v[1:])
         v[1:] += v0
-        dp = hh * v[:-1] + 0.5 * hh * hh * ((1 - _C1) * a[0] + (1 - _C2) * a[1] + g)
+        dp = hh * v[:-1] + 0.5 * hh * hh * (da + g)
         np.cumsum(dp, axis=0, out=p[1:])
         p[1:] += p0
     return Trajectory(
