@@ -46,9 +46,10 @@ def compare(
     -------
     list of dict
         One dict per method with plain ``float``/``int``/``str`` values (or ``None``, see
-        below): ``method``, ``max_speed``, ``rms_speed``, ``rms_acceleration``, ``rms_jerk`` (rad/s, rad/s²,
-        rad/s³ in the recording's time unit), ``path_length`` (rad), ``continuity_order``
-        (the lowest order of continuity measured at the joints) and, with ``holdout``,
+        below): ``method``, ``max_speed``, ``rms_speed``, ``rms_acceleration``, ``rms_jerk``
+        (rad/s, rad/s², rad/s³ in the recording's time unit), ``path_length`` (rad),
+        ``continuity_order`` (the lowest order of continuity measured at the joints) and,
+        with ``holdout``,
         ``holdout_median_deg``, ``holdout_p95_deg``, ``holdout_max_deg``. Where ω jumps at a
         joint (C⁰) the angular acceleration is an impulse there and ``rms_acceleration`` and
         ``rms_jerk`` are ``None`` (no finite RMS exists); where α jumps (C¹) ``rms_jerk`` is
