@@ -11,6 +11,7 @@ them empty among rows with all of them filled is an error)."""
 from __future__ import annotations
 
 from array import array
+from pathlib import Path
 
 import numpy as np
 
@@ -61,7 +62,15 @@ def read(path, sort: bool = False, dedupe: bool = False) -> ImuData:
             ns, a = fast
             try:
                 return finish_imu(
-                    path, ns * 1e-9, a[:, 0:3], a[:, 3:6], None, sort, dedupe, stamps_ns=ns
+                    path,
+                    ns * 1e-9,
+                    a[:, 0:3],
+                    a[:, 3:6],
+                    None,
+                    sort,
+                    dedupe,
+                    stamps_ns=ns,
+                    name=Path(path).name,
                 )
             except TrajectoryError:
                 pass  # the careful parser below gives the message with the file's line numbers
@@ -98,7 +107,15 @@ def read(path, sort: bool = False, dedupe: bool = False) -> ImuData:
     a = np.array(rows, dtype=float).reshape(-1, 6)
     accel = None if groups.get("accelerometer") else a[:, 3:6]
     return finish_imu(
-        path, ns * 1e-9, a[:, 0:3], accel, np.asarray(lines), sort, dedupe, stamps_ns=ns
+        path,
+        ns * 1e-9,
+        a[:, 0:3],
+        accel,
+        np.asarray(lines),
+        sort,
+        dedupe,
+        stamps_ns=ns,
+        name=Path(path).name,
     )
 
 

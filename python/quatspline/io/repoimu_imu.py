@@ -12,6 +12,7 @@ orientation); a group filled in some rows and empty in others is an error."""
 from __future__ import annotations
 
 from array import array
+from pathlib import Path
 
 import numpy as np
 
@@ -95,7 +96,9 @@ def _finish(path, a, lines, sort, dedupe, empty) -> ImuData:
     if not empty.get("magnetometer"):
         extra["mag"] = a[:, 11:14]
     accel = None if empty.get("accelerometer") else a[:, 5:8]
-    return finish_imu(path, a[:, 0], a[:, 8:11], accel, lines, sort, dedupe, extra=extra)
+    return finish_imu(
+        path, a[:, 0], a[:, 8:11], accel, lines, sort, dedupe, name=Path(path).name, extra=extra
+    )
 
 
 def write(path, data: ImuData) -> None:
