@@ -673,7 +673,7 @@ BAD_YAML = {
     "topic": (KALIBR_EXAMPLE.replace("/imu0", "7"), "9:30", "rostopic: expected text, got int"),
     "syntax": ("a: [1, 2\nb: 3\n", "2:", "not YAML"),
     "scalar": ("42\n", None, "expected a mapping of noise parameters, got int"),
-    "nested": ("[" * 10000 + "]" * 10000, None, ""),
+    "nested": ("[" * 10000 + "]" * 10000, None, "not an imu.yaml (nested too deeply)"),
     "no imu": ("camera: 1\n", None, "missing accelerometer_noise_density"),
 }  # fmt: skip
 
