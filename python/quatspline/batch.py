@@ -728,7 +728,7 @@ def _op_compare(task: Task, options: dict) -> dict:
     figures: dict = {"samples": len(traj)}
     for r in rows:
         for k in ("holdout_median_deg", "holdout_p95_deg", "holdout_max_deg", "rms_jerk"):
-            if k in r:
+            if r.get(k) is not None:
                 figures[f"{k}[{r['method']}]"] = r[k]
     return figures
 

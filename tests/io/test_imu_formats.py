@@ -5,6 +5,7 @@ the file and line."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import stat
@@ -274,6 +275,21 @@ def test_repoimu_imu_columns_match_numpy_on_the_bundled_recording():
     np.testing.assert_array_equal(d.extra["mag"], a[:, 11:14])
     # at rest at the start: gravity on the accelerometer, a small rate on the gyroscope
     assert abs(np.linalg.norm(d.accel[0]) - 9.8) < 0.1 and np.linalg.norm(d.gyro[0]) < 0.05
+
+
+def test_repoimu_gyroscope_is_in_rad_per_second_as_the_vicon_orientation_turns():
+    """The units: over 0.1 s windows where the Vicon orientation turns faster than 0.5 rad/s,
+    the mean gyroscope magnitude matches the rotation rate of the reference (deg/s would be
+    57 times too large)."""
+    d = qio.read_imu(REPOIMU)
+    q = d.extra["orientation"] / np.linalg.norm(d.extra["orientation"], axis=1, keepdims=True)
+    k = 10
+    angle = 2 * np.arccos(np.abs(np.sum(q[:-k] * q[k:], axis=1)).clip(0, 1))
+    rate = angle / (d.times[k:] - d.times[:-k])
+    gyro = np.convolve(np.linalg.norm(d.gyro, axis=1), np.ones(k) / k, mode="valid")[: len(rate)]
+    turning = rate > 0.5
+    assert turning.sum() > 100
+    assert 0.8 < np.median(gyro[turning] / rate[turning]) < 1.25
 
 
 def test_repoimu_imu_round_trip_and_the_pose_reader_reads_the_written_file(tmp_path):
@@ -655,9 +671,23 @@ def test_kalibr_yaml_writer_takes_an_object_and_checks_it(tmp_path):
     missing = {k: v for k, v in good.items() if k != "accelerometer_random_walk"}
     with pytest.raises(ValueError, match="noise: missing 'accelerometer_random_walk'"):
         qio.write_imu_noise(path, missing)
-    with pytest.raises(TypeError, match="object has no 'accelerometer_noise_density'"):
+    with pytest.raises(TypeError, match="noise: missing 'accelerometer_noise_density'"):
         qio.write_imu_noise(path, object())
     assert qio.read_imu_noise(path)["rostopic"] == "/mti"  # untouched by the refusals
+
+    @dataclasses.dataclass(frozen=True)
+    class Densities:  # a noise model without a rate: the rate is given when writing
+        gyroscope_noise_density: float = 1.6968e-04
+        gyroscope_random_walk: float = 1.9393e-05
+        accelerometer_noise_density: float = 2.0e-3
+        accelerometer_random_walk: float = 3.0e-3
+
+    with pytest.raises(ValueError, match="update_rate: needed"):
+        qio.write_imu_noise(path, Densities())
+    qio.write_imu_noise(path, Densities(), update_rate=200)
+    back = qio.read_imu_noise(path)
+    assert Densities(**{k: back[k] for k in dataclasses.asdict(Densities())}) == Densities()
+    assert back["update_rate"] == 200.0 and back["rostopic"] == "/imu0"
 
 
 BAD_YAML = {

@@ -587,7 +587,9 @@ def read_imu_noise(path: str | Path, imu: str | None = None) -> dict:
     return _run_reader(path, "imu.yaml", kalibr_yaml.read, Path(path), {"imu": imu})
 
 
-def write_imu_noise(path: str | Path, noise, rostopic: str | None = None) -> None:
+def write_imu_noise(
+    path: str | Path, noise, rostopic: str | None = None, update_rate: float | None = None
+) -> None:
     """Writes IMU noise parameters as a Kalibr ``imu.yaml``, atomically (the rules of
     :func:`write`).
 
@@ -596,18 +598,20 @@ def write_imu_noise(path: str | Path, noise, rostopic: str | None = None) -> Non
     path : str or pathlib.Path
         The output file.
     noise : mapping or object
-        The four densities and ``update_rate``, as keys or attributes (what
-        :func:`read_imu_noise` returns, or a noise-model object).
+        The four densities as keys or attributes (what :func:`read_imu_noise` returns, or a
+        noise-model object), and ``update_rate`` unless it is given here.
     rostopic : str, optional
         The topic written; by default ``noise``'s own, else ``/imu0``.
+    update_rate : float, optional
+        The sample rate, Hz, the densities are given for; by default ``noise``'s own.
 
     Raises
     ------
     TypeError
-        If a parameter is missing from an object or is not a number.
+        If an object lacks a density, or a parameter is not a number.
     ValueError
-        If a parameter is missing from a mapping, negative or not finite, or
-        ``update_rate`` is not > 0.
+        If a mapping lacks a parameter, a density is negative or not finite, the update
+        rate is missing or not > 0.
 
     See Also
     --------
@@ -620,9 +624,9 @@ def write_imu_noise(path: str | Path, noise, rostopic: str | None = None) -> Non
     >>> path = pathlib.Path(tempfile.mkdtemp()) / "imu.yaml"
     >>> io.write_imu_noise(path, {
     ...     "accelerometer_noise_density": 2e-3, "accelerometer_random_walk": 3e-3,
-    ...     "gyroscope_noise_density": 1.7e-4, "gyroscope_random_walk": 2e-5,
-    ...     "update_rate": 400})
+    ...     "gyroscope_noise_density": 1.7e-4, "gyroscope_random_walk": 2e-5},
+    ...     update_rate=400)
     >>> print(path.read_text().splitlines()[3])
     gyroscope_noise_density: 0.00017  # [rad/s/sqrt(Hz)]
     """
-    kalibr_yaml.write(Path(path), noise, rostopic=rostopic)
+    kalibr_yaml.write(Path(path), noise, rostopic=rostopic, update_rate=update_rate)

@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 import numbers
 import re
+from collections.abc import Mapping
 
 from .._util.atomic import atomic_write
 from .._util.optional import need
@@ -164,25 +165,29 @@ def _number(where: str, key: str, value) -> float:
 
 
 def _value(noise, key: str):
-    if isinstance(noise, dict):
-        if key not in noise:
-            raise ValueError(f"noise: missing {key!r}")
-        return noise[key]
-    if not hasattr(noise, key):
-        raise TypeError(
-            f"noise: expected a mapping or an object with {', '.join(KEYS)}; "
-            f"{type(noise).__name__} has no {key!r}"
-        )
-    return getattr(noise, key)
+    """``noise``'s ``key`` (a mapping's item or an object's attribute), or None."""
+    if isinstance(noise, Mapping):
+        return noise.get(key)
+    return getattr(noise, key, None)
 
 
-def parameters(noise) -> dict:
-    """The five parameters of ``noise`` (a mapping, or any object with those attributes) as
-    checked floats; a one-line error names a missing, non-numeric, negative or non-finite
-    one."""
+def parameters(noise, update_rate=None) -> dict:
+    """The five parameters of ``noise`` (a mapping, or any object with the four densities as
+    attributes; ``update_rate`` from the argument, else from ``noise``) as checked floats; a
+    one-line error names a missing, non-numeric, negative or non-finite one."""
     out = {}
     for key in KEYS:
-        v = _value(noise, key)
+        v = update_rate if key == "update_rate" and update_rate is not None else _value(noise, key)
+        if v is None:
+            if key == "update_rate":
+                raise ValueError(
+                    "update_rate: needed (the sample rate the densities are given for); pass "
+                    "update_rate="
+                )
+            kind = "mapping" if isinstance(noise, Mapping) else type(noise).__name__
+            raise (ValueError if isinstance(noise, Mapping) else TypeError)(
+                f"noise: missing {key!r} (the {kind} holds no {key})"
+            )
         if isinstance(v, bool) or not isinstance(v, numbers.Real):
             raise TypeError(f"{key}: expected a number, got {type(v).__name__}")
         try:
@@ -192,15 +197,14 @@ def parameters(noise) -> dict:
     return out
 
 
-def write(path, noise, rostopic: str | None = None) -> None:
+def write(path, noise, rostopic: str | None = None, update_rate: float | None = None) -> None:
     """Writes a Kalibr ``imu.yaml`` atomically. ``noise``: a mapping or any object with the
-    four densities and ``update_rate``; ``rostopic``: the topic written (else the noise's
-    own ``rostopic``, else ``/imu0``). Values are written so that they read back exactly."""
-    values = parameters(noise)
+    four densities (and ``update_rate``, unless given here); ``rostopic``: the topic written
+    (else the noise's own ``rostopic``, else ``/imu0``). Values are written so that they
+    read back exactly."""
+    values = parameters(noise, update_rate)
     if rostopic is None:
-        rostopic = (
-            noise.get("rostopic") if isinstance(noise, dict) else getattr(noise, "rostopic", None)
-        )
+        rostopic = _value(noise, "rostopic")
     rostopic = "/imu0" if rostopic is None else rostopic
     if not isinstance(rostopic, str):
         raise TypeError(f"rostopic: expected a string, got {type(rostopic).__name__}")

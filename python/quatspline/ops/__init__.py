@@ -22,7 +22,7 @@ from __future__ import annotations
 
 from ..io.trajectory import set_sampler
 from . import _resample
-from ._compare import compare, format_table, markdown_cell
+from ._compare import IMPULSES, compare, format_table, markdown_cell
 from ._export import BvhReport, GltfReport, export, to_bvh, to_gltf
 from ._fit import FIT_EXTRAPOLATE, fit_trajectory, rms_residual_deg
 from ._imu import calibrate_imu, imu_motion, simulate_imu, write_simulated
@@ -37,6 +37,7 @@ from ._sample import (
 
 __all__ = [
     "FIT_EXTRAPOLATE",
+    "IMPULSES",
     "BvhReport",
     "export",
     "GltfReport",
