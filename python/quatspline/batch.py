@@ -42,6 +42,7 @@ Dask is an optional dependency: ``pip install "quatspline[dask]"``.
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import fnmatch
 import glob
@@ -74,6 +75,7 @@ from .arguments import (
     add_method_options,
     add_sampling_options,
     compare_options,
+    examples,
     export_options,
     fit_options,
     method_options,
@@ -1242,7 +1244,13 @@ def add_arguments(p, parser_class=None) -> None:
         "export": "export each file to glTF (as quatspline export -o FILE.glb)",
     }
     for op in OPERATIONS:
-        o = sub.add_parser(op, help=helps[op], description=helps[op])
+        o = sub.add_parser(
+            op,
+            help=helps[op],
+            description=helps[op],
+            epilog=examples(f"batch {op}"),
+            formatter_class=argparse.RawDescriptionHelpFormatter,
+        )
         add_input_options(o, many=True)
         o.add_argument("-o", "--output", required=True, help="output directory")
         where = o.add_mutually_exclusive_group()
