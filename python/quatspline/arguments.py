@@ -46,6 +46,7 @@ from .io.kitti import read_times
 from .registry import METHODS
 
 __all__ = [
+    "EXAMPLES",
     "EXTRAPOLATE",
     "INTERPOLATIONS",
     "PENALTIES",
@@ -61,6 +62,7 @@ __all__ = [
     "at_times",
     "checked_params",
     "compare_options",
+    "examples",
     "export_options",
     "fit_options",
     "imu_calibrate_options",
@@ -83,6 +85,90 @@ INTERPOLATIONS = ("linear", "cubicspline")
 
 
 # ---- the groups -------------------------------------------------------------------------------
+
+#: Two or three examples per command, shown at the end of its ``--help`` (bundled data paths
+#: work from a source checkout).
+EXAMPLES = {
+    "quatspline": [
+        "quatspline fit recording.tum -o smooth.csv --rate 200 --derivatives",
+        "quatspline sample keys.csv -o motion.csv --method c3 --rate 100",
+        "quatspline export smooth.csv -o motion.glb --max-error 0.05deg",
+    ],
+    "sample": [
+        "quatspline sample keys.csv -o motion.csv --method c3 --rate 100",
+        "quatspline sample gt.tum -o est_on_gt.tum --at est.tum --method natural",
+        "quatspline sample keys.json -o - --count 5 --method kochanek_bartels "
+        "--param tension=0.3 --derivatives",
+    ],
+    "fit": [
+        "quatspline fit recording.tum -o smooth.csv --rate 200",
+        "quatspline fit mocap.bvh --joint LeftElbow -o elbow.csv --rate 120 --penalty jerk",
+        "quatspline fit glitchy.csv -o clean.csv --count 1000 --robust huber --smoothing 1e-4",
+    ],
+    "compare": [
+        "quatspline compare recording.tum --holdout 10",
+        "quatspline compare keys.csv --methods slerp,natural,c3 --json",
+    ],
+    "plot": [
+        "quatspline plot keys.csv -o sphere.png --kind sphere --method c3",
+        "quatspline plot recording.tum -o rates.pdf --kind rates --show omega,alpha,jerk",
+        "quatspline plot keys.csv -o family.png --kind family --method c3 --family alpha=0,0.3,0.5",
+    ],
+    "export": [
+        "quatspline export smooth.csv -o motion.glb --max-error 0.05deg",
+        "quatspline export run.bag --topic /pose -o motion.gltf --interpolation cubicspline",
+        "quatspline export mocap.bvh --joint Hips -o hips.bvh --fps 60",
+    ],
+    "demo": ["quatspline demo", "quatspline demo -o /tmp/demo --recording recording.tum"],
+    "batch": [
+        "quatspline batch sample 'mocap/**/*.bvh' -o out/resampled --method natural --rate 120",
+        "quatspline batch fit recordings/ -o out/fit --rate 200 --scheduler tcp://10.0.0.5:8786",
+    ],
+    "batch sample": [
+        "quatspline batch sample 'mocap/**/*.bvh' -o out/resampled --method natural --rate 120",
+        "quatspline batch sample data/ -o out/c3 --rate 100 --to tum --workers 2",
+    ],
+    "batch fit": [
+        "quatspline batch fit recordings/ -o out/fit --rate 200",
+        "quatspline batch fit recordings/ -o out/fit --rate 200 --scheduler scheduler.json",
+    ],
+    "batch compare": [
+        "quatspline batch compare data/ -o out/cmp --methods slerp,natural,c3 --holdout 10",
+    ],
+    "batch export": [
+        "quatspline batch export takes/ -o out/glb --max-error 0.05deg",
+        "quatspline batch export takes/ -o out/glb --interpolation cubicspline --workers 2",
+    ],
+    "batch imu-simulate": [
+        "quatspline batch imu-simulate recordings/ -o imu/ --rate 200",
+        "quatspline batch imu-simulate 'mocap/**/*.csv' -o imu/ --rate 200 --fit --noise imu.yaml",
+    ],
+    "imu": [
+        "quatspline imu simulate poses.csv -o imu.csv --rate 200",
+        "quatspline imu calibrate vicon.csv imu0/data.csv --figure residuals.png",
+    ],
+    "imu simulate": [
+        "quatspline imu simulate poses.csv -o imu.csv --rate 200",
+        "quatspline imu simulate mocap.csv -o imu.csv --rate 200 --fit --noise imu.yaml --seed 1",
+        "quatspline imu simulate keys.json -o imu.mcap --rate 100 --method squad",
+    ],
+    "imu calibrate": [
+        "quatspline imu calibrate vicon.csv imu0/data.csv",
+        "quatspline imu calibrate data/repoimu/repoIMU_first30s.csv "
+        "data/repoimu/repoIMU_first30s.csv --figure residuals.png --json cal.json",
+        "quatspline imu calibrate mocap.csv imu.bag --estimate rotation,bias,time_offset "
+        "--robust huber",
+    ],
+    "view": ["quatspline view", "quatspline view keys.json --no-browser --port 8765"],
+}
+
+
+def examples(command: str) -> str:
+    """The ``--help`` epilog of ``command`` (a key of :data:`EXAMPLES`): its examples, one
+    per line."""
+    return "examples:\n" + "\n".join("  " + line for line in EXAMPLES[command])
+
+
 def add_input_options(p, *, many: bool = False) -> None:
     """The input file (``many``: files, directories and patterns) and how to read it."""
     if many:
@@ -286,6 +372,11 @@ def checked_params(pairs, method, option: str = "--param") -> dict:
             if k not in known:
                 valid = ", ".join(known) or "none"
                 raise ParameterError(f"{option} {k}: not a parameter of {method}; valid: {valid}")
+            # the row's own converter (idempotent on converted values), so that a bad value is
+            # named as the user spelled it: "--param alpha: expected a number or 'auto', …"
+            out[k] = known[k].convert(f"{option} {k}", out[k])
+            if known[k].check is None:  # choices only; a check may read other parameters
+                known[k].validate(f"{option} {k}", method, out[k], out)
     return out
 
 

@@ -76,6 +76,7 @@ from .arguments import (
     add_method_options,
     add_sampling_options,
     compare_options,
+    examples,
     export_options,
     fit_options,
     imu_simulate_options,
@@ -1270,20 +1271,14 @@ def add_arguments(p, parser_class=None) -> None:
         "imu-simulate": "simulate the IMU of each file's motion, EuRoC csv (as quatspline imu "
         "simulate -o FILE.csv; --seed gives every file the same seed, as that command would)",
     }
-    examples = {
-        "imu-simulate": "examples:\n"
-        "  quatspline batch imu-simulate recordings/ -o imu/ --rate 200\n"
-        "  quatspline batch imu-simulate 'mocap/**/*.csv' -o imu/ --rate 200 --fit "
-        "--noise imu.yaml"
-    }
     for op in OPERATIONS:
-        extra = {}
-        if op in examples:
-            extra = {
-                "epilog": examples[op],
-                "formatter_class": argparse.RawDescriptionHelpFormatter,
-            }
-        o = sub.add_parser(op, help=helps[op], description=helps[op], **extra)
+        o = sub.add_parser(
+            op,
+            help=helps[op],
+            description=helps[op],
+            epilog=examples(f"batch {op}"),
+            formatter_class=argparse.RawDescriptionHelpFormatter,
+        )
         add_input_options(o, many=True)
         o.add_argument("-o", "--output", required=True, help="output directory")
         where = o.add_mutually_exclusive_group()

@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import shutil
 import sys
 import tempfile
@@ -311,13 +312,19 @@ def build_parser() -> argparse.ArgumentParser:
     p = _Parser(
         prog="quatspline",
         description="Keyframe orientations and poses in, smooth rigid-body motion out.",
-        epilog="methods: " + ", ".join(METHODS),
+        epilog="methods: " + ", ".join(METHODS) + "\n\n" + options.examples("quatspline"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("--version", action="version", version=f"quatspline {__version__}")
     p.add_argument("--debug", action="store_true", help="show the traceback of an error")
     sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
 
-    s = sub.add_parser("sample", help="sample a spline through a recording's keys")
+    s = sub.add_parser(
+        "sample",
+        help="sample a spline through a recording's keys",
+        epilog=options.examples("sample"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     options.add_input_options(s)
     s.add_argument(
         "-o",
@@ -332,7 +339,12 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--force", action="store_true", help="allow overwriting the input file")
     s.set_defaults(func=cmd_sample)
 
-    ft = sub.add_parser("fit", help="fit a smooth spline to noisy measurements and sample it")
+    ft = sub.add_parser(
+        "fit",
+        help="fit a smooth spline to noisy measurements and sample it",
+        epilog=options.examples("fit"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     options.add_input_options(ft)
     ft.add_argument("-o", "--output", required=True, help="output file, or - (as sample)")
     ft.add_argument("--format", choices=sorted(qio.FORMATS), help="output format")
@@ -341,13 +353,23 @@ def build_parser() -> argparse.ArgumentParser:
     ft.add_argument("--force", action="store_true", help="allow overwriting the input file")
     ft.set_defaults(func=cmd_fit)
 
-    c = sub.add_parser("compare", help="compare methods on a recording")
+    c = sub.add_parser(
+        "compare",
+        help="compare methods on a recording",
+        epilog=options.examples("compare"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     options.add_input_options(c)
     options.add_compare_options(c)
     c.add_argument("--json", action="store_true", help="print JSON instead of a table")
     c.set_defaults(func=cmd_compare)
 
-    pl = sub.add_parser("plot", help="plot a spline through a recording's keys")
+    pl = sub.add_parser(
+        "plot",
+        help="plot a spline through a recording's keys",
+        epilog=options.examples("plot"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     options.add_input_options(pl)
     pl.add_argument("-o", "--output", required=True, help="figure file (.png, .svg, .pdf)")
     pl.add_argument("--kind", choices=("sphere", "body", "rates", "family"), default="sphere")
@@ -359,7 +381,12 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--force", action="store_true", help="allow overwriting the input file")
     pl.set_defaults(func=cmd_plot)
 
-    e = sub.add_parser("export", help="export a motion to glTF 2.0 (error-bounded) or BVH")
+    e = sub.add_parser(
+        "export",
+        help="export a motion to glTF 2.0 (error-bounded) or BVH",
+        epilog=options.examples("export"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     options.add_input_options(e)
     e.add_argument("-o", "--output", required=True, help="motion.glb, motion.gltf or motion.bvh")
     options.add_export_options(e)
@@ -368,13 +395,21 @@ def build_parser() -> argparse.ArgumentParser:
     e.set_defaults(func=cmd_export)
 
     d = sub.add_parser(
-        "demo", help="the papers' examples and a real recording through every method"
+        "demo",
+        help="the papers' examples and a real recording through every method",
+        epilog=options.examples("demo"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     d.add_argument("-o", "--out", default="out", help="output directory (default: out)")
     d.add_argument("--recording", help="recording to use (default: bundled TUM RGB-D fr1/xyz)")
     d.set_defaults(func=cmd_demo)
 
-    b = sub.add_parser("batch", help="one operation over many files, distributed with Dask")
+    b = sub.add_parser(
+        "batch",
+        help="one operation over many files, distributed with Dask",
+        epilog=options.examples("batch"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     batch.add_arguments(b, parser_class=_Parser)
     b.set_defaults(func=cmd_batch)
 
@@ -383,7 +418,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="simulate an IMU on a recording's motion, or calibrate one against it",
         description="Inertial measurements: simulate the IMU a recording's motion would "
         "produce, or calibrate a recorded gyroscope against the recording.",
-        epilog=IMU_SIMULATE_EXAMPLES + "\n" + IMU_CALIBRATE_EXAMPLES.replace("examples:\n", ""),
+        epilog=options.examples("imu"),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     imu = im.add_subparsers(
@@ -396,7 +431,7 @@ def build_parser() -> argparse.ArgumentParser:
         "spline, a pose spline when the file has positions: then the accelerometer too; or a "
         "smoothing fit with --fit), exact or with Kalibr imu.yaml noise. Times on the "
         "recording's clock.",
-        epilog=IMU_SIMULATE_EXAMPLES,
+        epilog=options.examples("imu simulate"),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     options.add_input_options(si)
@@ -413,7 +448,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Calibrates the IMU's gyroscope against the recording's orientations "
         "(smoothed by a fit): the model ω_meas(t) = K R_bsᵀ ω_body(t + δ) + b. Prints the "
         "estimates with their standard errors and the RMS residual per axis.",
-        epilog=IMU_CALIBRATE_EXAMPLES,
+        epilog=options.examples("imu calibrate"),
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     options.add_input_options(ca)
@@ -424,23 +459,18 @@ def build_parser() -> argparse.ArgumentParser:
     ca.add_argument("--force", action="store_true", help="allow overwriting an input file")
     ca.set_defaults(func=cmd_imu_calibrate)
 
-    v = sub.add_parser("view", help="design attitude motion in the browser (local web page)")
+    v = sub.add_parser(
+        "view",
+        help="design attitude motion in the browser (local web page)",
+        epilog=options.examples("view"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     v.add_argument("input", nargs="?", help="keys file, recording or trajectory (default: example)")
     v.add_argument("--port", type=int, default=0, help="port (default: a free one)")
     v.add_argument("--no-browser", action="store_true", help="print the URL only")
     v.set_defaults(func=cmd_view)
     return p
 
-
-IMU_SIMULATE_EXAMPLES = """examples:
-  quatspline imu simulate poses.csv -o imu.csv --rate 200
-  quatspline imu simulate mocap.csv -o imu.csv --rate 200 --fit --noise imu.yaml --seed 1
-  quatspline imu simulate keys.json -o imu.mcap --rate 100 --method squad"""
-
-IMU_CALIBRATE_EXAMPLES = """examples:
-  quatspline imu calibrate vicon.csv imu0/data.csv
-  quatspline imu calibrate repoIMU.csv repoIMU.csv --figure residuals.png --json cal.json
-  quatspline imu calibrate mocap.csv imu.bag --estimate rotation,bias,time_offset --robust huber"""
 
 _CLI_NAMES = {
     "method": "--method",
@@ -460,13 +490,18 @@ _CLI_NAMES = {
 }
 
 
+_KEYWORDS = re.compile(r"\b(" + "|".join(k for k in _CLI_NAMES if "_" in k) + r")\b")
+
+
 def _cli_message(e: BaseException) -> str:
     """The one-line message of an error, with library argument names as CLI options."""
     msg = " ".join(str(e).split()) or type(e).__name__
     name, sep, rest = msg.partition(":")
     if sep and name in _CLI_NAMES:
         msg = _CLI_NAMES[name] + sep + rest
-    return msg
+    # a library keyword quoted inside the message ("… more than max_samples = 10") in the
+    # option's spelling; only identifiers with an underscore, never ordinary words
+    return _KEYWORDS.sub(lambda m: _CLI_NAMES[m.group(0)], msg)
 
 
 def main(argv: list[str] | None = None) -> int:
