@@ -27,7 +27,12 @@ lie inside the motion's domain after the shift. Standard errors are ``σ̂² (J�
 solution, with ``σ̂²`` the residual sum of squares over the degrees of freedom (with a robust
 loss: the iteratively reweighted form of the same).
 
-Parameters the motion does not excite (the Jacobian's columns, scaled to unit norm, have a
+Parameters the motion excites too little to be of use — a standard error above 1° for the
+rotation, 1 % for scale and misalignment, 1 ms for δ, or resting on a sensor axis whose rate
+varies less than √10 times its residual (the standard errors assume an exact reference; a
+noisy one drags such an axis's scale towards 0) — are estimated but listed in
+:attr:`Calibration.weak` and named in a ``RuntimeWarning``. Parameters the motion does not
+excite at all (the Jacobian's columns, scaled to unit norm, have a
 null space: a device at rest leaves rotation, scale and δ unobservable; a rotation about one
 axis leaves the rotation about that axis and the other axes' scales) are held at their
 starting values — rotation: the smallest one that aligns the rates, scale 1,
@@ -83,6 +88,11 @@ _SLICES = {
 # A direction of parameter space is unobservable when its scaled singular value is below this
 # fraction of the largest (double precision leaves ~1e-16 on an exactly singular one).
 _NULL_TOL = 1e-8
+# Standard errors above which an estimated component counts as weakly excited (warned, listed
+# in Calibration.weak): the motion determines it too loosely to be of use as a calibration.
+_WEAK = {"rotation": math.radians(1.0), "scale": 0.01, "misalignment": 0.01, "time_offset": 1e-3}
+# A sensor axis is silent when its rate's variance is below this multiple of its residual's.
+_SILENT = 10.0
 # Constants of the robust losses at 95 % efficiency for Gaussian noise (Huber 1964; Holland
 # & Welsch 1977), in units of the noise's standard deviation.
 _ROBUST_C = {"huber": 1.345, "cauchy": 2.385}
@@ -122,6 +132,12 @@ class Calibration:
         The parameters estimated.
     unobservable : tuple of str
         Components the motion does not excite (held, standard error inf).
+    weak : tuple of str
+        Components estimated, but with a standard error above 1° (rotation), 1 % (scale,
+        misalignment) or 1 ms (time offset), or resting on a sensor axis whose rate varies
+        less than √10 times its residual (its scale, the misalignment terms it multiplies,
+        the rotation about an axis whose two partners are both such): the motion excites
+        them too little.
     converged : bool
         Whether the least-squares solver met its tolerance.
     """
@@ -141,6 +157,7 @@ class Calibration:
     sigma: float
     estimated: tuple
     unobservable: tuple = ()
+    weak: tuple = ()
     converged: bool = True
     nfev: int = 0
     extra: dict = field(default_factory=dict)
@@ -185,6 +202,8 @@ class Calibration:
         lines.append(f"{'samples':<{width}}  {len(self.times)}")
         if self.unobservable:
             lines.append(f"{'not excited (held)':<{width}}  {', '.join(self.unobservable)}")
+        if self.weak:
+            lines.append(f"{'weakly excited':<{width}}  {', '.join(self.weak)}")
         return "\n".join(lines)
 
     def to_dict(self) -> dict:
@@ -201,6 +220,7 @@ class Calibration:
             "samples": int(len(self.times)),
             "estimated": list(self.estimated),
             "unobservable": list(self.unobservable),
+            "weak": list(self.weak),
             "converged": bool(self.converged),
         }
 
@@ -480,7 +500,8 @@ def calibrate(
     Warns
     -----
     RuntimeWarning
-        When the motion does not excite a parameter (named; held, standard error inf).
+        When the motion does not excite a parameter (named; held, standard error inf), or
+        excites it weakly (named; standard error above 1°, 1 % or 1 ms).
 
     Examples
     --------
@@ -670,6 +691,32 @@ def _result(problem, rot, x, fitted, free, estimate) -> Calibration:
             RuntimeWarning,
             stacklevel=3,
         )
+    weak_set = {
+        i for name, limit in _WEAK.items() for i in range(13)[_SLICES[name]] if se[i] > limit
+    }
+    # A sensor axis whose measured rate varies less than √10 times what the model leaves
+    # unexplained there carries no usable signal: the standard errors assume an exact
+    # reference, and a noisy one drags the scale of such an axis towards 0 (errors in
+    # variables), so its scale, the misalignment terms it multiplies and the rotation about
+    # an axis with both other axes silent are weak whatever their standard errors say.
+    # (residuals weighted as the loss weighs them: a robust loss discounts glitches here too)
+    unexplained = np.mean((w * r**2).reshape(-1, 3), axis=0)
+    snr = np.var(problem.g, axis=0) / np.maximum(unexplained, 1e-300)
+    silent = snr < _SILENT
+    for j in np.flatnonzero(silent):
+        weak_set.add(6 + int(j))
+    weak_set |= {9 + k for k, j in enumerate((1, 2, 2)) if silent[j]}
+    weak_set |= {k for k in range(3) if all(silent[j] for j in range(3) if j != k)}
+    weak = tuple(COMPONENTS[i] for i in sorted(weak_set) if i in cols)
+    if weak:
+        warnings.warn(
+            "calibrate: the motion excites " + ", ".join(weak) + " weakly (standard errors "
+            "above 1° for rotation, 1 % for scale and misalignment, 1 ms for the time offset, "
+            "or a sensor axis whose rate hardly varies beyond the residual; see "
+            "standard_errors and rms)",
+            RuntimeWarning,
+            stacklevel=3,
+        )
     q = from_matrix(rot)
     q = q if q[0] >= 0 else -q
     return Calibration(
@@ -694,6 +741,7 @@ def _result(problem, rot, x, fitted, free, estimate) -> Calibration:
         sigma=math.sqrt(sigma2),
         estimated=tuple(e for e in ESTIMATES if e in estimate),
         unobservable=unobservable,
+        weak=weak,
         converged=fitted["converged"],
         nfev=fitted["nfev"],
         extra={"loss": fitted["loss"], "f_scale": fitted["f_scale"]},
