@@ -40,13 +40,14 @@ from . import (
 )
 from ._common import MAX_SNIFF_LINE, check_regular_input, open_regular
 from .evo_bridge import from_evo, to_evo
-from .inertial import ImuData
+from .inertial import ImuData, ImuNoise
 from .trajectory import Trajectory, TrajectoryError, from_dataframe, to_dataframe
 
 __all__ = [
     "FORMATS",
     "IMU_FORMATS",
     "ImuData",
+    "ImuNoise",
     "Trajectory",
     "TrajectoryError",
     "detect_format",
