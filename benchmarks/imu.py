@@ -126,7 +126,9 @@ def errors(motion, rate):
 def accuracy(rates) -> dict:
     rng = np.random.default_rng(1)
     tk = np.arange(0.0, 61.0, 1.0)
-    pose = qs.PoseSpline(qs.from_rotvec(smooth(rng, tk, 0.5)), tk, smooth(rng, tk, 2.0))
+    pose = qs.PoseSpline(
+        qs.from_rotvec(smooth(rng, tk, 0.5)), tk, smooth(rng, tk, 2.0), rotation="c3"
+    )
     rng = np.random.default_rng(2)
     bspline = qs.PoseBSpline(
         qs.from_rotvec(rng.normal(0, 0.6, (65, 3))),
