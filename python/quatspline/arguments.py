@@ -33,6 +33,7 @@ from . import io as qio
 from . import ops
 from ._util.errors import ParameterError
 from ._util.options import (
+    DEFAULT_METHOD,
     parse_angle,
     parse_choice,
     parse_length,
@@ -194,8 +195,9 @@ def add_input_options(p, *, many: bool = False) -> None:
 
 
 def add_method_options(p, *, what: str = "interpolation method") -> None:
-    """``--method`` (default c3) and its ``--param NAME=VALUE`` pairs."""
-    p.add_argument("--method", default="c3", help=f"{what} (default: c3)")
+    """``--method`` (default :data:`~quatspline._util.options.DEFAULT_METHOD`) and its
+    ``--param NAME=VALUE`` pairs."""
+    p.add_argument("--method", default=DEFAULT_METHOD, help=f"{what} (default: {DEFAULT_METHOD})")
     p.add_argument("--param", action="append", metavar="NAME=VALUE", help="method parameter")
 
 

@@ -45,7 +45,7 @@ def library(command, traj, times, derivatives, max_samples, extrapolate):
     if max_samples is not None:
         kw["max_samples"] = max_samples
     if command == "sample":
-        return ops.sample(traj, "c3", **kw)
+        return ops.sample(traj, **kw)  # the command's default method
     return ops.fit_trajectory(traj, smoothing=1e-4, **kw)[0]
 
 

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 import quatspline as qs
 import quatspline.io as qio
+from quatspline._util.options import DEFAULT_METHOD
 from quatspline.cli import main
 
 DATA = Path(__file__).resolve().parents[2] / "data"
@@ -36,7 +37,7 @@ def _short_tum(tmp_path: Path, rows: int = 300) -> Path:
 
 
 def test_simulate_writes_exact_gyro_and_specific_force(tmp_path, capsys):
-    """The EuRoC file holds ω_body and Rᵀ(p̈ − g) of the c3 pose spline through the keys,
+    """The EuRoC file holds ω_body and Rᵀ(p̈ − g) of the default pose spline through the keys,
     computed here from the spline's own derivatives, at first key + k / rate."""
     src = _short_tum(tmp_path)
     out = tmp_path / "imu.csv"
@@ -45,7 +46,7 @@ def test_simulate_writes_exact_gyro_and_specific_force(tmp_path, capsys):
     traj = qio.read(src)
     got = qio.read_imu(out)
     rel = traj.times - traj.times[0]
-    pose = qs.PoseSpline(traj.quats, rel, traj.positions, rotation="c3")
+    pose = qs.PoseSpline(traj.quats, rel, traj.positions, rotation=DEFAULT_METHOD)
     t = np.arange(got.times.size) / 100.0
     np.testing.assert_allclose(got.times, traj.times[0] + t, atol=1e-9)  # ns stamps
     np.testing.assert_allclose(got.gyro, pose.angular_velocity(t, frame="body"), atol=1e-9)

@@ -50,7 +50,9 @@ def test_sixty_seconds_at_200_hz_integrate_back_to_the_spline():
     # a smooth pose motion: |ω| up to ~1.7 rad/s, |p̈| up to ~8 m/s², keys every second
     rng = np.random.default_rng(1)
     tk = np.arange(0.0, 61.0, 1.0)
-    pose = qs.PoseSpline(qs.from_rotvec(_smooth(rng, tk, 0.5)), tk, _smooth(rng, tk, 2.0))
+    pose = qs.PoseSpline(
+        qs.from_rotvec(_smooth(rng, tk, 0.5)), tk, _smooth(rng, tk, 2.0), rotation="c3"
+    )
     attitude, position = _errors(pose, 200)
     assert attitude < 1e-6  # rad
     assert position < 1e-3  # m
@@ -76,7 +78,9 @@ def test_c2_positions_limit_the_position_to_second_order():
     # see where they are, so the position converges like h² there (attitude still like h⁴)
     rng = np.random.default_rng(3)
     tk = np.arange(0.0, 11.0, 1.0)
-    pose = qs.PoseSpline(qs.from_rotvec(_smooth(rng, tk, 0.5)), tk, _smooth(rng, tk, 2.0))
+    pose = qs.PoseSpline(
+        qs.from_rotvec(_smooth(rng, tk, 0.5)), tk, _smooth(rng, tk, 2.0), rotation="c3"
+    )
     errors = np.array([_errors(pose, rate) for rate in (50, 100, 200)])
     order = np.log2(errors[:-1] / errors[1:])
     assert np.all((order[:, 0] > 3.7) & (order[:, 0] < 4.3)), order
@@ -87,7 +91,9 @@ def test_the_sensor_frame_is_integrated():
     # a mounted, displaced sensor integrates to its own pose (R R_bs, p + R r)
     rng = np.random.default_rng(4)
     tk = np.arange(0.0, 11.0, 1.0)
-    pose = qs.PoseSpline(qs.from_rotvec(_smooth(rng, tk, 0.5)), tk, _smooth(rng, tk, 1.0))
+    pose = qs.PoseSpline(
+        qs.from_rotvec(_smooth(rng, tk, 0.5)), tk, _smooth(rng, tk, 1.0), rotation="c3"
+    )
     sensor = SensorModel(
         rotation=qs.from_euler("xyz", [20, -70, 150], degrees=True), lever_arm=[0.2, 0.1, -0.3]
     )
@@ -176,7 +182,9 @@ def test_blocks_do_not_change_the_result(monkeypatch):
 def test_a_time_offset_shifts_the_trajectory_by_it():
     rng = np.random.default_rng(6)
     tk = np.arange(0.0, 11.0, 1.0)
-    pose = qs.PoseSpline(qs.from_rotvec(_smooth(rng, tk, 0.5)), tk, _smooth(rng, tk, 1.0))
+    pose = qs.PoseSpline(
+        qs.from_rotvec(_smooth(rng, tk, 0.5)), tk, _smooth(rng, tk, 1.0), rotation="c3"
+    )
     delta = 0.0123
     d = simulate(pose, rate=200, sensor=SensorModel(time_offset=delta))
     t0 = d.times[0] + delta

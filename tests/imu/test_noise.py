@@ -66,3 +66,11 @@ def test_missing_keys_are_named():
 def test_bad_rate_or_step(method, arg):
     with pytest.raises(ValueError, match="rate|dt"):
         getattr(ImuNoise(1.0), method)(arg)
+
+
+def test_numbers_in_strings_as_yaml_gives_them():
+    d = dict.fromkeys(KEYS, "1e-3")
+    assert ImuNoise.from_dict(d) == ImuNoise(1e-3, 1e-3, 1e-3, 1e-3)
+    d["gyroscope_random_walk"] = "small"
+    with pytest.raises(ValueError, match="gyroscope_random_walk"):
+        ImuNoise.from_dict(d)

@@ -34,7 +34,7 @@ def pose():
     rng = np.random.default_rng(7)
     tk = np.arange(0.0, 11.0, 0.5)
     keys = qs.from_rotvec(_smooth(rng, tk, 0.6))
-    return qs.PoseSpline(keys, tk, _smooth(rng, tk, 1.5))
+    return qs.PoseSpline(keys, tk, _smooth(rng, tk, 1.5), rotation="c3")
 
 
 def _away_from(joints, t, gap):
@@ -74,7 +74,7 @@ def test_accel_is_the_specific_force(pose):
 
 def test_at_rest_the_accelerometer_reads_up():
     keys = qs.from_euler("xyz", [[30, 0, 0], [30, 0, 0]], degrees=True)
-    rest = qs.PoseSpline(keys, [0.0, 1.0], np.zeros((2, 3)))
+    rest = qs.PoseSpline(keys, [0.0, 1.0], np.zeros((2, 3)), rotation="c3")
     d = simulate(rest, rate=10)
     up_in_body = _rot(keys[0]).apply([0.0, 0.0, 9.80665], inverse=True)
     np.testing.assert_allclose(d.accel, np.tile(up_in_body, (11, 1)), atol=1e-12)
@@ -131,7 +131,9 @@ def test_lever_arm_and_mounting_against_the_sensors_own_motion(pose):
 
 def test_time_offset_sign():
     keys = qs.from_rotvec([[0, 0, 0], [0.3, 0.1, 0], [0.5, 0.4, 0.2], [0.1, 0.9, 0.3]])
-    pose = qs.PoseSpline(keys, [0.0, 1.0, 2.0, 3.0], np.arange(12.0).reshape(4, 3) ** 1.5)
+    pose = qs.PoseSpline(
+        keys, [0.0, 1.0, 2.0, 3.0], np.arange(12.0).reshape(4, 3) ** 1.5, rotation="c3"
+    )
     t = np.linspace(0.5, 2.0, 16)
     shifted = simulate(pose, times=t, sensor=SensorModel(time_offset=0.25))
     direct = simulate(pose, times=t + 0.25)

@@ -167,6 +167,12 @@ def cmd_compare(args) -> int:
 
 # ---- plot -----------------------------------------------------------------------------------
 def _family(args, traj):
+    row = METHODS.get(args.method)
+    if args.family is None and row is not None and "alpha" not in row.params:
+        raise UsageError(
+            f"--kind family: {args.method} has no alpha to sweep by default; give "
+            "--family PARAM=V1,V2,… or a method with shape parameters (--method c3)"
+        )
     name, _, values = (args.family or "alpha=0,0.3125,0.6").partition("=")
     vals = [v for v in values.split(",") if v]
     if not vals:

@@ -198,7 +198,7 @@ def integrate(
     >>> from quatspline.imu import integrate, simulate
     >>> t = np.linspace(0.0, 4.0, 9)
     >>> keys = qs.from_rotvec(np.column_stack([np.sin(t), 0.5 * t, np.cos(t) - 1]))
-    >>> pose = qs.PoseSpline(keys, t, np.column_stack([t**2, np.sin(t), 0 * t]))
+    >>> pose = qs.PoseSpline(keys, t, np.column_stack([t**2, np.sin(t), 0 * t]), rotation="c3")
     >>> d = simulate(pose, rate=200)
     >>> start = (pose.orientation(0.0), pose.position(0.0))
     >>> tr = integrate(d, start, initial_velocity=pose.linear_velocity(0.0))

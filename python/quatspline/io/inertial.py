@@ -239,7 +239,8 @@ class ImuNoise:
     def from_dict(cls, values: Mapping) -> ImuNoise:
         """The noise model from a mapping with the Kalibr ``imu.yaml`` keys.
 
-        Other keys (``rostopic``, ``update_rate``, …) are ignored.
+        Other keys (``rostopic``, ``update_rate``, …) are ignored. A value may be a number or
+        a string holding one (YAML 1.1 parsers read ``1e-3``, without a dot, as a string).
 
         Raises
         ------
@@ -256,4 +257,13 @@ class ImuNoise:
             raise ValueError(
                 f"noise: missing key{'s' if len(missing) > 1 else ''} {', '.join(missing)}"
             )
-        return cls(**{k: values[k] for k in names})
+        out = {}
+        for k in names:
+            v = values[k]
+            if isinstance(v, str):  # YAML 1.1 reads 1e-3 (no dot) as a string
+                try:
+                    v = float(v)
+                except ValueError:
+                    raise ValueError(f"{k}: expected a number, got {v!r:.40}") from None
+            out[k] = v
+        return cls(**out)

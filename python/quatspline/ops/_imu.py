@@ -18,6 +18,7 @@ import numbers
 from collections.abc import Mapping
 from pathlib import Path
 
+from .._util.options import DEFAULT_METHOD
 from ..fitting import fit as fit_spline
 from ..imu import Calibration, calibrate
 from ..imu import simulate as simulate_motion
@@ -30,7 +31,7 @@ from ._ops import ParameterError, _check_trajectory, _int_arg
 __all__ = ["calibrate_imu", "imu_motion", "simulate_imu", "write_simulated"]
 
 
-def imu_motion(trajectory: Trajectory, method: str = "c3", params=None, fit=None):
+def imu_motion(trajectory: Trajectory, method: str = DEFAULT_METHOD, params=None, fit=None):
     """The motion an IMU rides for :func:`simulate_imu`: the spline of ``method`` through the
     keys (a pose spline when there are positions), or the smoothing fit of ``fit`` (a dict of
     :func:`quatspline.fit`'s keyword arguments; ``{}`` for its defaults); on times relative
@@ -75,7 +76,7 @@ def simulate_imu(
     trajectory: Trajectory,
     *,
     rate: float,
-    method: str = "c3",
+    method: str = DEFAULT_METHOD,
     params: dict | None = None,
     fit: dict | None = None,
     noise=None,
@@ -92,7 +93,8 @@ def simulate_imu(
     rate : float
         Sample rate, Hz (> 0); samples from the first key at ``1 / rate`` spacing.
     method, params : str, dict
-        The spline through the keys (default c3, the command line's default).
+        The spline through the keys (default: the natural spline, the command line's
+        default, :data:`quatspline._util.options.DEFAULT_METHOD`).
     fit : dict, optional
         Instead, a smoothing fit with these options of :func:`quatspline.fit`.
     noise : ImuNoise, mapping or path, optional
