@@ -275,6 +275,25 @@ impl MinEnergySpline {
     }
 }
 
+/// ∫|ω̇|² of the natural spline by the module's quadrature ([`PIECES`] × [`NODES`]
+/// Gauss–Legendre per key interval; the same value as the discrete spline's at δ = 0).
+pub(crate) fn natural_energy(nat: &NaturalSpline) -> f64 {
+    let gl = crate::quadrature::gauss_legendre01(NODES);
+    let j = nat.joints();
+    let mut e = 0.0;
+    for i in 0..nat.segments() {
+        let piece = (j[i + 1] - j[i]) / PIECES as f64;
+        for p in 0..PIECES {
+            let lo = j[i] + p as f64 * piece;
+            for &(u, wt) in &gl {
+                let al = alpha_body(nat.segment::<3>(i, lo + u * piece));
+                e += wt * piece * (al[0] * al[0] + al[1] * al[1] + al[2] * al[2]);
+            }
+        }
+    }
+    e
+}
+
 fn local_params(x: &[f64], i: usize, st: usize, segs: usize, closed: bool) -> Vec<f64> {
     let mut p = Vec::with_capacity(st + 6);
     p.extend_from_slice(&x[i * st..i * st + st]);
