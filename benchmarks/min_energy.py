@@ -1,0 +1,71 @@
+"""MinimumEnergySpline construction time per key: the discrete form (default, resolution 4)
+and the exact Riemannian cubic (``mode="exact"``), on random keys at uneven times.
+
+    python benchmarks/min_energy.py            # 100, 1000, 4000, 10000 keys (exact);
+                                               # the discrete form up to --discrete-max keys
+    python benchmarks/min_energy.py --repeat 3 --discrete-max 1000
+
+Prints µs per key (best of --repeat runs), Newton / descent iterations, and the CPU. Times on
+a shared machine are inflated by its load (printed with each row).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import time
+
+import numpy as np
+import quatspline as qs
+
+
+def cpu_name() -> str:
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown CPU"
+
+
+def random_keys(n: int, seed: int = 1000):
+    rng = np.random.default_rng(seed)
+    return qs.from_rotvec(rng.normal(size=(n, 3)) * 0.8), np.cumsum(rng.uniform(0.5, 1.5, n))
+
+
+def best_time(build, repeat: int):
+    best, s = float("inf"), None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        s = build()
+        best = min(best, time.perf_counter() - t0)
+    return best, s
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sizes", type=int, nargs="+", default=[100, 1000, 4000, 10000])
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--discrete-max", type=int, default=1000)
+    a = ap.parse_args()
+    print(f"CPU: {cpu_name()} ({os.cpu_count()} logical cores)\n")
+    print("| keys | mode | µs/key | iterations | energy / natural | load |")
+    print("|---:|---|---:|---:|---:|---:|")
+    for n in a.sizes:
+        q, t = random_keys(n)
+        for mode in ("exact", "discrete"):
+            if mode == "discrete" and n > a.discrete_max:
+                continue
+            secs, s = best_time(lambda: qs.MinimumEnergySpline(q, t, mode=mode), a.repeat)
+            load = os.getloadavg()[0]
+            print(
+                f"| {n} | {mode} | {secs / n * 1e6:.0f} | {s.iterations} | "
+                f"{s.energy / s.natural_energy:.6f} | {load:.1f} |"
+            )
+
+
+if __name__ == "__main__":
+    main()
