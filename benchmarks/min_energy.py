@@ -36,11 +36,11 @@ def random_keys(n: int, seed: int = 1000):
     return qs.from_rotvec(rng.normal(size=(n, 3)) * 0.8), np.cumsum(rng.uniform(0.5, 1.5, n))
 
 
-def best_time(build, repeat: int):
+def best_time(q, t, mode: str, repeat: int):
     best, s = float("inf"), None
     for _ in range(repeat):
         t0 = time.perf_counter()
-        s = build()
+        s = qs.MinimumEnergySpline(q, t, mode=mode)
         best = min(best, time.perf_counter() - t0)
     return best, s
 
@@ -59,7 +59,7 @@ def main() -> None:
         for mode in ("exact", "discrete"):
             if mode == "discrete" and n > a.discrete_max:
                 continue
-            secs, s = best_time(lambda: qs.MinimumEnergySpline(q, t, mode=mode), a.repeat)
+            secs, s = best_time(q, t, mode, a.repeat)
             load = os.getloadavg()[0]
             print(
                 f"| {n} | {mode} | {secs / n * 1e6:.0f} | {s.iterations} | "

@@ -28,7 +28,9 @@ def energy(s, sub=8):
     """∫|ω̇|² by 10-point Gauss–Legendre on `sub` pieces of every key interval."""
     x, w = np.polynomial.legendre.leggauss(10)
     j = s.joints
-    e = np.r_[np.concatenate([np.linspace(a, b, sub + 1)[:-1] for a, b in zip(j[:-1], j[1:])]), j[-1]]
+    e = np.r_[
+        np.concatenate([np.linspace(a, b, sub + 1)[:-1] for a, b in zip(j[:-1], j[1:])]), j[-1]
+    ]
     lo, hi = e[:-1, None], e[1:, None]
     t = (0.5 * (hi - lo) * x + 0.5 * (lo + hi)).ravel()
     v = np.sum(s.angular_acceleration(t, "body") ** 2, axis=1).reshape(lo.shape[0], -1)

@@ -168,9 +168,7 @@ class MinimumEnergySpline(Spline):
             resolution = 4 if penalty == "acceleration" else 8
         if mode == "discrete":
             if isinstance(resolution, bool) or not isinstance(resolution, numbers.Integral):
-                raise TypeError(
-                    f"resolution: expected an integer, got {type(resolution).__name__}"
-                )
+                raise TypeError(f"resolution: expected an integer, got {type(resolution).__name__}")
             resolution = integer(
                 resolution, "resolution", *((0, 16) if penalty == "acceleration" else (1, 64))
             )
