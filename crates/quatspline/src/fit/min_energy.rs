@@ -14,7 +14,9 @@
 //! The energy is the composite Gauss–Legendre sum with 8 equal pieces × 10 nodes per key
 //! interval (the integrand is analytic inside a key interval; this is the quadrature the
 //! tests and `benchmarks/fit.py` use for every spline, whose joints are the same keys), and
-//! it is minimised by Levenberg–Marquardt from δ = 0 accepting only steps that lower it:
+//! it is minimised by Levenberg–Marquardt accepting only steps that lower it, from the exact
+//! optimum ([`super::riemannian_cubic`]) projected onto this space when that lowers the
+//! energy below δ = 0's, else from δ = 0:
 //! the result's energy is ≤ the natural spline's by construction, equal only when no
 //! descent exists (N already optimal to the solver's precision). Jacobians of the residuals
 //! √wₘ ω̇(tₘ): the chain rule through δ's Taylor coefficients at each node (linear in the
