@@ -201,4 +201,12 @@ def min_energy_spline(
     resolution: int,
     progress: object = None,
 ) -> tuple[Spline, dict]: ...
+def riemannian_cubic_spline(
+    quats: _A,
+    times: _A | None,
+    ends: str,
+    start_rate: list[float] | None,
+    end_rate: list[float] | None,
+    progress: object = None,
+) -> tuple[Spline, dict]: ...
 def position_bspline_eval(ctrl: _A, dt: float, t0: float, order: int, t: _A) -> _A: ...

@@ -492,7 +492,9 @@ def _fit(q, times, p):
 
 def _min_energy(q, times, p):
     t = _times_or_default(times, len(q))
-    return MinimumEnergySpline(q, t, penalty=p["penalty"], resolution=p["resolution"])
+    return MinimumEnergySpline(
+        q, t, penalty=p["penalty"], resolution=p["resolution"], mode=p["mode"]
+    )
 
 
 _HOLDS = Param(flag, True, "equal consecutive keys hold still")
@@ -715,6 +717,12 @@ METHODS: dict[str, Method] = {
                     "bubble polynomials (acceleration, default 4) or knot intervals (jerk, "
                     "default 8) per key interval",
                     check=_resolution,
+                ),
+                "mode": Param(
+                    str,
+                    "discrete",
+                    "discrete (over `resolution` bubbles) | exact (the Riemannian cubic)",
+                    ("discrete", "exact"),
                 ),
             },
             _min_energy,

@@ -153,6 +153,35 @@ fn min_energy_spline<'py>(
     Ok((crate::spline::wrap(Ok(s))?, d))
 }
 
+/// The exact minimum-∫|ω̇|² interpolant, the Riemannian cubic spline
+/// (`fit/riemannian_cubic.rs`); returns (spline, {energy, energy_natural, iterations, residual}).
+#[pyfunction]
+#[pyo3(signature = (quats, times, ends, start_rate, end_rate, progress=None))]
+fn riemannian_cubic_spline<'py>(
+    py: Python<'py>,
+    quats: PyReadonlyArray2<'py, f64>,
+    times: Option<PyReadonlyArray1<'py, f64>>,
+    ends: &str,
+    start_rate: Option<[f64; 3]>,
+    end_rate: Option<[f64; 3]>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<(crate::spline::PySpline, Bound<'py, PyDict>)> {
+    let q = quats_of(&quats, "quats")?;
+    let t = times_of(&times);
+    let ends =
+        NaturalEnds::for_method(ends, "the minimum-energy spline", start_rate, end_rate).map_err(to_py)?;
+    let mut rep = reporter(progress);
+    let s = guarded(py, "MinimumEnergySpline", move || {
+        fit::riemannian_cubic::RiemannianCubic::new(&q, t.as_deref(), ends, &mut rep)
+    })?;
+    let d = PyDict::new(py);
+    d.set_item("energy", s.energy)?;
+    d.set_item("energy_natural", s.energy_natural)?;
+    d.set_item("iterations", s.iterations)?;
+    d.set_item("residual", s.residual)?;
+    Ok((crate::spline::wrap(Ok(s))?, d))
+}
+
 /// Position fit; returns a dict (ctrl (n, 3), dt, t0, order, residuals, robust_weights,
 /// smoothing, effective_dof, score, iterations).
 #[pyfunction]
@@ -235,6 +264,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit_positions, m)?)?;
     m.add_function(wrap_pyfunction!(min_energy, m)?)?;
     m.add_function(wrap_pyfunction!(min_energy_spline, m)?)?;
+    m.add_function(wrap_pyfunction!(riemannian_cubic_spline, m)?)?;
     m.add_function(wrap_pyfunction!(position_bspline_eval, m)?)?;
     Ok(())
 }

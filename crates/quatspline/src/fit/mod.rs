@@ -60,6 +60,7 @@ pub mod layout;
 pub mod min_energy;
 pub mod model;
 pub mod position;
+pub mod riemannian_cubic;
 pub mod so3;
 
 mod assembly;
