@@ -176,6 +176,7 @@ def fit_rotations(
     max_iter: int,
     tol: float,
     progress: object = None,
+    adaptivity: str = "gcv",
 ) -> dict: ...
 def fit_positions(
     times: _A,

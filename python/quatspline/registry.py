@@ -220,7 +220,7 @@ def _bspline_order(name, v, p) -> None:
 
 
 def _smoothing(name, v, p) -> None:
-    if v != "auto" and not (math.isfinite(v) and v >= 0):
+    if not isinstance(v, str) and not (math.isfinite(v) and v >= 0):
         raise ParameterError(f"{name}: expected 'auto' or a finite λ ≥ 0, got {v:.6g}")
 
 
@@ -682,7 +682,10 @@ METHODS: dict[str, Method] = {
             "C2 (C4 with penalty=jerk)",
             {
                 "smoothing": Param(
-                    smoothing_spec, "auto", "λ: auto (GCV) | a number ≥ 0", check=_smoothing
+                    smoothing_spec,
+                    "auto",
+                    "λ: auto | gcv | adaptive | a number ≥ 0",
+                    check=_smoothing,
                 ),
                 "penalty": Param(
                     str,

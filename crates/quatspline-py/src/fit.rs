@@ -35,7 +35,7 @@ fn reporter(cb: Option<Py<PyAny>>) -> impl FnMut(&str, usize, f64) -> bool + Sen
 /// Orientation fit; returns a dict of the result fields.
 #[pyfunction]
 #[pyo3(signature = (times, quats, weights, penalty, order, smoothing, knots_spacing, knots_array,
-                    robust, robust_scale, max_iter, tol, progress=None))]
+                    robust, robust_scale, max_iter, tol, progress=None, adaptivity="gcv"))]
 #[allow(clippy::too_many_arguments)]
 fn fit_rotations<'py>(
     py: Python<'py>,
@@ -52,7 +52,9 @@ fn fit_rotations<'py>(
     max_iter: usize,
     tol: f64,
     progress: Option<Py<PyAny>>,
+    adaptivity: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let mode = adaptivity.parse::<fit::Adaptivity>().map_err(to_py)?;
     let t = vec_of(&times);
     let q = quats_of(&quats, "quats")?;
     let w = weights.as_ref().map(vec_of);
@@ -67,7 +69,7 @@ fn fit_rotations<'py>(
         tol,
     };
     let mut rep = reporter(progress);
-    let r = guarded(py, "fit", move || fit::fit(&t, &q, w.as_deref(), &opts, &mut rep))?;
+    let r = guarded(py, "fit", move || fit::fit_adaptive(&t, &q, w.as_deref(), &opts, mode, &mut rep))?;
     let d = PyDict::new(py);
     let ctrl: Vec<f64> = r.ctrl.iter().flat_map(|q| q.to_wxyz()).collect();
     d.set_item("ctrl", ctrl.into_pyarray(py).reshape([r.ctrl.len(), 4])?)?;
@@ -86,6 +88,7 @@ fn fit_rotations<'py>(
     d.set_item("iterations", r.iterations)?;
     d.set_item("final_step", r.final_step)?;
     d.set_item("converged", r.converged)?;
+    d.set_item("penalty_weights", r.penalty_weights.map(|v| v.into_pyarray(py)))?;
     Ok(d)
 }
 

@@ -214,7 +214,9 @@ pub(super) fn delta_omega_deriv<const N: usize>(om: &model::V<N>, xi: &model::V<
     [c[0] * FACT[m], c[1] * FACT[m], c[2] * FACT[m]]
 }
 
-/// The penalty half: P = Σ Jₚᵀ C Jₚ, Jₚᵀ C p and pᵀ C p by Gauss quadrature per segment.
+/// The penalty half: P = Σ Jₚᵀ C Jₚ, Jₚᵀ C p and pᵀ C p by Gauss quadrature per segment,
+/// segment i's share scaled by its weight `wts[i]` when given (locally adaptive smoothing:
+/// λ Σᵢ wᵢ ∫_{segment i} |p|² dt, `adaptive.rs`).
 /// δω^(m) is linear in ξ with constant coefficients in the Jacobian's right factors, so it is
 /// applied to the k jet factors of [`Model::value_and_factors`] (3k constant columns) and the
 /// factors' constant 3×3 right multipliers J_r⁻¹, J_l⁻¹ come after, on plain numbers.
@@ -223,6 +225,7 @@ pub(super) fn penalty_half<const N: usize>(
     m: usize,
     nodes: &[(f64, f64)],
     band: Band,
+    wts: Option<&[f64]>,
 ) -> Half {
     let k = model.order;
     let nb = 3 * k;
@@ -238,7 +241,7 @@ pub(super) fn penalty_half<const N: usize>(
             let off = 3 * (i - s0);
             for &(u, w) in nodes {
                 let h = model.width(i);
-                let c = w * h;
+                let c = w * h * wts.map_or(1.0, |v| v[i]);
                 let q = model.value_and_factors::<N>(i, Jet::variable(u, 1.0 / h), &mut mats);
                 let om = Model::omega(&q);
                 let p: Vec3 = std::array::from_fn(|r| om[r].derivative(m));
@@ -336,10 +339,16 @@ pub(super) fn data_half(model: &Model, data: &Data, w: &[f64], offs: &[Vec3], ba
     })
 }
 
-pub(super) fn pen_half(model: &Model, pen: Penalty, nodes: &[(f64, f64)], band: Band) -> Half {
+pub(super) fn pen_half(
+    model: &Model,
+    pen: Penalty,
+    nodes: &[(f64, f64)],
+    band: Band,
+    wts: Option<&[f64]>,
+) -> Half {
     match pen {
-        Penalty::Acceleration => penalty_half::<3>(model, 1, nodes, band),
-        Penalty::Jerk => penalty_half::<4>(model, 2, nodes, band),
+        Penalty::Acceleration => penalty_half::<3>(model, 1, nodes, band, wts),
+        Penalty::Jerk => penalty_half::<4>(model, 2, nodes, band, wts),
     }
 }
 
@@ -353,7 +362,7 @@ pub(super) fn linearise(
     nodes: &[(f64, f64)],
 ) -> Lin {
     let d = data_half(model, data, w, offs, Band::zeros(0, 0));
-    Lin::new(d, pen_half(model, pen, nodes, Band::zeros(0, 0)))
+    Lin::new(d, pen_half(model, pen, nodes, Band::zeros(0, 0), None))
 }
 
 #[cfg(test)]

@@ -150,6 +150,8 @@ struct Solver<'a> {
     near_halves: Option<(Half, Half)>,
     /// The storage of the last replaced or rejected model, for the next trial.
     spare_model: Option<Model>,
+    /// Per-knot-interval weights of the penalty (locally adaptive smoothing, `adaptive.rs`).
+    pen_w: Option<Vec<f64>>,
 }
 
 /// What the loop does after a step ([`Solver::next_stage`]).
@@ -201,6 +203,7 @@ impl<'a> Solver<'a> {
             hbuf: Band::zeros(0, 0),
             near_halves: None,
             spare_model: None,
+            pen_w: None,
         };
         // λ for the inner problems of interpolation: bandwidth about one sample spacing.
         s.lam = match opts.smoothing {
@@ -242,7 +245,7 @@ impl<'a> Solver<'a> {
     /// The penalty half at `model` into recycled storage.
     fn pen_half_at_model(&mut self) -> Half {
         let band = self.spare.pop().unwrap_or(Band::zeros(0, 0));
-        pen_half(&self.model, self.opts.penalty, &self.nodes, band)
+        pen_half(&self.model, self.opts.penalty, &self.nodes, band, self.pen_w.as_deref())
     }
 
     /// The data half at `model` (current weights and offsets) into recycled storage.
@@ -387,7 +390,7 @@ impl<'a> Solver<'a> {
                 std::mem::replace(&mut lin.g, Band::zeros(0, 0)),
                 std::mem::replace(&mut lin.p, Band::zeros(0, 0)),
             );
-            let tp = pen_half(&trial, pen, &self.nodes, ps);
+            let tp = pen_half(&trial, pen, &self.nodes, ps, self.pen_w.as_deref());
             let td = data_half(&trial, data, &self.w, &self.offs, gs);
             let c1 = td.sum + lam * tp.sum;
             if c1 <= c0 * (1.0 + 1e-12) + 1e-300 {
@@ -405,7 +408,7 @@ impl<'a> Solver<'a> {
                     if !(0.8..=1.25).contains(&alpha) && alpha.is_finite() {
                         let da: Vec<f64> = d.iter().map(|v| v * alpha).collect();
                         let t2 = self.model.retracted(&da, None);
-                        let tp2 = pen_half(&t2, pen, &self.nodes, Band::zeros(0, 0));
+                        let tp2 = pen_half(&t2, pen, &self.nodes, Band::zeros(0, 0), self.pen_w.as_deref());
                         let td2 = data_half(&t2, data, &self.w, &self.offs, Band::zeros(0, 0));
                         if td2.sum + lam * tp2.sum < c1 {
                             (trial, smax, tp, td) = (t2, smax * alpha, tp2, td2);
@@ -420,7 +423,7 @@ impl<'a> Solver<'a> {
             }
             // Rejected (rare): linearise at `model` again for the damped retry.
             self.spare_model = Some(trial);
-            let ph = pen_half(&self.model, pen, &self.nodes, tp.band);
+            let ph = pen_half(&self.model, pen, &self.nodes, tp.band, self.pen_w.as_deref());
             lin = Lin::new(data_half(&self.model, data, &self.w, &self.offs, td.band), ph);
             self.mu = if self.mu == 0.0 { 1e-4 } else { self.mu * 10.0 };
         }
@@ -586,6 +589,7 @@ impl<'a> Solver<'a> {
             iterations: self.it,
             final_step: self.step,
             converged: true,
+            penalty_weights: self.pen_w.take(),
         })
     }
 }
@@ -598,7 +602,27 @@ pub(super) fn solve(
     opts: &FitOptions,
     progress: Progress<'_>,
 ) -> Result<FitResult> {
+    solve_weighted(model, data, opts, None, progress)
+}
+
+/// [`solve`] with per-knot-interval penalty weights `pen_w` (λ Σᵢ wᵢ ∫_{segment i} |p|² dt)
+/// and, for λ = "auto", a first λ to search from (`start`, from a curve already fitted:
+/// Brent's method around it from the first linearisation, no fixed first step).
+pub(super) fn solve_weighted(
+    model: Model,
+    data: &Data,
+    opts: &FitOptions,
+    start: Option<(Vec<f64>, f64)>,
+    progress: Progress<'_>,
+) -> Result<FitResult> {
     let mut s = Solver::new(model, data, opts);
+    if let Some((w, lam)) = start {
+        s.pen_w = Some(w);
+        if s.auto {
+            s.lam = lam;
+            s.searched = true;
+        }
+    }
     loop {
         s.count_iteration()?;
         let lin = s.linearise();
