@@ -56,6 +56,7 @@
 //! iterations returns [`Error::NotConverged`] with the iteration count and the last step.
 
 pub mod banded;
+pub mod covariance;
 pub mod layout;
 pub mod min_energy;
 pub mod model;
@@ -70,6 +71,7 @@ mod start;
 mod types;
 
 pub use crate::quadrature::gauss_legendre01;
+pub use covariance::{fitted_layout, Posterior, Quantity};
 pub(crate) use lambda::lambda_cap;
 pub use solver::fit;
 pub use types::{FitOptions, FitResult, Knots, Penalty, Progress, Robust, Smoothing};
