@@ -643,6 +643,7 @@ FIT_OPTIONS = (
     "penalty",
     "robust",
     "knots",
+    "uncertainty",
     "derivatives",
     "max_samples",
     "extrapolate",
