@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import quatspline as qs
+from quatspline import plot
 
 
 def truth_rotvec(t, ph):
@@ -197,3 +198,29 @@ def test_weights_robust_losses_and_uneven_knots():
     assert np.all(np.isfinite(s)) and np.all(s > 0)
     e = errors(u(t), qt)
     assert np.mean(np.abs(e) <= 1.96 * s) > 0.85
+
+
+def test_rates_plot_shades_two_sigma_about_the_angular_speed():
+    pytest.importorskip("matplotlib")
+    rng = np.random.default_rng(9)
+    t = np.linspace(0.0, 3.0, 150)
+    y = qs.multiply(
+        qs.from_rotvec(truth_rotvec(t, [0, 0, 0])), qs.from_rotvec(0.02 * rng.normal(size=(150, 3)))
+    )
+    f = qs.fit(t, y)
+    fig = plot.rates(f, show=("omega", "alpha"), band=True, n=50)
+    a0, a1 = fig.axes
+    assert len(a0.collections) == 1 and len(a1.collections) == 0
+    assert any("2σ" in x.get_text() for x in a0.get_legend().get_texts())
+    # the band's upper edge is |ω| + 2σ, σ² = ûᵀ Cov(ω) û (checked at the middle time)
+    verts = a0.collections[0].get_paths()[0].vertices
+    tm = np.linspace(*f.domain, 50)[25]
+    top = verts[np.isclose(verts[:, 0], tm)][:, 1].max()
+    w = f.angular_velocity(tm)
+    u = w / np.linalg.norm(w)
+    sd = np.sqrt(u @ f.angular_velocity_covariance(tm) @ u)
+    assert abs(top - (np.linalg.norm(w) + 2 * sd)) < 1e-9
+    with pytest.raises(TypeError, match="band"):
+        plot.rates(qs.C3Spline(y[:5]), band=True)
+    with pytest.raises(TypeError, match="band"):
+        plot.rates(f, band="yes")
