@@ -120,10 +120,11 @@ pub(super) fn effective_weights(w: &[f64], robust_weights: Option<&[f64]>) -> Re
     Ok(w.iter().zip(rw).map(|(a, b)| a * b).collect())
 }
 
-/// σ̂² and tr A from RSS, n_obs and the band of H⁻¹ (see the module doc).
+/// σ̂² = RSS / (n_obs − tr A) (see the module doc); an error when no residual degrees of
+/// freedom are left (or the count is not a number).
 pub(super) fn noise_variance(rss: f64, nobs: f64, edf: f64) -> Result<f64> {
     let den = nobs - edf;
-    if !(den > 1e-9 * nobs) {
+    if den.is_nan() || den <= 1e-9 * nobs {
         return Err(Error::invalid(
             "smoothing",
             format!(
