@@ -208,9 +208,12 @@ impl Posterior {
                 "the fit's normal matrix G + λP is not positive definite at the solution: {e}"
             ))
         })?;
+        // tr(H⁻¹G) by the fused pass first, so G is freed before the band of H⁻¹ is made:
+        // two bands at a time, never three.
+        let edf = h.trace_inverse_product(&g);
+        drop(g);
         let inv = h.selected_inverse();
         drop(h);
-        let edf = inv.trace_product(&g);
         let sigma2 = noise_variance(rss, nobs, edf)?;
         Ok(Posterior { model, inv, sigma2, rss, nobs, edf })
     }

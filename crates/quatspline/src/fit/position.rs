@@ -307,8 +307,9 @@ impl PositionPosterior {
         h.cholesky_in_place().map_err(|e| {
             Error::Internal(format!("the position fit's normal matrix G + λP is not positive definite: {e}"))
         })?;
+        let edf = 3.0 * h.trace_inverse_product(&g);
         let inv = h.selected_inverse();
-        let edf = 3.0 * inv.trace_product(&g);
+        drop(h);
         let (mut rss, mut nobs) = (0.0, 0.0);
         for (s, (i, b)) in loc.iter().enumerate() {
             if w[s] == 0.0 {
