@@ -10,7 +10,7 @@ single-file command over many files. The groups, and what translates each:
 - method: ``--method --param`` (:func:`method_options`);
 - sampling: ``--rate | --count | --at``, ``--derivatives --max-samples --extrapolate``
   (:func:`sampling_options`);
-- fit: ``--smoothing --penalty --robust --knots`` (:func:`fit_options`);
+- fit: ``--smoothing --penalty --robust --knots --uncertainty`` (:func:`fit_options`);
 - compare: ``--methods --holdout`` (:func:`compare_options`);
 - export: ``--node --max-error --max-position-error --interpolation --empty --fps``
   (:func:`export_options`);
@@ -247,6 +247,13 @@ def add_fit_options(p) -> None:
         help="knot spacing, or a file of knot times (one per line, the recording's clock, from "
         "its first to its last time; uneven spacing allowed); default: one per sample interval",
     )
+    p.add_argument(
+        "--uncertainty",
+        action="store_true",
+        help="add the fit's posterior standard deviations per sample: orientation_std (radians, "
+        "body axes), position_std (with positions), omega_std (rad/s, world axes, with "
+        "--derivatives); needs a format with extra columns (csv, json, npz)",
+    )
 
 
 def add_compare_options(p) -> None:
@@ -429,13 +436,14 @@ def sampling_options(args) -> dict:
 
 
 def fit_options(args) -> dict:
-    """``smoothing`` ("auto" or λ), ``penalty``, ``robust`` and ``knots`` (a spacing or the
-    times of the ``--knots`` file)."""
+    """``smoothing`` ("auto" or λ), ``penalty``, ``robust``, ``knots`` (a spacing or the
+    times of the ``--knots`` file) and ``uncertainty``."""
     return {
         "smoothing": parse_smoothing(args.smoothing, "--smoothing"),
         "penalty": args.penalty,
         "robust": args.robust,
         "knots": None if args.knots is None else knots_of(args.knots),
+        "uncertainty": bool(args.uncertainty),
     }
 
 

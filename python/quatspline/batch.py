@@ -649,6 +649,7 @@ FIT_OPTIONS = (
     "penalty",
     "robust",
     "knots",
+    "uncertainty",
     "derivatives",
     "max_samples",
     "extrapolate",

@@ -78,6 +78,7 @@ fn fit_rotations<'py>(
     d.set_item("order", r.order)?;
     let full = r.breaks.as_ref().map(|b| fit::layout::full_knots(b, r.order).into_pyarray(py));
     d.set_item("knots_full", full)?;
+    d.set_item("breaks", r.breaks.as_ref().map(|b| b.clone().into_pyarray(py)))?;
     d.set_item("residuals", r.residuals.into_pyarray(py))?;
     d.set_item("robust_weights", r.robust_weights.into_pyarray(py))?;
     d.set_item("robust_scale", r.robust_scale)?;
@@ -262,7 +263,154 @@ fn position_bspline_eval<'py>(
     out.into_pyarray(py).reshape([m, 12])
 }
 
+// ---- posterior covariance ------------------------------------------------------------------
+
+/// The posterior of an orientation fit (`quatspline::fit::Posterior`): the band of H⁻¹ and σ̂²,
+/// built once, evaluated at any times.
+#[pyclass(name = "FitPosterior", module = "quatspline._core", frozen)]
+pub struct PyFitPosterior {
+    inner: std::sync::Arc<fit::Posterior>,
+}
+
+#[pymethods]
+impl PyFitPosterior {
+    /// (M, 3, 3): the covariance of `quantity` ("orientation" or "angular_velocity") in
+    /// `frame` ("body" or "world") at each t (inside the domain).
+    fn covariance<'py>(
+        &self,
+        py: Python<'py>,
+        t: PyReadonlyArray1<'py, f64>,
+        quantity: &str,
+        frame: &str,
+    ) -> PyResult<Bound<'py, numpy::PyArray3<f64>>> {
+        let what: fit::Quantity = quantity.parse().map_err(to_py)?;
+        let fr: quatspline::Frame = frame.parse().map_err(to_py)?;
+        let tv = vec_of(&t);
+        let m = tv.len();
+        let post = self.inner.clone();
+        let out = guarded(py, "covariance", move || post.covariances(&tv, what, fr))?;
+        out.into_pyarray(py).reshape([m, 3, 3])
+    }
+    #[getter]
+    fn sigma2(&self) -> f64 {
+        self.inner.sigma2
+    }
+    #[getter]
+    fn effective_dof(&self) -> f64 {
+        self.inner.edf
+    }
+    #[getter]
+    fn observations(&self) -> f64 {
+        self.inner.nobs
+    }
+}
+
+/// The posterior of an orientation fit to `quats` at `times` (the fit's own data, weights and
+/// final IRLS weights; its controls, layout, penalty and λ).
+#[pyfunction]
+#[pyo3(signature = (times, quats, weights, robust_weights, ctrl, dt, t0, order, breaks, penalty, smoothing, penalty_weights=None))]
+#[allow(clippy::too_many_arguments)]
+fn fit_posterior<'py>(
+    py: Python<'py>,
+    times: PyReadonlyArray1<'py, f64>,
+    quats: PyReadonlyArray2<'py, f64>,
+    weights: Option<PyReadonlyArray1<'py, f64>>,
+    robust_weights: Option<PyReadonlyArray1<'py, f64>>,
+    ctrl: PyReadonlyArray2<'py, f64>,
+    dt: f64,
+    t0: f64,
+    order: crate::arrays::Count,
+    breaks: Option<PyReadonlyArray1<'py, f64>>,
+    penalty: &str,
+    smoothing: f64,
+    penalty_weights: Option<PyReadonlyArray1<'py, f64>>,
+) -> PyResult<PyFitPosterior> {
+    let t = vec_of(&times);
+    let q = quats_of(&quats, "quats")?;
+    let w = weights.as_ref().map(vec_of);
+    let rw = robust_weights.as_ref().map(vec_of);
+    let c = quats_of(&ctrl, "ctrl")?;
+    let br = breaks.as_ref().map(vec_of);
+    let pw = penalty_weights.as_ref().map(vec_of);
+    let pen = penalty.parse::<Penalty>().map_err(to_py)?;
+    let order = order.0;
+    let post = guarded(py, "covariance", move || {
+        let lay = fit::fitted_layout(c.len(), dt, t0, order, br.as_deref())?;
+        fit::Posterior::new(&t, &q, w.as_deref(), rw.as_deref(), c, lay, pen, smoothing, pw.as_deref())
+    })?;
+    Ok(PyFitPosterior { inner: std::sync::Arc::new(post) })
+}
+
+/// The posterior of a position fit (`quatspline::fit::position::PositionPosterior`).
+#[pyclass(name = "PositionPosterior", module = "quatspline._core", frozen)]
+pub struct PyPositionPosterior {
+    inner: std::sync::Arc<position::PositionPosterior>,
+}
+
+#[pymethods]
+impl PyPositionPosterior {
+    /// (M,): the variance of each coordinate of p(t) (derivative 0) or p'(t) (1) at each t.
+    fn variances<'py>(
+        &self,
+        py: Python<'py>,
+        t: PyReadonlyArray1<'py, f64>,
+        derivative: crate::arrays::Count,
+    ) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+        let tv = vec_of(&t);
+        let post = self.inner.clone();
+        let d = derivative.0;
+        let out = guarded(py, "position_covariance", move || post.variances(&tv, d))?;
+        Ok(out.into_pyarray(py))
+    }
+    #[getter]
+    fn sigma2(&self) -> f64 {
+        self.inner.sigma2
+    }
+    #[getter]
+    fn effective_dof(&self) -> f64 {
+        self.inner.edf
+    }
+}
+
+/// The posterior of a position fit (the fit's data, weights, IRLS weights, controls, layout,
+/// penalty and λ).
+#[pyfunction]
+#[pyo3(signature = (times, positions, weights, robust_weights, ctrl, dt, t0, order, breaks, penalty, smoothing))]
+#[allow(clippy::too_many_arguments)]
+fn position_posterior<'py>(
+    py: Python<'py>,
+    times: PyReadonlyArray1<'py, f64>,
+    positions: PyReadonlyArray2<'py, f64>,
+    weights: Option<PyReadonlyArray1<'py, f64>>,
+    robust_weights: Option<PyReadonlyArray1<'py, f64>>,
+    ctrl: PyReadonlyArray2<'py, f64>,
+    dt: f64,
+    t0: f64,
+    order: crate::arrays::Count,
+    breaks: Option<PyReadonlyArray1<'py, f64>>,
+    penalty: &str,
+    smoothing: f64,
+) -> PyResult<PyPositionPosterior> {
+    let t = vec_of(&times);
+    let x = rows_of::<3>(&positions, "positions")?;
+    let w = weights.as_ref().map(vec_of);
+    let rw = robust_weights.as_ref().map(vec_of);
+    let c = rows_of::<3>(&ctrl, "ctrl")?;
+    let br = breaks.as_ref().map(vec_of);
+    let pen = penalty.parse::<Penalty>().map_err(to_py)?;
+    let order = order.0;
+    let post = guarded(py, "position_covariance", move || {
+        let lay = fit::fitted_layout(c.len(), dt, t0, order, br.as_deref())?;
+        position::PositionPosterior::new(&t, &x, w.as_deref(), rw.as_deref(), &c, lay, pen, smoothing)
+    })?;
+    Ok(PyPositionPosterior { inner: std::sync::Arc::new(post) })
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyFitPosterior>()?;
+    m.add_class::<PyPositionPosterior>()?;
+    m.add_function(wrap_pyfunction!(fit_posterior, m)?)?;
+    m.add_function(wrap_pyfunction!(position_posterior, m)?)?;
     m.add_function(wrap_pyfunction!(fit_rotations, m)?)?;
     m.add_function(wrap_pyfunction!(fit_positions, m)?)?;
     m.add_function(wrap_pyfunction!(min_energy, m)?)?;

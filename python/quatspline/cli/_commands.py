@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import re
 import shutil
@@ -131,11 +132,29 @@ def cmd_sample(args) -> int:
 
 
 # ---- fit ------------------------------------------------------------------------------------
+#: The output formats with columns for extra per-sample data.
+EXTRA_COLUMN_FORMATS = ("csv", "json", "npz")
+
+
+def _check_extra_columns(args, option: str) -> None:
+    """Refuses, before any work, an output format that cannot hold extra columns."""
+    fmt = args.format or (
+        "csv" if args.output == "-" else qio.detect_format_for_writing(args.output)
+    )
+    if fmt not in EXTRA_COLUMN_FORMATS:
+        raise UsageError(
+            f"{option}: the {fmt} format has no columns for per-sample standard deviations; "
+            f"write {', '.join(EXTRA_COLUMN_FORMATS)}"
+        )
+
+
 def cmd_fit(args) -> int:
     """``quatspline fit``: least-squares fitting spline through noisy measurements (thin: the
     work is :func:`quatspline.ops.fit_trajectory`)."""
     _check_output(args)
     _guard_output(Path(args.output), args)
+    if args.uncertainty:
+        _check_extra_columns(args, "--uncertainty")
     traj = _read(args)
     out, f = ops.fit_trajectory(
         traj,
@@ -148,7 +167,8 @@ def cmd_fit(args) -> int:
     print(
         f"wrote {'standard output' if args.output == '-' else args.output}: {len(out)} samples "
         f"of a fit to {len(traj)} measurements (λ = {f.smoothing:.4g}, effective dof "
-        f"{f.effective_dof:.1f}, RMS residual {rms:.3f}°, {f.iterations} iterations)",
+        f"{f.effective_dof:.1f}, RMS residual {rms:.3f}°, {f.iterations} iterations"
+        + (f", noise σ̂ {math.degrees(f.noise_std):.3f}° per axis)" if args.uncertainty else ")"),
         file=sys.stderr if args.output == "-" else sys.stdout,
     )
     return 0
