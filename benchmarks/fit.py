@@ -403,31 +403,37 @@ def plot(figure, out: Path):
 
 
 SCALE_SCRIPT = r"""
-import json, resource, sys, time
+import json, os, resource, sys, time
 import numpy as np, quatspline as qs
-n, smoothing = int(sys.argv[1]), sys.argv[2]
+n, smoothing, with_pos = int(sys.argv[1]), sys.argv[2], sys.argv[3] == "1"
 t = np.arange(n) / 300.0
 rv = np.stack([0.8 * np.sin(0.5 * t), 0.6 * np.cos(0.37 * t), 0.2 * np.sin(0.05 * t)], 1)
 rng = np.random.default_rng(0)
 q = qs.multiply(qs.from_rotvec(rv), qs.from_rotvec(rng.normal(size=(n, 3)) * 0.01))
+pos = np.column_stack([np.sin(t), np.cos(0.3 * t), 0.1 * t]) + rng.normal(size=(n, 3)) * 1e-3
 lam = "auto" if smoothing == "auto" else float(smoothing)
-t0 = time.perf_counter()
-f = qs.fit(t, q, smoothing=lam)
-dt = time.perf_counter() - t0
-print(json.dumps({"n": n, "smoothing": smoothing, "seconds": dt, "iterations": f.iterations,
+load = os.getloadavg()[0]
+t0, c0 = time.perf_counter(), time.process_time()
+f = qs.fit(t, q, smoothing=lam, positions=pos if with_pos else None)
+dt, cpu = time.perf_counter() - t0, time.process_time() - c0
+print(json.dumps({"n": n, "smoothing": smoothing, "positions": with_pos, "seconds": dt,
+                  "cpu_seconds": cpu, "load": load, "iterations": f.iterations,
                   "lambda": f.smoothing,
                   "peak_rss_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6}))
 """
 
 
 def scale(n: int, repeats: int):
-    """Best of `repeats` runs, each in a fresh process (peak RSS per run)."""
+    """Best of `repeats` runs (by wall time), each in a fresh process: wall and CPU (user +
+    sys of all threads) seconds of the fit, peak RSS of the process (the data and the
+    interpreter included), and the 1-minute load average when the run started (the machine
+    may be shared: wall time above CPU time / threads means the fit waited for a core)."""
     out = []
-    for smoothing in ("1e-6", "auto"):
+    for smoothing, with_pos in (("1e-6", False), ("auto", False), ("1e-6", True), ("auto", True)):
         best = None
         for _ in range(repeats):
             r = subprocess.run(
-                [sys.executable, "-c", SCALE_SCRIPT, str(n), smoothing],
+                [sys.executable, "-c", SCALE_SCRIPT, str(n), smoothing, str(int(with_pos))],
                 capture_output=True,
                 text=True,
                 check=True,
@@ -596,13 +602,17 @@ def main():
     for n in args.scale:
         sc += scale(n, args.repeats)
     if sc:
-        print(f"\n## scale (best of {args.repeats}, fresh process each)\n")
-        print("| samples | smoothing | seconds | iterations | λ | peak RSS (GB) |")
-        print("|---|---|---|---|---|---|")
+        print(f"\n## scale (best of {args.repeats}, fresh process each; CPU: {cpu})\n")
+        print(
+            "| samples | smoothing | positions | wall (s) | CPU user+sys (s) | load | "
+            "iterations | λ | peak RSS (GB) |"
+        )
+        print("|---|---|---|---|---|---|---|---|---|")
         for r in sc:
             print(
-                f"| {r['n']:,} | {r['smoothing']} | {r['seconds']:.1f} | {r['iterations']} | "
-                f"{r['lambda']:.3g} | {r['peak_rss_gb']:.2f} |"
+                f"| {r['n']:,} | {r['smoothing']} | {'yes' if r['positions'] else 'no'} | "
+                f"{r['seconds']:.1f} | {r['cpu_seconds']:.1f} | {r['load']:.1f} | "
+                f"{r['iterations']} | {r['lambda']:.3g} | {r['peak_rss_gb']:.2f} |"
             )
     if args.json:
         Path(args.json).write_text(

@@ -19,6 +19,7 @@ Gauss–Newton/Levenberg–Marquardt on the manifold with closed-form Jacobians 
 
 from __future__ import annotations
 
+import math
 import numbers
 import warnings
 
@@ -153,6 +154,82 @@ def _domain_times(t, domain, extrapolate: str):
             '(use extrapolate="clamp" to hold the end pose)'
         )
     return ta.shape, np.clip(flat, a, b), outside
+
+
+def remaining_iterations(steps, tol: float) -> int | None:
+    """Gauss–Newton iterations still to come if the step keeps shrinking at its last rate.
+
+    Gauss–Newton converges linearly (quadratically near zero residuals): with the last two
+    steps s₁ > s₂ the rate is r = s₂/s₁, and the step falls below ``tol`` after
+    ⌈ln(tol/s₂) / ln r⌉ more iterations. None while no rate is known (one step so far, or a
+    step that grew: a new λ or a new stage of the solver).
+
+    Examples
+    --------
+    >>> remaining_iterations([3e-2, 2.4e-4], 1e-10)  # r ≈ 8e-3: 2.4e-4 → 1e-10 in 3.03 rates
+    4
+    >>> remaining_iterations([3e-2], 1e-10) is None, remaining_iterations([1e-3, 1e-11], 1e-10)
+    (True, 0)
+    """
+    if steps[-1] <= tol:
+        return 0
+    if len(steps) < 2 or not 0.0 < steps[-1] < steps[-2]:
+        return None
+    return max(1, math.ceil(math.log(tol / steps[-1]) / math.log(steps[-1] / steps[-2])))
+
+
+class _FitProgress:
+    """The core's reports (stage, iteration, step) of a fit as (stage, done, total): ``total``
+    is the iterations done plus :func:`remaining_iterations` (at most ``max_iter``), updated
+    at every iteration, None while unknown; the last report has done == total. Drives a tqdm
+    bar (``progress=True``) or a callable."""
+
+    def __init__(self, progress, tol: float, max_iter: int):
+        if not (progress is True or callable(progress)):
+            kind = type(progress).__name__
+            raise TypeError(f"progress: expected None, True or a callable, got {kind}")
+        self.tol, self.max_iter = tol, max_iter
+        self.steps: list[float] = []
+        self.total: int | None = None
+        self.stage = "fit"
+        self.bar = (
+            tqdm(total=None, desc="fit", unit="it", leave=False) if progress is True else None
+        )
+        self.user = None if progress is True else progress
+
+    def _report(self, stage: str, done: int, total: int | None, note: str = "") -> None:
+        if self.bar is not None:
+            self.bar.set_description_str(stage, refresh=False)
+            self.bar.total = total
+            self.bar.n = done
+            if note:
+                self.bar.set_postfix_str(note, refresh=False)
+            self.bar.refresh()
+        else:
+            self.user(stage, done, total)
+
+    def __call__(self, stage: str, it: int, step: float) -> None:
+        self.stage = stage
+        self.steps.append(float(step))
+        rem = remaining_iterations(self.steps, self.tol)
+        if rem is not None:
+            self.total = min(it + rem, self.max_iter)
+        elif self.total is not None and self.total <= it:
+            self.total = None  # the estimate ran out: unknown until a rate is seen again
+        self._report(stage, it, self.total, f"step {step:.1e}")
+
+    def finish(self, done: int) -> None:
+        """The fit ended after ``done`` iterations."""
+        self.total = done
+        self._report(self.stage, done, done)
+
+    def stage_done(self, stage: str, done: int, total: int) -> None:
+        """A stage without iterations of its own (the position fit): ``done`` of ``total``."""
+        self._report(stage, done, total)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
 
 
 class FittedSpline(Spline):
@@ -651,7 +728,13 @@ def fit(
     tol : float
         Convergence: largest control-point step in radians.
     progress : None, True or callable
-        True shows a tqdm bar; a callable gets (stage, iteration, step) after each iteration.
+        True shows a tqdm bar of the iterations, whose total is an estimate updated at every
+        iteration (the iterations done plus those the step's rate of decrease still needs to
+        reach ``tol``; unknown until two steps are seen). A callable gets ``(stage, done,
+        total)``: after each iteration ``("fit", iterations so far, estimated total or None)``,
+        once more at the end with ``done == total``, then, with positions,
+        ``("positions", 0, 1)`` and ``("positions", 1, 1)`` around the position fit. An
+        exception raised by the callable cancels the fit (``ValueError``).
     extrapolate : {"raise", "clamp"}
         Behaviour outside the data's time range.
 
@@ -729,7 +812,7 @@ def fit(
         if p.ndim != 2 or len(p) != len(t):
             raise ValueError(f"positions: expected shape ({len(t)}, 3), got {p.shape}")
         p = np.ascontiguousarray(p)
-    cb = _progress(progress, int(max_iter))
+    cb = None if progress is None or progress is False else _FitProgress(progress, tol, max_iter)
     try:
         res = _core.fit_rotations(
             t,
@@ -747,15 +830,21 @@ def fit(
             cb,
             mode,
         )
+        if cb is not None:
+            cb.finish(int(res["iterations"]))
+        _warn_capped(res, "smoothing[0]" if isinstance(smoothing, tuple) else "smoothing")
+        rot = FittedSpline(res, penalty, extrapolate, data=(t, q, w))
+        if p is None:
+            return rot
+        if cb is not None:
+            cb.stage_done("positions", 0, 1)
+        pos = _core.fit_positions(t, p, w, penalty, order, lam_p, ks, ka, robust, None)
+        pos.update(penalty=penalty, data=(t, p, w))
+        if cb is not None:
+            cb.stage_done("positions", 1, 1)
     finally:
-        if cb is not None and hasattr(cb, "close"):
+        if cb is not None:
             cb.close()
-    _warn_capped(res, "smoothing[0]" if isinstance(smoothing, tuple) else "smoothing")
-    rot = FittedSpline(res, penalty, extrapolate, data=(t, q, w))
-    if p is None:
-        return rot
-    pos = _core.fit_positions(t, p, w, penalty, order, lam_p, ks, ka, robust, None)
-    pos.update(penalty=penalty, data=(t, p, w))
     _warn_capped(pos, "smoothing[1]" if isinstance(smoothing, tuple) else "smoothing (positions)")
     return FittedPose(rot, pos, extrapolate)
 

@@ -14,6 +14,7 @@ use super::layout::Layout;
 use super::{fit_layout, Knots, Penalty, Robust, Smoothing};
 use crate::error::{Error, Result};
 use crate::quadrature::gauss_legendre01;
+use rayon::prelude::*;
 
 /// The fitted positions.
 #[derive(Debug, Clone)]
@@ -487,7 +488,9 @@ pub fn fit_positions(
                 let f = |x: f64| solve_at(x.exp()).map(|r| r.0).unwrap_or(f64::INFINITY);
                 let grid = 25;
                 let xs: Vec<f64> = (0..grid).map(|i| a + (b - a) * i as f64 / (grid - 1) as f64).collect();
-                let vals: Vec<f64> = xs.iter().map(|&x| f(x)).collect();
+                // The grid's candidates are independent: in parallel (each its own factor of
+                // nc × k doubles; the values, hence the choice, do not depend on the threads).
+                let vals: Vec<f64> = xs.par_iter().map(|&x| f(x)).collect();
                 let ib = (0..grid).min_by(|&i, &j| vals[i].total_cmp(&vals[j])).unwrap_or(0);
                 let (mut l, mut r) = (xs[ib.saturating_sub(1)], xs[(ib + 1).min(grid - 1)]);
                 let gr = 0.5 * (5f64.sqrt() - 1.0);
