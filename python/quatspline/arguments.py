@@ -236,9 +236,15 @@ def add_sampling_options(p, *, extrapolate: tuple[str, ...] = EXTRAPOLATE) -> No
     )
 
 
-def add_fit_options(p) -> None:
-    """λ, the penalty, a robust loss and the knots of a smoothing fit."""
-    p.add_argument("--smoothing", default="auto", help="λ: auto (GCV, default) or a number ≥ 0")
+def add_fit_options(p, *, uncertainty: bool = True) -> None:
+    """λ, the penalty, a robust loss and the knots of a smoothing fit (and ``--uncertainty``
+    where the output can hold the standard deviations)."""
+    p.add_argument(
+        "--smoothing",
+        default="auto",
+        help="λ: auto (from the data, locally adaptive where it helps; default), gcv (one "
+        "global λ by GCV), adaptive, or a number ≥ 0",
+    )
     p.add_argument("--penalty", choices=PENALTIES, default="acceleration")
     p.add_argument("--robust", choices=ROBUST_LOSSES, help="robust loss against glitches")
     p.add_argument(
@@ -247,6 +253,8 @@ def add_fit_options(p) -> None:
         help="knot spacing, or a file of knot times (one per line, the recording's clock, from "
         "its first to its last time; uneven spacing allowed); default: one per sample interval",
     )
+    if not uncertainty:
+        return
     p.add_argument(
         "--uncertainty",
         action="store_true",
@@ -299,7 +307,7 @@ def add_imu_simulate_options(p) -> None:
         "of the --method spline through them (for noisy motion capture)",
     )
     add_method_options(p, what="spline through the keys, the motion")
-    add_fit_options(p)
+    add_fit_options(p, uncertainty=False)
 
 
 def add_imu_calibrate_options(p) -> None:
@@ -437,14 +445,16 @@ def sampling_options(args) -> dict:
 
 def fit_options(args) -> dict:
     """``smoothing`` ("auto" or λ), ``penalty``, ``robust``, ``knots`` (a spacing or the
-    times of the ``--knots`` file) and ``uncertainty``."""
-    return {
+    times of the ``--knots`` file) and ``uncertainty`` (where the command has it)."""
+    out = {
         "smoothing": parse_smoothing(args.smoothing, "--smoothing"),
         "penalty": args.penalty,
         "robust": args.robust,
         "knots": None if args.knots is None else knots_of(args.knots),
-        "uncertainty": bool(args.uncertainty),
     }
+    if hasattr(args, "uncertainty"):
+        out["uncertainty"] = bool(args.uncertainty)
+    return out
 
 
 def compare_options(args) -> dict:
