@@ -62,7 +62,7 @@ class MinimumEnergySpline(Spline):
     banded shooting system (linear in the keys), starting from the natural spline; it stops
     when the largest mismatch at the keys (radians; ω·h, ω̇·h² for interval length h) is at
     most 1e-12. ω, ω̇, jerk are those of the series (exact to ~1e-14); the Euler–Lagrange
-    residual |ω⃛ + ω × ω̈| is at the series' truncation level (tested ≤ 1e-8 by finite
+    residual ‖ω⃛ + ω × ω̈‖ is at the series' truncation level (tested ≤ 1e-8 by finite
     differences). When Newton's method does not converge (keys far apart, where the start
     lies outside its basin) a ``RuntimeError`` says so; the discrete mode still returns a
     curve. Holds are constant as above.

@@ -475,7 +475,7 @@ def calibrate(
         ``"time_offset"`` (default: all but misalignment). The others are held at identity,
         0, 1, 0 and 0.
     max_offset : float
-        The largest |δ| searched, seconds (default 1).
+        The largest offset magnitude ‖δ‖ searched, seconds (default 1).
     robust : {"huber", "cauchy"}, optional
         A robust loss against glitches (scale: 1.4826 × the median absolute residual of a
         first plain solve).
