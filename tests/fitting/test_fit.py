@@ -666,7 +666,7 @@ def test_fitted_and_pose_splines_have_informative_reprs():
     assert r.startswith("FittedPose(segments=20, domain=[0, 2], smoothing=0.001")
     assert "position_smoothing=" in r
     assert repr(qs.PoseSpline(q, t, p, translation="linear")) == (
-        "PoseSpline(segments=20, domain=[0, 2], rotation=C3Spline, translation=linear)"
+        "PoseSpline(segments=20, domain=[0, 2], rotation=NaturalSpline, translation=linear)"
     )
 
 
