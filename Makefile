@@ -48,13 +48,16 @@ $(GLTF_VALIDATOR):
 # Unit and property tests, and every docstring example as a doctest.
 # The viewer's JavaScript (three.js, uPlot) from npm, copied into the package at build time.
 VIEWER_VENDOR := python/quatspline/viewer/static/vendor
-$(VIEWER_VENDOR)/three.module.js: viewer-js/package.json viewer-js/package-lock.json
+# (the camera's orbit and the rotation gizmo are three.js's OrbitControls and TransformControls)
+$(VIEWER_VENDOR)/TransformControls.js: viewer-js/package.json viewer-js/package-lock.json
 	cd viewer-js && npm ci --no-audit --no-fund --silent
 	mkdir -p $(VIEWER_VENDOR)
 	cp viewer-js/node_modules/three/build/three.module.js viewer-js/node_modules/three/build/three.core.js \
+		viewer-js/node_modules/three/examples/jsm/controls/OrbitControls.js \
+		viewer-js/node_modules/three/examples/jsm/controls/TransformControls.js \
 		viewer-js/node_modules/uplot/dist/uPlot.iife.min.js viewer-js/node_modules/uplot/dist/uPlot.min.css \
 		$(VIEWER_VENDOR)/
-viewer-assets: $(VIEWER_VENDOR)/three.module.js
+viewer-assets: $(VIEWER_VENDOR)/TransformControls.js
 
 # Headless Chromium for the viewer's browser tests: Debian's package, installed when root.
 browser:

@@ -345,8 +345,9 @@ def evaluate(
     Returns
     -------
     dict
-        ``t`` (M,), ``quats`` (M, 4), ``speed``, ``acceleration``, ``jerk`` (M,): the norms of
-        the world-frame angular velocity, acceleration and jerk; ``joints``: one dict per
+        ``t`` (M,), ``quats`` (M, 4), ``omega`` (M, 3): the world-frame angular velocity,
+        ``speed``, ``acceleration``, ``jerk`` (M,): the norms of the world-frame angular
+        velocity, acceleration and jerk; ``joints``: one dict per
         interior joint (``time``, ``order``, ``jumps``: relative jumps of q … q'''),
         ``continuity`` (the method's guaranteed order), ``interpolates``, ``key_times``,
         ``domain`` and ``python`` (the code that reproduces the curve). Arrays are numpy
@@ -391,6 +392,7 @@ def evaluate(
         "params": params,
         "t": ts,
         "quats": qs_,
+        "omega": rates["omega"],
         "speed": w,
         "acceleration": acc,
         "jerk": jerk,

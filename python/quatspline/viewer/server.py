@@ -45,6 +45,8 @@ ASSETS = {
     "app.css": "text/css",
     "vendor/three.module.js": "text/javascript",
     "vendor/three.core.js": "text/javascript",
+    "vendor/OrbitControls.js": "text/javascript",
+    "vendor/TransformControls.js": "text/javascript",
     "vendor/uPlot.iife.min.js": "text/javascript",
     "vendor/uPlot.min.css": "text/css",
 }

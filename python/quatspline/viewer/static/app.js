@@ -1,6 +1,8 @@
 // quatspline view: the page. Every number it shows comes from the server's
 // quatspline.ops.design.evaluate; this file only draws and edits.
 import * as THREE from "three";
+import { OrbitControls } from "three/addons/controls/OrbitControls.js";
+import { TransformControls } from "three/addons/controls/TransformControls.js";
 
 const TOKEN = document.querySelector('meta[name="quatspline-token"]').content;
 const $ = (id) => document.getElementById(id);
@@ -11,6 +13,11 @@ const state = {
 window.qsState = state;  // read by the browser test
 window.qsLatency = [];   // ms from a control change to redrawn plots (read by the browser test)
 window.qsEvaluations = 0;
+const CERT_PAGE = 50;     // certificate rows per page
+const CERT_OPEN_MAX = 20; // more joints than this: the table starts folded
+const MAX_KEY_DOTS = 60;  // key marks drawn on the sphere at most (thinned beyond)
+const MAX_TRACE = 800;    // points per axis trace on the sphere at most
+const GIZMO_SNAP_DEG = 5;
 
 async function api(path, body) {
   const r = await fetch(path, {
@@ -30,6 +37,7 @@ function status(msg, error = false) {
   $("status").textContent = msg;
   $("status").className = error ? "error" : "";
 }
+const message = (m) => { $("ed-msg").textContent = m; };
 
 // ---- quaternions (w, x, y, z) -------------------------------------------------------------
 function qmul(a, b) {
@@ -55,9 +63,43 @@ function toEulerXYZ(q) {  // inverse of fromEulerXYZ (degrees), away from gimbal
   return [Math.atan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y)), Math.asin(sy),
     Math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))].map((r) => (r * 180) / Math.PI);
 }
+const unit = (q) => { const n = Math.hypot(...q); return q.map((v) => v / n); };
+
+// ---- undo / redo: every edit is a snapshot of the design before it -----------------------------
+function snapshot() {
+  return {
+    quats: state.quats.map((x) => x.slice()), times: state.times.slice(), method: state.method,
+    params: { ...state.params }, compare: state.compare, compareParams: { ...state.compareParams },
+    selected: state.selected,
+  };
+}
+let lastTag = null, lastTagTime = 0;
+// Remembers the design before an edit; consecutive changes of one control within a second
+// (a slider moving) are one edit.
+function remember(tag = null) {
+  const now = performance.now();
+  if (tag !== null && tag === lastTag && now - lastTagTime < 1000) { lastTagTime = now; return; }
+  lastTag = tag; lastTagTime = now;
+  state.undo.push(snapshot());
+  state.redo = [];
+}
+function restore(from, to) {
+  const s = from.pop();
+  if (!s) return;
+  to.push(snapshot());
+  lastTag = null;
+  state.quats = s.quats; state.times = s.times;
+  state.method = s.method; state.params = s.params;
+  state.compare = s.compare; state.compareParams = s.compareParams;
+  $("method").value = s.method; $("compare").value = s.compare;
+  buildParamControls();
+  state.selected = Math.min(s.selected, state.times.length - 1);
+  refreshKeys();
+  requestEval();
+}
 
 // ---- method and parameter controls ----------------------------------------------------------
-function paramControls(container, spec, values, onChange) {
+function paramControls(container, spec, values, tag) {
   container.innerHTML = "";
   for (const p of spec.params) {
     const label = document.createElement("label");
@@ -96,26 +138,27 @@ function paramControls(container, spec, values, onChange) {
         if (!Number.isFinite(v)) { input.classList.add("bad"); return; }
         input.classList.remove("bad");
       }
+      remember(`${tag} ${p.name}`);
       values[p.name] = v;
-      onChange();
+      requestEval();
     });
     label.append(input);
     container.append(label);
   }
 }
 
-function setMethod(name) {
-  state.method = name;
-  state.params = {};
-  const spec = state.methods.find((m) => m.name === name);
-  paramControls($("params"), spec, state.params, requestEval);
-}
-
-function setCompare(name) {
-  state.compare = name;
-  state.compareParams = {};
-  const spec = state.methods.find((m) => m.name === name);
-  if (spec) paramControls($("compare-params"), spec, state.compareParams, requestEval);
+// The registry's shape parameters of the methods that have them: one value for all keys today
+// (the spline classes take per-key arrays; quatspline.spline and so this page take scalars).
+const SHAPES = { beta: ["beta1", "beta2"], c3: ["alpha", "beta"], kochanek_bartels: ["tension", "continuity", "bias"] };
+function buildParamControls() {
+  const spec = state.methods.find((m) => m.name === state.method);
+  paramControls($("params"), spec, state.params, "param");
+  const shapes = SHAPES[state.method];
+  $("shape-note").textContent = shapes
+    ? `${shapes.join(", ")}: one value shared by every key (quatspline.spline takes scalars)`
+    : "";
+  const other = state.methods.find((m) => m.name === state.compare);
+  if (other) paramControls($("compare-params"), other, state.compareParams, "compare");
   else $("compare-params").innerHTML = "";
 }
 
@@ -147,6 +190,7 @@ async function runEval() {
       $("latency").textContent = ms.toFixed(0);
     });
   } catch (e) {
+    window.qsErrors = (window.qsErrors || 0) + 1;
     status(`error: ${e.message}`, true);
   }
   inflight = false;
@@ -167,6 +211,24 @@ function keyLines(u) {
   }
   ctx.restore();
 }
+// One uPlot chart, updated in place when its series are the same (labels included: a
+// method switch renames the legend), made anew otherwise.
+function chart(id, parent, opts, data) {
+  const u = plots[id];
+  const same = u && u.series.length === opts.series.length && u.series.every((s, k) => s.label === opts.series[k].label);
+  if (same) {
+    u.setData(data);
+    u.setSize({ width: opts.width, height: opts.height });
+    return u;
+  }
+  if (u) u.destroy();
+  const div = document.createElement("div");
+  div.id = id;
+  const old = $(id);
+  if (old) old.replaceWith(div); else $(parent).append(div);
+  plots[id] = new uPlot(opts, data, div);
+  return plots[id];
+}
 function drawPlots() {
   const r = state.result, o = state.other;
   const quantities = [["speed", "|ω| (rad/s)"], ["acceleration", "|α| (rad/s²)"], ["jerk", "|jerk| (rad/s³)"]];
@@ -179,21 +241,10 @@ function drawPlots() {
       // the other curve on this curve's grid (same domain for interpolating methods)
       data.push(r.t.map((t) => interp(o.t, o[key], t)));
     }
-    const opts = {
+    chart(`plot-${key}`, "plots", {
       title: label, width, height: 150, series, hooks: { draw: [keyLines] },
       axes: [{ label: "time (s)" }, { label, size: 70 }], scales: { x: { time: false } },
-    };
-    if (plots[key] && plots[key].series.length === series.length) {
-      plots[key].setData(data);
-      plots[key].setSize({ width, height: 150 });
-    } else {
-      if (plots[key]) plots[key].destroy();
-      const div = document.createElement("div");
-      div.id = `plot-${key}`;
-      const old = $(`plot-${key}`);
-      if (old) old.replaceWith(div); else $("plots").append(div);
-      plots[key] = new uPlot(opts, data, div);
-    }
+    }, data);
   }
   window.qsPlotData = { speed: r.speed, acceleration: r.acceleration, jerk: r.jerk };
 }
@@ -206,16 +257,123 @@ function interp(xs, ys, x) {
   return ys[lo] + f * (ys[hi] - ys[lo]);
 }
 
-// ---- certificate, keys, python -------------------------------------------------------------
+// ---- graph editor: Euler angles (keys draggable) and ω per axis ------------------------------
+const AXIS_COLOURS = ["#d62728", "#2ca02c", "#1f77b4"];
+const graph = { drag: null };  // drag: {key, axis, value}
+function keyEuler(i) {
+  if (graph.drag && graph.drag.key === i) {
+    const e = toEulerXYZ(state.quats[i]);
+    e[graph.drag.axis] = graph.drag.value;
+    return e;
+  }
+  return toEulerXYZ(state.quats[i]);
+}
+function drawKeyPoints(u) {
+  const ctx = u.ctx;
+  ctx.save();
+  for (let i = 0; i < state.times.length; i++) {
+    const e = keyEuler(i);
+    const x = u.valToPos(state.times[i], "x", true);
+    for (let k = 0; k < 3; k++) {
+      const y = u.valToPos(e[k], "y", true);
+      ctx.fillStyle = AXIS_COLOURS[k];
+      ctx.strokeStyle = i === state.selected ? "#000" : "#fff";
+      ctx.lineWidth = i === state.selected ? 2 : 1;
+      ctx.beginPath(); ctx.arc(x, y, 4 * devicePixelRatio, 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
+    }
+  }
+  ctx.restore();
+}
+function drawGraph() {
+  const r = state.result;
+  const width = Math.max(400, $("views").clientWidth - 20);
+  const euler = [[], [], []];
+  for (const q of r.quats) { const e = toEulerXYZ(q); for (let k = 0; k < 3; k++) euler[k].push(e[k]); }
+  const keyRange = (u, lo, hi) => {
+    for (let i = 0; i < state.times.length; i++) for (const v of keyEuler(i)) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
+    return [lo - 10, hi + 10];
+  };
+  const axisSeries = (name) => ["x", "y", "z"].map((a, k) => ({ label: `${name} ${a}`, stroke: AXIS_COLOURS[k], width: 1.3 }));
+  const u = chart("graph-euler", "graph", {
+    title: "Euler angles xyz (°), keys ● draggable", width, height: 200,
+    series: [{ label: "t (s)" }, ...axisSeries("angle")], hooks: { draw: [drawKeyPoints] },
+    cursor: { drag: { x: false, y: false } },
+    axes: [{ label: "time (s)" }, { label: "degrees", size: 60 }], scales: { x: { time: false }, y: { range: keyRange } },
+  }, [r.t, ...euler]);
+  if (!u.over.dataset.editor) { u.over.dataset.editor = "1"; graphEditor(u); }
+  const omega = [0, 1, 2].map((k) => r.omega.map((w) => w[k]));
+  chart("graph-omega", "graph", {
+    title: "ω per axis, world frame (rad/s)", width, height: 150,
+    series: [{ label: "t (s)" }, ...axisSeries("ω")], hooks: { draw: [keyLines] },
+    axes: [{ label: "time (s)" }, { label: "rad/s", size: 60 }], scales: { x: { time: false } },
+  }, [r.t, ...omega]);
+  window.qsGraph = { euler: plots["graph-euler"], omega: plots["graph-omega"] };
+}
+function graphEditor(u) {
+  const over = u.over;
+  const pos = (ev) => { const b = over.getBoundingClientRect(); return [ev.clientX - b.left, ev.clientY - b.top]; };
+  over.addEventListener("pointerdown", (ev) => {
+    const plot = plots["graph-euler"];
+    const [px, py] = pos(ev);
+    let best = null, bestD = 8;
+    for (let i = 0; i < state.times.length; i++) {
+      const e = toEulerXYZ(state.quats[i]);
+      const x = plot.valToPos(state.times[i], "x");
+      for (let k = 0; k < 3; k++) {
+        const d = Math.hypot(x - px, plot.valToPos(e[k], "y") - py);
+        if (d < bestD) { bestD = d; best = { key: i, axis: k, value: e[k] }; }
+      }
+    }
+    if (!best) return;
+    ev.preventDefault();
+    over.setPointerCapture(ev.pointerId);
+    graph.drag = best;
+    selectKey(best.key);
+  });
+  over.addEventListener("pointermove", (ev) => {
+    if (!graph.drag) return;
+    graph.drag.value = plots["graph-euler"].posToVal(pos(ev)[1], "y");
+    graph.drag.moved = true;
+    plots["graph-euler"].redraw(false, false);
+  });
+  const end = () => {
+    const d = graph.drag;
+    graph.drag = null;
+    if (!d || !d.moved) return;
+    const e = toEulerXYZ(state.quats[d.key]);
+    e[d.axis] = d.value;
+    setKey(d.key, fromEulerXYZ(e), state.times[d.key]);
+  };
+  over.addEventListener("pointerup", end);
+  over.addEventListener("pointercancel", () => { graph.drag = null; });
+}
+
+// ---- certificate (folded and paged when long), keys, python ----------------------------------
+let certPage = 0;
 function drawCertificate() {
   const r = state.result;
-  const rows = r.joints.map((j, i) =>
-    `<tr><td>${i + 1}</td><td>${j.time.toPrecision(6)}</td><td>C${j.order < 0 ? "⁻" : j.order}</td>` +
+  const pages = Math.max(1, Math.ceil(r.joints.length / CERT_PAGE));
+  certPage = Math.min(certPage, pages - 1);
+  const first = certPage * CERT_PAGE;
+  const rows = r.joints.slice(first, first + CERT_PAGE).map((j, n) =>
+    `<tr><td>${first + n + 1}</td><td>${j.time.toPrecision(6)}</td><td>C${j.order < 0 ? "⁻" : j.order}</td>` +
     j.jumps.map((x) => `<td>${x === null ? "" : x.toExponential(1)}</td>`).join("") + "</tr>");
   const lowest = r.joints.length ? Math.min(...r.joints.map((j) => j.order)) : "–";
+  const below = r.joints.filter((j) => r.continuity !== null && j.order < r.continuity).length;
+  const old = $("cert-details");
+  const open = old ? old.open : r.joints.length <= CERT_OPEN_MAX;
+  const pager = pages > 1
+    ? `<div class="row" id="cert-pager"><button id="cert-prev">◀</button><span>joints ${first + 1}–${Math.min(first + CERT_PAGE, r.joints.length)} of ${r.joints.length}</span><button id="cert-next">▶</button></div>`
+    : "";
   $("certificate").innerHTML =
-    `<div id="cert-summary">method ${r.method}: guaranteed C${r.continuity ?? "∞"}, lowest order found C${lowest}</div>` +
-    `<table id="cert-table"><tr><th>joint</th><th>time</th><th>order</th><th>jump q</th><th>q'</th><th>q''</th><th>q'''</th></tr>${rows.join("")}</table>`;
+    `<div id="cert-summary">method ${r.method}: guaranteed C${r.continuity ?? "∞"}, lowest order found C${lowest}` +
+    `${below ? `, ${below} joint(s) below the guarantee` : ""}</div>` +
+    `<details id="cert-details"${open ? " open" : ""}><summary>${r.joints.length} joints</summary>${pager}` +
+    `<table id="cert-table"><tr><th>joint</th><th>time</th><th>order</th><th>jump q</th><th>q'</th><th>q''</th><th>q'''</th></tr>${rows.join("")}</table></details>`;
+  if (pages > 1) {
+    $("cert-prev").onclick = () => { certPage = Math.max(0, certPage - 1); drawCertificate(); };
+    $("cert-next").onclick = () => { certPage = Math.min(pages - 1, certPage + 1); drawCertificate(); };
+  }
   $("python").textContent = r.python;
 }
 
@@ -226,46 +384,81 @@ function drawKeys() {
   });
   $("keytable").innerHTML = `<table><tr><th>#</th><th>t</th><th>x°</th><th>y°</th><th>z°</th></tr>${rows.join("")}</table>`;
   for (const tr of $("keytable").querySelectorAll("tr.key")) tr.onclick = () => selectKey(Number(tr.dataset.i));
+  const sel = $("keytable").querySelector("tr.selected");
+  if (sel) sel.scrollIntoView({ block: "nearest" });
 }
 
-function selectKey(i) {
-  state.selected = i;
-  $("editor").hidden = false;
+function fillEditor() {
+  const i = state.selected;
+  $("editor").hidden = i < 0;
+  if (i < 0) return;
   $("ed-index").textContent = String(i);
   $("ed-time").value = state.times[i];
   const e = toEulerXYZ(state.quats[i]);
   ["ed-ex", "ed-ey", "ed-ez"].forEach((id, k) => { $(id).value = e[k].toFixed(6); });
   $("ed-q").value = state.quats[i].map((v) => v.toFixed(9)).join(" ");
-  $("ed-msg").textContent = "";
-  drawKeys();
 }
 
-function applyEdit(q) {
-  const i = state.selected;
-  const t = Number($("ed-time").value);
-  const msg = (m) => { $("ed-msg").textContent = m; };
-  if (!Number.isFinite(t)) return msg("time: not a finite number");
-  if (i > 0 && !(t > state.times[i - 1])) return msg(`time: must be after key ${i - 1} (${state.times[i - 1]})`);
-  if (i < state.times.length - 1 && !(t < state.times[i + 1])) return msg(`time: must be before key ${i + 1} (${state.times[i + 1]})`);
-  if (!q.every(Number.isFinite)) return msg("rotation: not finite");
+// Everything that shows the keys (not the curve): table, editor, gizmo, timeline, graph marks.
+function refreshKeys() {
+  drawKeys();
+  fillEditor();
+  attachGizmo();
+  drawTimeline();
+  if (plots["graph-euler"]) plots["graph-euler"].redraw(false, false);
+}
+
+function selectKey(i) {
+  state.selected = i;
+  message("");
+  refreshKeys();
+}
+
+// One key's new value and time (an undoable edit), or a message saying why not.
+function setKey(i, q, t) {
+  if (!Number.isFinite(t)) return message("time: not a finite number");
+  if (i > 0 && !(t > state.times[i - 1])) return message(`time: must be after key ${i - 1} (${state.times[i - 1]})`);
+  if (i < state.times.length - 1 && !(t < state.times[i + 1])) return message(`time: must be before key ${i + 1} (${state.times[i + 1]})`);
+  if (!q.every(Number.isFinite)) return message("rotation: not finite");
   const n = Math.hypot(...q);
-  if (!(n > 1e-12)) return msg("quaternion: zero");
-  state.undo.push({ quats: state.quats.map((x) => x.slice()), times: state.times.slice() });
-  state.redo = [];
+  if (!(n > 1e-12)) return message("quaternion: zero");
+  remember();
   state.quats[i] = q.map((v) => v / n);
   state.times[i] = t;
-  msg("");
-  selectKey(i);
+  state.selected = i;
+  message("");
+  refreshKeys();
+  requestEval();
+}
+const applyEdit = (q) => setKey(state.selected, q, Number($("ed-time").value));
+
+function addKeyAtPlayhead() {
+  const r = state.result;
+  if (!r) return;
+  const s = sampleIndex();
+  const t = r.t[s], q = r.quats[s];  // the current curve's value at the playhead
+  if (state.times.includes(t)) return message(`add: a key is already at t = ${t}`);
+  const k = state.times.findIndex((x) => x > t);
+  const at = k < 0 ? state.times.length : k;
+  remember();
+  state.times.splice(at, 0, t);
+  state.quats.splice(at, 0, q.slice());
+  state.selected = at;
+  message(`added key ${at} at t = ${t.toPrecision(6)}`);
+  refreshKeys();
   requestEval();
 }
 
-function restore(from, to) {
-  const s = from.pop();
-  if (!s) return;
-  to.push({ quats: state.quats.map((x) => x.slice()), times: state.times.slice() });
-  state.quats = s.quats; state.times = s.times;
-  if (state.selected >= 0) selectKey(Math.min(state.selected, state.times.length - 1));
-  drawKeys();
+function deleteKey() {
+  const i = state.selected;
+  if (i < 0) return message("delete: select a key first");
+  if (state.times.length <= 2) return message("delete: a design keeps at least 2 keys");
+  remember();
+  state.times.splice(i, 1);
+  state.quats.splice(i, 1);
+  state.selected = Math.min(i, state.times.length - 1);
+  message(`deleted key ${i}`);
+  refreshKeys();
   requestEval();
 }
 
@@ -283,7 +476,107 @@ async function download(fmt, body, name) {
   }
 }
 
-// ---- 3D: the body and the sphere ------------------------------------------------------------
+// ---- timeline: keys in time, the playhead ------------------------------------------------------
+const timeline = { drag: null, margin: 12 };
+function timeSpan() {
+  const r = state.result;
+  let a = state.times[0], b = state.times[state.times.length - 1];
+  if (r) { a = Math.min(a, r.domain[0]); b = Math.max(b, r.domain[1]); }
+  if (timeline.drag) [a, b] = timeline.drag.span;  // the scale holds still while dragging
+  return [a, b];
+}
+function timeToX(t) {
+  const c = $("timeline"), [a, b] = timeSpan(), m = timeline.margin;
+  return m + ((t - a) / (b - a || 1)) * (c.clientWidth - 2 * m);
+}
+function xToTime(x) {
+  const c = $("timeline"), [a, b] = timeSpan(), m = timeline.margin;
+  return a + ((x - m) / (c.clientWidth - 2 * m)) * (b - a);
+}
+function sampleIndex() {
+  const r = state.result;
+  return Math.min(r.t.length - 1, Math.max(0, Math.round(state.phase * (r.t.length - 1))));
+}
+function drawTimeline() {
+  const c = $("timeline");
+  const w = Math.max(400, $("views").clientWidth - 20);
+  if (c.width !== Math.round(w * devicePixelRatio)) {
+    c.style.width = `${w}px`; c.style.height = "56px";
+    c.width = Math.round(w * devicePixelRatio); c.height = Math.round(56 * devicePixelRatio);
+  }
+  const ctx = c.getContext("2d");
+  ctx.setTransform(devicePixelRatio, 0, 0, devicePixelRatio, 0, 0);
+  ctx.clearRect(0, 0, w, 56);
+  ctx.fillStyle = "#f3f4f7"; ctx.fillRect(0, 0, w, 56);
+  ctx.strokeStyle = "#99a"; ctx.beginPath(); ctx.moveTo(timeline.margin, 28); ctx.lineTo(w - timeline.margin, 28); ctx.stroke();
+  for (let i = 0; i < state.times.length; i++) {
+    const t = timeline.drag && timeline.drag.key === i ? timeline.drag.time : state.times[i];
+    const x = timeToX(t), sel = i === state.selected, s = sel ? 7 : 5;
+    ctx.fillStyle = sel ? "#f0a000" : "#334";
+    ctx.beginPath(); ctx.moveTo(x, 28 - s); ctx.lineTo(x + s, 28); ctx.lineTo(x, 28 + s); ctx.lineTo(x - s, 28); ctx.closePath(); ctx.fill();
+  }
+  if (state.result) {
+    const x = timeToX(state.result.t[sampleIndex()]);
+    ctx.strokeStyle = "#c00"; ctx.lineWidth = 1.5;
+    ctx.beginPath(); ctx.moveTo(x, 4); ctx.lineTo(x, 52); ctx.stroke(); ctx.lineWidth = 1;
+  }
+  const [a, b] = timeSpan();
+  ctx.fillStyle = "#555"; ctx.font = "10px system-ui";
+  ctx.fillText(`${a.toPrecision(4)} s`, 2, 52);
+  ctx.textAlign = "right"; ctx.fillText(`${b.toPrecision(4)} s`, w - 2, 52); ctx.textAlign = "left";
+}
+function timelineEditor() {
+  const c = $("timeline");
+  const px = (ev) => ev.clientX - c.getBoundingClientRect().left;
+  c.addEventListener("pointerdown", (ev) => {
+    const x = px(ev);
+    let best = -1, bestD = 7;
+    state.times.forEach((t, i) => { const d = Math.abs(timeToX(t) - x); if (d < bestD || (d === bestD && i === state.selected)) { bestD = d; best = i; } });
+    if (best >= 0) {
+      c.setPointerCapture(ev.pointerId);
+      timeline.drag = { key: best, time: state.times[best], x0: x, span: timeSpan(), moved: false };
+      selectKey(best);
+      return;
+    }
+    if (!state.result) return;  // empty timeline: move the playhead to the nearest sample
+    const r = state.result, t = xToTime(x);
+    let s = Math.round(((t - r.t[0]) / (r.t[r.t.length - 1] - r.t[0])) * (r.t.length - 1));
+    s = Math.min(r.t.length - 1, Math.max(0, s));
+    state.phase = s / (r.t.length - 1);
+    $("scrub").value = String(Math.round(state.phase * 1000));
+    dirty = true;
+    drawTimeline();
+  });
+  c.addEventListener("pointermove", (ev) => {
+    const d = timeline.drag;
+    if (!d) return;
+    const x = px(ev);
+    if (!d.moved && Math.abs(x - d.x0) < 2) return;
+    d.moved = true;
+    let t = xToTime(x);
+    const i = d.key, lo = i > 0 ? state.times[i - 1] : -Infinity, hi = i < state.times.length - 1 ? state.times[i + 1] : Infinity;
+    // a key never passes a neighbour: it stops a hair before it
+    const gap = 1e-6 * (d.span[1] - d.span[0]);
+    if (t <= lo + gap) { t = lo + gap; message(`key ${i} cannot pass key ${i - 1}`); }
+    else if (t >= hi - gap) { t = hi - gap; message(`key ${i} cannot pass key ${i + 1}`); }
+    else message("");
+    d.time = t;
+    drawTimeline();
+  });
+  const end = () => {
+    const d = timeline.drag;
+    timeline.drag = null;
+    if (d && d.moved && d.time !== state.times[d.key]) {
+      const keep = $("ed-msg").textContent;
+      setKey(d.key, state.quats[d.key], d.time);
+      if (keep) message(keep);
+    } else drawTimeline();
+  };
+  c.addEventListener("pointerup", end);
+  c.addEventListener("pointercancel", () => { timeline.drag = null; drawTimeline(); });
+}
+
+// ---- 3D: the body, the gizmo and the sphere --------------------------------------------------
 const AXES = [[1, 0, 0], [0, 1, 0], [0, 0, 1]];
 const COLOURS = [0xd62728, 0x2ca02c, 0x1f77b4];
 function makeRenderer(canvas) {
@@ -291,8 +584,17 @@ function makeRenderer(canvas) {
   r.setClearColor(0xfbfbfd);
   return r;
 }
-const body = { renderer: null, scene: new THREE.Scene(), camera: new THREE.PerspectiveCamera(40, 4 / 3, 0.1, 100), obj: new THREE.Group() };
-const sphere = { renderer: null, scene: new THREE.Scene(), camera: new THREE.PerspectiveCamera(35, 1, 0.1, 100), traces: [], keys: null, marker: [] };
+const body = { renderer: null, scene: new THREE.Scene(), camera: new THREE.PerspectiveCamera(40, 4 / 3, 0.1, 100), obj: new THREE.Group(), key: new THREE.Group(), orbit: null, gizmo: null };
+const sphere = { renderer: null, scene: new THREE.Scene(), camera: new THREE.PerspectiveCamera(35, 1, 0.1, 100), traces: [], keys: null, marker: [], orbit: null };
+window.qsCameras = { body: body.camera, sphere: sphere.camera };  // read by the browser test
+function axesObject(length, opacity) {
+  const g = new THREE.Group();
+  AXES.forEach((a, k) => {
+    const geo = new THREE.BufferGeometry().setFromPoints([new THREE.Vector3(0, 0, 0), new THREE.Vector3(...a).multiplyScalar(length)]);
+    g.add(new THREE.Line(geo, new THREE.LineBasicMaterial({ color: COLOURS[k], transparent: opacity < 1, opacity })));
+  });
+  return g;
+}
 function initScenes() {
   body.renderer = makeRenderer($("body3d"));
   sphere.renderer = makeRenderer($("sphere3d"));
@@ -309,12 +611,32 @@ function initScenes() {
   const box = new THREE.Mesh(new THREE.BoxGeometry(1.2, 0.6, 0.25),
     new THREE.MeshStandardMaterial({ color: 0xb0b8c8, metalness: 0.1, roughness: 0.7 }));
   body.obj.add(box);
-  AXES.forEach((a, k) => {
-    const g = new THREE.BufferGeometry().setFromPoints([new THREE.Vector3(0, 0, 0), new THREE.Vector3(...a).multiplyScalar(1.1)]);
-    body.obj.add(new THREE.Line(g, new THREE.LineBasicMaterial({ color: COLOURS[k] })));
-  });
+  body.obj.add(axesObject(1.1, 1));
   body.scene.add(body.obj);
   body.scene.add(new THREE.AxesHelper(0.4));
+  // the selected key: a wire box with its axes, rotated by the gizmo
+  body.key.add(new THREE.LineSegments(new THREE.EdgesGeometry(new THREE.BoxGeometry(1.2, 0.6, 0.25)),
+    new THREE.LineBasicMaterial({ color: 0xf0a000 })));
+  body.key.add(axesObject(1.3, 0.6));
+  body.key.visible = false;
+  body.scene.add(body.key);
+  // the gizmo first: its pointer handlers run before the orbit's
+  body.gizmo = new TransformControls(body.camera, $("body3d"));
+  body.gizmo.setMode("rotate");
+  body.gizmo.setSpace("world");
+  body.gizmo.setRotationSnap(THREE.MathUtils.degToRad(GIZMO_SNAP_DEG));
+  body.scene.add(body.gizmo.getHelper());
+  let before = null;
+  body.gizmo.addEventListener("dragging-changed", (e) => {
+    body.orbit.enabled = !e.value;
+    if (e.value) { before = body.key.quaternion.clone(); return; }
+    const q = body.key.quaternion;  // three.js (x, y, z, w)
+    if (state.selected >= 0 && before && !q.equals(before)) setKey(state.selected, [q.w, q.x, q.y, q.z], state.times[state.selected]);
+  });
+  body.gizmo.addEventListener("change", () => { dirty = true; });
+  body.orbit = new OrbitControls(body.camera, $("body3d"));
+  sphere.orbit = new OrbitControls(sphere.camera, $("sphere3d"));
+  for (const o of [body.orbit, sphere.orbit]) { o.addEventListener("change", () => { dirty = true; }); o.update(); }
   const wire = new THREE.LineSegments(new THREE.WireframeGeometry(new THREE.SphereGeometry(1, 24, 12)),
     new THREE.LineBasicMaterial({ color: 0xcfd3dc }));
   wire.rotation.x = Math.PI / 2;
@@ -325,31 +647,62 @@ function initScenes() {
     return m;
   });
 }
+function attachGizmo() {
+  const i = state.selected;
+  if (i < 0 || i >= state.quats.length) {
+    body.key.visible = false;
+    body.gizmo.detach();
+  } else {
+    const [w, x, y, z] = state.quats[i];
+    body.key.quaternion.set(x, y, z, w);
+    body.key.visible = true;
+    body.gizmo.attach(body.key);
+  }
+  dirty = true;
+}
+// Where a point of a gizmo ring is on the page (for the browser test to aim at): the ring of
+// rotations about world axis "X", "Y" or "Z", at angle `deg` around it.
+window.qsGizmoRingPoint = (axis, deg) => {
+  const cam = body.camera, c = body.key.position;
+  const factor = c.distanceTo(cam.position) * Math.min(1.9 * Math.tan(Math.PI * cam.fov / 360) / cam.zoom, 7);
+  const r = 0.5 * factor * body.gizmo.size / 4, a = THREE.MathUtils.degToRad(deg);
+  const p = { X: [0, Math.cos(a), Math.sin(a)], Y: [Math.cos(a), 0, Math.sin(a)], Z: [Math.cos(a), Math.sin(a), 0] }[axis];
+  const v = new THREE.Vector3(...p).multiplyScalar(r).add(c).project(cam);
+  const b = $("body3d").getBoundingClientRect();
+  return [b.left + ((v.x + 1) / 2) * b.width, b.top + ((1 - v.y) / 2) * b.height];
+};
 function drawTraces() {
   for (const t of sphere.traces) { sphere.scene.remove(t); t.geometry.dispose(); t.material.dispose(); }
   sphere.traces = [];
   const r = state.result;
+  // thinned: at most MAX_TRACE points per trace and MAX_KEY_DOTS key marks (every k-th key)
+  const qs = r.quats.filter((_, i) => i % Math.ceil(r.quats.length / MAX_TRACE) === 0 || i === r.quats.length - 1);
+  const keyStep = Math.ceil(r.key_quats.length / MAX_KEY_DOTS);
+  const keys = r.key_quats.filter((_, i) => i % keyStep === 0);
+  const faint = r.key_quats.length > 100;
   AXES.forEach((a, k) => {
-    const pts = r.quats.map((q) => new THREE.Vector3(...rotate(q, a)));
-    const line = new THREE.Line(new THREE.BufferGeometry().setFromPoints(pts), new THREE.LineBasicMaterial({ color: COLOURS[k] }));
+    const pts = qs.map((q) => new THREE.Vector3(...rotate(q, a)));
+    const line = new THREE.Line(new THREE.BufferGeometry().setFromPoints(pts),
+      new THREE.LineBasicMaterial({ color: COLOURS[k], transparent: faint, opacity: faint ? 0.55 : 1 }));
     sphere.traces.push(line);
     sphere.scene.add(line);
-    const keyPts = r.key_quats.map((q) => new THREE.Vector3(...rotate(q, a)));
-    const dots = new THREE.Points(new THREE.BufferGeometry().setFromPoints(keyPts), new THREE.PointsMaterial({ color: 0x000000, size: 6, sizeAttenuation: false }));
+    const keyPts = keys.map((q) => new THREE.Vector3(...rotate(q, a)));
+    const dots = new THREE.Points(new THREE.BufferGeometry().setFromPoints(keyPts), new THREE.PointsMaterial({ color: 0x000000, size: faint ? 4 : 6, sizeAttenuation: false }));
     sphere.traces.push(dots);
     sphere.scene.add(dots);
   });
+  window.qsSphere = { tracePoints: qs.length, keyDots: keys.length, keyStep };
 }
-function poseAt(phase) {
+function poseAt() {
   const r = state.result;
   if (!r) return null;
-  const i = Math.min(r.quats.length - 1, Math.max(0, Math.round(phase * (r.quats.length - 1))));
+  const i = sampleIndex();
   return { q: r.quats[i], t: r.t[i] };
 }
 let dirty = true;  // the 3D views are drawn only when something changed (software GL is slow)
 function render() {
   dirty = false;
-  const p = poseAt(state.phase);
+  const p = poseAt();
   if (p) {
     const [w, x, y, z] = p.q;
     body.obj.quaternion.set(x, y, z, w);
@@ -366,6 +719,7 @@ function tick(now) {
     const dur = Math.max(b - a, 1e-9);
     state.phase = (state.phase + ((now - last) / 1000) * Number($("speed").value) / dur) % 1;
     $("scrub").value = String(Math.round(state.phase * 1000));
+    drawTimeline();
   }
   last = now;
   if (state.playing || dirty) render();
@@ -374,14 +728,31 @@ function tick(now) {
 
 function drawAll() {
   drawPlots();
+  drawGraph();
   drawCertificate();
   drawTraces();
+  drawTimeline();
   dirty = true;  // the next animation frame redraws the 3D views
+}
+
+// ---- keyboard: undo, redo, delete ------------------------------------------------------------
+function onKey(ev) {
+  const typing = ev.target instanceof HTMLInputElement && ev.target.type === "text";
+  if ((ev.ctrlKey || ev.metaKey) && ev.key.toLowerCase() === "z" && !typing) {
+    ev.preventDefault();
+    if (ev.shiftKey) restore(state.redo, state.undo); else restore(state.undo, state.redo);
+  } else if ((ev.ctrlKey || ev.metaKey) && ev.key.toLowerCase() === "y" && !typing) {
+    ev.preventDefault();
+    restore(state.redo, state.undo);
+  } else if (ev.key === "Delete" && !(ev.target instanceof HTMLInputElement)) {
+    deleteKey();
+  }
 }
 
 // ---- start -----------------------------------------------------------------------------------
 async function main() {
   initScenes();
+  timelineEditor();
   const s = await (await api("/api/state")).json();
   state.quats = s.quats; state.times = s.times; state.methods = s.methods;
   $("source").textContent = s.name;
@@ -390,12 +761,23 @@ async function main() {
     $("compare").add(new Option(m.name, m.name));
   }
   $("method").value = "c3";
-  $("method").onchange = () => { setMethod($("method").value); requestEval(); };
-  $("compare").onchange = () => { setCompare($("compare").value); requestEval(); };
+  $("method").onchange = () => {
+    remember();
+    state.method = $("method").value; state.params = {};
+    buildParamControls(); requestEval();
+  };
+  $("compare").onchange = () => {
+    remember();
+    state.compare = $("compare").value; state.compareParams = {};
+    buildParamControls(); requestEval();
+  };
   $("samples").onchange = requestEval;
-  setMethod("c3");
+  buildParamControls();
   $("undo").onclick = () => restore(state.undo, state.redo);
   $("redo").onclick = () => restore(state.redo, state.undo);
+  $("add-key").onclick = addKeyAtPlayhead;
+  $("delete-key").onclick = deleteKey;
+  document.addEventListener("keydown", onKey);
   $("save").onclick = () => download("keys", { quats: state.quats, times: state.times, method: state.method }, "keys.json");
   $("ed-apply-euler").onclick = () => applyEdit(fromEulerXYZ(["ed-ex", "ed-ey", "ed-ez"].map((id) => Number($(id).value))));
   $("ed-apply-q").onclick = () => applyEdit($("ed-q").value.trim().split(/[\s,]+/).map(Number));
@@ -404,8 +786,8 @@ async function main() {
     b.onclick = () => download(fmt, { method: state.method, params: state.params, quats: state.quats, times: state.times, samples: Number($("samples").value) }, `design.${fmt === "glb" ? "glb" : fmt}`);
   }
   $("play").onclick = () => { state.playing = !state.playing; $("play").textContent = state.playing ? "pause" : "play"; };
-  $("scrub").oninput = () => { state.phase = Number($("scrub").value) / 1000; dirty = true; };
-  drawKeys();
+  $("scrub").oninput = () => { state.phase = Number($("scrub").value) / 1000; dirty = true; drawTimeline(); };
+  refreshKeys();
   requestEval();
   requestAnimationFrame(tick);
 }
