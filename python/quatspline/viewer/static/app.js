@@ -423,7 +423,9 @@ function setKey(i, q, t) {
   const n = Math.hypot(...q);
   if (!(n > 1e-12)) return message("quaternion: zero");
   remember();
-  state.quats[i] = q.map((v) => v / n);
+  // the hemisphere of the key it replaces (q and −q are one rotation)
+  const old = state.quats[i], sign = q.reduce((a, v, k) => a + v * old[k], 0) < 0 ? -1 : 1;
+  state.quats[i] = q.map((v) => (sign * v) / n);
   state.times[i] = t;
   state.selected = i;
   message("");
@@ -626,6 +628,7 @@ function initScenes() {
   body.gizmo.setSpace("world");
   body.gizmo.setRotationSnap(THREE.MathUtils.degToRad(GIZMO_SNAP_DEG));
   body.scene.add(body.gizmo.getHelper());
+  window.qsGizmo = body.gizmo;  // read by the browser test
   let before = null;
   body.gizmo.addEventListener("dragging-changed", (e) => {
     body.orbit.enabled = !e.value;
