@@ -33,6 +33,20 @@ async function api(path, body) {
   return r;
 }
 
+// An evaluation's float arrays arrive as their float64 bytes ({shape, f8: base64}); they
+// become plain (nested) arrays here.
+function unpack(v) {
+  if (!v || typeof v !== "object" || typeof v.f8 !== "string") return v;
+  const bin = atob(v.f8), bytes = new Uint8Array(bin.length);
+  for (let i = 0; i < bin.length; i++) bytes[i] = bin.charCodeAt(i);
+  const f = new Float64Array(bytes.buffer);
+  if (v.shape.length === 1) return Array.from(f);
+  const w = v.shape[1], rows = new Array(v.shape[0]);
+  for (let i = 0; i < rows.length; i++) rows[i] = Array.from(f.subarray(i * w, (i + 1) * w));
+  return rows;
+}
+const unpacked = (d) => Object.fromEntries(Object.entries(d).map(([k, v]) => [k, unpack(v)]));
+
 function status(msg, error = false) {
   $("status").textContent = msg;
   $("status").className = error ? "error" : "";
@@ -176,9 +190,10 @@ async function runEval() {
     method, params, quats: state.quats, times: state.times, samples: Number($("samples").value),
   });
   try {
-    const jobs = [api("/api/evaluate", body(state.method, state.params)).then((r) => r.json())];
-    if (state.compare) jobs.push(api("/api/evaluate", body(state.compare, state.compareParams)).then((r) => r.json()));
+    const jobs = [api("/api/evaluate", body(state.method, state.params)).then((r) => r.json()).then(unpacked)];
+    if (state.compare) jobs.push(api("/api/evaluate", body(state.compare, state.compareParams)).then((r) => r.json()).then(unpacked));
     const [res, other] = await Promise.all(jobs);
+    window.qsDrawMs.answer = performance.now() - t0;  // the change to the parsed answer
     state.result = res;
     state.other = other || null;
     drawAll();
@@ -295,17 +310,17 @@ function drawGraph() {
   };
   const axisSeries = (name) => ["x", "y", "z"].map((a, k) => ({ label: `${name} ${a}`, stroke: AXIS_COLOURS[k], width: 1.3 }));
   const u = chart("graph-euler", "graph", {
-    title: "Euler angles xyz (°), keys ● draggable", width, height: 200,
+    title: "Euler angles xyz (°), keys ● draggable", width, height: 240,
     series: [{ label: "t (s)" }, ...axisSeries("angle")], hooks: { draw: [drawKeyPoints] },
     cursor: { drag: { x: false, y: false } },
-    axes: [{ label: "time (s)" }, { label: "degrees", size: 60 }], scales: { x: { time: false }, y: { range: keyRange } },
+    axes: [{ label: "time (s)" }, { label: "degrees", size: 60, space: 18 }], scales: { x: { time: false }, y: { range: keyRange } },
   }, [r.t, ...euler]);
   if (!u.over.dataset.editor) { u.over.dataset.editor = "1"; graphEditor(u); }
   const omega = [0, 1, 2].map((k) => r.omega.map((w) => w[k]));
   chart("graph-omega", "graph", {
     title: "ω per axis, world frame (rad/s)", width, height: 150,
     series: [{ label: "t (s)" }, ...axisSeries("ω")], hooks: { draw: [keyLines] },
-    axes: [{ label: "time (s)" }, { label: "rad/s", size: 60 }], scales: { x: { time: false } },
+    axes: [{ label: "time (s)" }, { label: "rad/s", size: 60, space: 18 }], scales: { x: { time: false } },
   }, [r.t, ...omega]);
   window.qsGraph = { euler: plots["graph-euler"], omega: plots["graph-omega"] };
 }
@@ -514,7 +529,7 @@ function drawTimeline() {
   for (let i = 0; i < state.times.length; i++) {
     const t = timeline.drag && timeline.drag.key === i ? timeline.drag.time : state.times[i];
     const x = timeToX(t), sel = i === state.selected, s = sel ? 7 : 5;
-    ctx.fillStyle = sel ? "#f0a000" : "#334";
+    ctx.fillStyle = timeline.drag && timeline.drag.key === i && timeline.drag.refused ? "#c00" : sel ? "#f0a000" : "#334";
     ctx.beginPath(); ctx.moveTo(x, 28 - s); ctx.lineTo(x + s, 28); ctx.lineTo(x, 28 + s); ctx.lineTo(x - s, 28); ctx.closePath(); ctx.fill();
   }
   if (state.result) {
@@ -555,24 +570,21 @@ function timelineEditor() {
     const x = px(ev);
     if (!d.moved && Math.abs(x - d.x0) < 2) return;
     d.moved = true;
-    let t = xToTime(x);
+    const t = xToTime(x);
     const i = d.key, lo = i > 0 ? state.times[i - 1] : -Infinity, hi = i < state.times.length - 1 ? state.times[i + 1] : Infinity;
-    // a key never passes a neighbour: it stops a hair before it
-    const gap = 1e-6 * (d.span[1] - d.span[0]);
-    if (t <= lo + gap) { t = lo + gap; message(`key ${i} cannot pass key ${i - 1}`); }
-    else if (t >= hi - gap) { t = hi - gap; message(`key ${i} cannot pass key ${i + 1}`); }
-    else message("");
-    d.time = t;
+    // a key never reaches or passes a neighbour: shown stopped there, and refused on release
+    d.refused = null;
+    if (t <= lo) d.refused = `key ${i} cannot pass key ${i - 1}`;
+    else if (t >= hi) d.refused = `key ${i} cannot pass key ${i + 1}`;
+    message(d.refused ?? "");
+    d.time = Math.min(hi, Math.max(lo, t));
     drawTimeline();
   });
   const end = () => {
     const d = timeline.drag;
     timeline.drag = null;
-    if (d && d.moved && d.time !== state.times[d.key]) {
-      const keep = $("ed-msg").textContent;
-      setKey(d.key, state.quats[d.key], d.time);
-      if (keep) message(keep);
-    } else drawTimeline();
+    if (d && d.moved && !d.refused && d.time !== state.times[d.key]) setKey(d.key, state.quats[d.key], d.time);
+    else drawTimeline();
   };
   c.addEventListener("pointerup", end);
   c.addEventListener("pointercancel", () => { timeline.drag = null; drawTimeline(); });
@@ -725,16 +737,17 @@ function tick(now) {
     drawTimeline();
   }
   last = now;
-  if (state.playing || dirty) render();
+  if (state.playing || dirty) { const t0 = performance.now(); render(); window.qsDrawMs.render3d = performance.now() - t0; }
   requestAnimationFrame(tick);
 }
 
+window.qsDrawMs = {};  // the last redraw's time per part (read by benchmarks/viewer_latency.py)
 function drawAll() {
-  drawPlots();
-  drawGraph();
-  drawCertificate();
-  drawTraces();
-  drawTimeline();
+  for (const [name, draw] of [["plots", drawPlots], ["graph", drawGraph], ["certificate", drawCertificate], ["sphere", drawTraces], ["timeline", drawTimeline]]) {
+    const t0 = performance.now();
+    draw();
+    window.qsDrawMs[name] = performance.now() - t0;
+  }
   dirty = true;  // the next animation frame redraws the 3D views
 }
 
