@@ -358,6 +358,13 @@ def test_400_keys_render_thinned_with_a_folded_paged_certificate(browser, tmp_pa
         assert page.locator("#cert-table tr").nth(1).locator("td").first.inner_text() == "51"
         assert "joints 51–100 of 398" in page.inner_text("#cert-pager")
         page.click("#cert-details summary")  # folded again
+        # among 400 keys, a click below the keys' line moves the playhead, selects nothing
+        page.locator("#timeline").scroll_into_view_if_needed()
+        x, y = _timeline_point(page, 15.0)
+        page.mouse.click(x, y + 18)
+        phase = page.evaluate("qsState.phase")
+        assert abs(phase - 15.0 / page.evaluate("qsState.result.domain[1]")) < 0.01
+        assert page.evaluate("qsState.selected") == -1
         _agrees_with_python(page)
         assert not errors, errors
 

@@ -547,8 +547,10 @@ function timelineEditor() {
   const px = (ev) => ev.clientX - c.getBoundingClientRect().left;
   c.addEventListener("pointerdown", (ev) => {
     const x = px(ev);
+    // keys are hit on their line (±10 px); above or below it the click moves the playhead
+    const onLine = Math.abs(ev.clientY - c.getBoundingClientRect().top - 28) <= 10;
     let best = -1, bestD = 7;
-    state.times.forEach((t, i) => { const d = Math.abs(timeToX(t) - x); if (d < bestD || (d === bestD && i === state.selected)) { bestD = d; best = i; } });
+    if (onLine) state.times.forEach((t, i) => { const d = Math.abs(timeToX(t) - x); if (d < bestD || (d === bestD && i === state.selected)) { bestD = d; best = i; } });
     if (best >= 0) {
       c.setPointerCapture(ev.pointerId);
       timeline.drag = { key: best, time: state.times[best], x0: x, span: timeSpan(), moved: false };
