@@ -303,7 +303,13 @@ function drawGraph() {
   const r = state.result;
   const width = Math.max(400, $("views").clientWidth - 20);
   const euler = [[], [], []];
-  for (const q of r.quats) { const e = toEulerXYZ(q); for (let k = 0; k < 3; k++) euler[k].push(e[k]); }
+  // an angle wrapping at ±180° is drawn with a gap, not a vertical line across the plot
+  let prev = null;
+  for (const q of r.quats) {
+    const e = toEulerXYZ(q);
+    for (let k = 0; k < 3; k++) euler[k].push(prev && Math.abs(e[k] - prev[k]) > 180 ? null : e[k]);
+    prev = e;
+  }
   const keyRange = (u, lo, hi) => {
     for (let i = 0; i < state.times.length; i++) for (const v of keyEuler(i)) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
     return [lo - 10, hi + 10];
