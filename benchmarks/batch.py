@@ -28,6 +28,7 @@ import numpy as np
 import pandas as pd
 import quatspline as qs
 import quatspline.io as qio
+from _common import cpu_model
 from dask.distributed import Client
 from quatspline import batch
 
@@ -37,16 +38,6 @@ SOURCES = [
     DATA / "euroc_v1_02_medium" / "V102_groundtruth_first10s.csv",
     DATA / "repoimu" / "repoIMU_first30s.csv",
 ]
-
-
-def cpu_model() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown CPU"
 
 
 def generate(root: Path, files: int, lo: int, hi: int, seed: int = 1) -> list[Path]:

@@ -12,13 +12,13 @@ disturbed run), in ns per sample unless stated; the figures of a ratio (sorted a
 
 from __future__ import annotations
 
-import platform
 import subprocess
 import time
 from collections.abc import Callable
 
 import numpy as np
 import quatspline as qs
+from _common import cpu_model
 
 
 def best_ns(fn: Callable[[], object], n: int, repeat: int) -> float:
@@ -45,30 +45,6 @@ def best_ns_interleaved(fns: list[Callable[[], object]], n: int, repeat: int) ->
             fn()
             best[i] = min(best[i], time.perf_counter_ns() - t0)
     return [b / n for b in best]
-
-
-def cpu_model() -> str:
-    """The CPU model, family/model/stepping and flags that matter here."""
-    name, fam, model, step, flags = "unknown", "?", "?", "?", set()
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                k, _, v = line.partition(":")
-                k, v = k.strip(), v.strip()
-                if k == "model name":
-                    name = v
-                elif k == "cpu family":
-                    fam = v
-                elif k == "model":
-                    model = v
-                elif k == "stepping":
-                    step = v
-                elif k == "flags":
-                    flags = set(v.split())
-    except OSError:
-        return platform.processor() or platform.machine()
-    simd = "+".join(f for f in ("avx2", "fma", "avx512f", "avx512dq") if f in flags) or "no avx2"
-    return f"{name} (family {fam}, model {model}, stepping {step}; {simd})"
 
 
 def _keys(n: int, seed: int, step: float = 0.3) -> np.ndarray:

@@ -32,26 +32,10 @@ from pathlib import Path
 import numpy as np
 import quatspline as qs
 import quatspline.io as qio
+from _common import RECORDINGS, cpu_model
 
 ROOT = Path(__file__).resolve().parent.parent
-DATA = ROOT / "data"
-RECORDINGS = [
-    ("TUM RGB-D fr1/xyz", DATA / "tum_rgbd_fr1_xyz" / "freiburg1_xyz-groundtruth.txt", {}),
-    ("EuRoC V1_02 (10 s)", DATA / "euroc_v1_02_medium" / "V102_groundtruth_first10s.csv", {}),
-    ("RepoIMU (30 s)", DATA / "repoimu" / "repoIMU_first30s.csv", {}),
-    ("MocapBank LeftElbow", DATA / "mocapbank_bvh" / "test_mocapbank.bvh", {"joint": "LeftElbow"}),
-]
 CHI2_3_95 = 7.814727903251178
-
-
-def cpu_model() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return "unknown CPU"
 
 
 def errors(a, b):

@@ -25,7 +25,6 @@ import argparse
 import json
 import math
 import os
-import platform
 import time
 import warnings
 from pathlib import Path
@@ -33,6 +32,7 @@ from pathlib import Path
 import numpy as np
 import quatspline as qs
 import quatspline.io as qio
+from _common import cpu_model
 from quatspline.imu import SensorModel, calibrate, simulate
 from quatspline.io import ImuNoise, Trajectory
 
@@ -43,16 +43,6 @@ ROT = qs.from_rotvec(np.radians([6.0, -5.0, 7.0]))
 BIAS = np.radians([0.5, -0.3, 0.4])
 SCALE = np.array([1.01, 0.99, 1.005])
 OFFSET = 0.0073
-
-
-def cpu_model() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown CPU"
 
 
 def motion(duration: float, seed: int = 0):

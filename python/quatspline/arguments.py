@@ -41,6 +41,7 @@ from ._util.options import (
     parse_pairs,
     parse_smoothing,
     parse_spacing_or_file,
+    parse_sweep,
 )
 from .imu.calibration import DEFAULT_ESTIMATE, ESTIMATES
 from .io.kitti import read_times
@@ -64,6 +65,7 @@ __all__ = [
     "checked_params",
     "compare_options",
     "examples",
+    "family_sweep",
     "export_options",
     "fit_options",
     "imu_calibrate_options",
@@ -71,6 +73,7 @@ __all__ = [
     "knots_of",
     "method_options",
     "read_input",
+    "rates_shown",
     "read_options",
     "sampling_options",
 ]
@@ -395,6 +398,24 @@ def checked_params(pairs, method, option: str = "--param") -> dict:
             if known[k].check is None:  # choices only; a check may read other parameters
                 known[k].validate(f"{option} {k}", method, out[k], out)
     return out
+
+
+def family_sweep(args) -> tuple[str, list[str], dict]:
+    """``plot --kind family``: the swept parameter, its value texts and the other ``--param``
+    values. Without ``--family`` the method's α is swept over 0, 0.3125 and 0.6."""
+    row = METHODS.get(args.method)
+    if args.family is None and row is not None and "alpha" not in row.params:
+        raise ParameterError(
+            f"--kind family: {args.method} has no alpha to sweep by default; give "
+            "--family PARAM=V1,V2,… or a method with shape parameters (--method c3)"
+        )
+    name, values = parse_sweep(args.family or "alpha=0,0.3125,0.6")
+    return name, values, checked_params(args.param, args.method)
+
+
+def rates_shown(args) -> tuple[str, ...]:
+    """``plot --kind rates --show``: the derivatives to draw (default ω and α)."""
+    return tuple(parse_list(args.show or "omega,alpha", "--show"))
 
 
 def method_options(args) -> dict:

@@ -188,7 +188,7 @@ BAD_EUROC = {
     "duplicate stamp": ("7,1,2,3,4,5,6\n7,1,2,3,4,5,6\n", 3, "duplicate timestamp"),
     "decreasing": ("9,1,2,3,4,5,6\n8,1,2,3,4,5,6\n", 3, "decreasing timestamp"),
     "float stamp": ("1.5,1,2,3,4,5,6\n", 2, "column 1 ('timestamp'): not an integer"),
-    "huge stamp": ("9" * 30 + ",1,2,3,4,5,6\n", 2, "beyond 64-bit nanoseconds"),
+    "huge stamp": ("9" * 30 + ",1,2,3,4,5,6\n", 2, "out of range (64-bit nanoseconds)"),
     "word": ("0,1,x,3,4,5,6\n", 2, "column 3 ('w_RS_S_y'): not a number: 'x'"),
     "underscore": ("0,1_0,2,3,4,5,6\n", 2, "column 2 ('w_RS_S_x'): not a number"),
     "accel half empty": ("0,1,2,3,,5,6\n", 2, "column 5 ('a_RS_S_x'): not a number: ''"),

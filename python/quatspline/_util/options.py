@@ -212,6 +212,28 @@ def parse_pairs(pairs, name: str = "--param") -> dict[str, str]:
     return out
 
 
+def parse_sweep(value, name: str = "--family") -> tuple[str, list[str]]:
+    """``PARAM=V1,V2,…`` (a parameter and the values to sweep it over) as the name and the
+    value texts; each parameter's own converter reads the values.
+
+    Examples
+    --------
+    >>> parse_sweep("alpha=0, 0.3,0.6")
+    ('alpha', ['0', '0.3', '0.6'])
+    >>> parse_sweep("alpha=")
+    Traceback (most recent call last):
+    ...
+    quatspline.ops.ParameterError: --family: expected PARAM=V1,V2,…, got 'alpha='
+    """
+    if not isinstance(value, str):
+        raise TypeError(f"{name}: expected PARAM=V1,V2,… text, got {type(value).__name__}")
+    param, _, values = value.partition("=")
+    vals = [v.strip() for v in values.split(",") if v.strip()]
+    if not param.strip() or not vals:
+        raise ParameterError(f"{name}: expected PARAM=V1,V2,…, got {value!r}")
+    return param.strip(), vals
+
+
 def parse_list(value, name: str) -> list[str]:
     """A comma-separated list (blanks around items and empty items dropped); a list of
     strings is taken as it is.

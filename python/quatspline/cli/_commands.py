@@ -187,21 +187,8 @@ def cmd_compare(args) -> int:
 
 # ---- plot -----------------------------------------------------------------------------------
 def _family(args, traj):
-    row = METHODS.get(args.method)
-    if args.family is None and row is not None and "alpha" not in row.params:
-        raise UsageError(
-            f"--kind family: {args.method} has no alpha to sweep by default; give "
-            "--family PARAM=V1,V2,… or a method with shape parameters (--method c3)"
-        )
-    name, _, values = (args.family or "alpha=0,0.3125,0.6").partition("=")
-    vals = [v for v in values.split(",") if v]
-    if not vals:
-        raise UsageError("--family: expected PARAM=v1,v2,…")
-    base = options.checked_params(args.param, args.method)
-    out = {}
-    for v in vals:
-        out[f"{name} = {v}"] = ops.build_spline(args.method, traj, {**base, name: v})
-    return out
+    name, vals, base = options.family_sweep(args)
+    return {f"{name} = {v}": ops.build_spline(args.method, traj, {**base, name: v}) for v in vals}
 
 
 def cmd_plot(args) -> int:
@@ -223,7 +210,7 @@ def cmd_plot(args) -> int:
         if args.kind == "sphere":
             fig = plot.sphere(s, key_times=kt, name=name)
         elif args.kind == "rates":
-            show = tuple(x.strip() for x in (args.show or "omega,alpha").split(","))
+            show = options.rates_shown(args)
             try:
                 fig = plot.rates(s, key_times=kt, name=name, show=show)
             except ValueError as e:

@@ -9,6 +9,7 @@ import stat
 
 import numpy as np
 
+from .._util import progress_bars as _progress
 from .._util.atomic import file_kind
 from .trajectory import MIN_QUAT_NORM, Trajectory, TrajectoryError, quat_norms
 
@@ -121,6 +122,40 @@ def parse_float(path, line: int, col: int, name: str, cell: str) -> float:
         raise TrajectoryError(
             f"{path}:{line}: column {col} ({name!r}): not a number: {cell.strip()[:40]!r}"
         ) from None
+
+
+def nanosecond_rows(f, path, header: str, columns: int, exact: bool, max_ns: int, limit: str):
+    """The data rows of an EuRoC-style file (``#timestamp [ns],…`` header already read from
+    ``f``): yields ``(line number, integer stamp, cells)`` for every non-blank line, with a
+    progress bar. ``columns`` is the exact count if ``exact`` else the least; a stamp must be
+    a plain integer with ``-max_ns ≤ ns < max_ns`` (``limit`` words it). Errors name the
+    file, the line and the column."""
+    with _progress.reading(path) as bar:
+        for line, text in enumerate(
+            _progress.lines(bounded_lines(f, path, 2), bar, len(header)), start=2
+        ):
+            s = text.strip()
+            if not s:
+                continue
+            cells = s.split(",")
+            if len(cells) < columns or (exact and len(cells) != columns):
+                least = "" if exact else "at least "
+                raise TrajectoryError(
+                    f"{path}:{line}: expected {least}{columns} columns, got {len(cells)}"
+                )
+            try:
+                ns = int(plain_number(cells[0]))
+            except ValueError:
+                raise TrajectoryError(
+                    f"{path}:{line}: column 1 ('timestamp'): not an integer: "
+                    f"{cells[0].strip()[:40]!r}"
+                ) from None
+            if not -max_ns <= ns < max_ns:
+                raise TrajectoryError(
+                    f"{path}:{line}: column 1 ('timestamp'): {len(str(abs(ns)))}-digit integer "
+                    f"out of range ({limit})"
+                )
+            yield line, ns, cells
 
 
 def check_for_writing(

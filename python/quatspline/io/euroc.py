@@ -9,14 +9,12 @@ from array import array
 
 import numpy as np
 
-from .._util import progress_bars as _progress
 from .._util.atomic import atomic_write
 from ._common import (
-    bounded_lines,
     check_for_writing,
+    nanosecond_rows,
     open_regular,
     parse_float,
-    plain_number,
     read_line,
     refuse_extra,
 )
@@ -43,39 +41,16 @@ def read(path, sort: bool = False, dedupe: bool = False) -> Trajectory:
                 )
             except TrajectoryError:
                 pass  # the careful parser below gives the message with the file's line numbers
-        with _progress.reading(path) as bar:
-            for line, text in enumerate(
-                _progress.lines(bounded_lines(f, path, 2), bar, len(header)), start=2
-            ):
-                s = text.strip()
-                if not s:
-                    continue
-                cells = s.split(",")
-                if len(cells) < 8:
-                    raise TrajectoryError(
-                        f"{path}:{line}: expected at least 8 columns, got {len(cells)}"
-                    )
-                try:
-                    ns = int(plain_number(cells[0]))
-                except ValueError:
-                    raise TrajectoryError(
-                        f"{path}:{line}: column 1 ('timestamp'): not an integer: "
-                        f"{cells[0].strip()[:40]!r}"
-                    ) from None
-                if abs(ns) > 10**30:
-                    raise TrajectoryError(
-                        f"{path}:{line}: column 1 ('timestamp'): {len(str(abs(ns)))}-digit integer "
-                        "out of range (|t| ≤ 1e30 ns)"
-                    )
-                times.append(ns * 1e-9)
-                if exact and -(2**63) <= ns < 2**63:
-                    stamps.append(ns)
-                else:
-                    exact = False
-                rows.extend(
-                    [parse_float(path, line, c + 1, NAMES[c], cells[c]) for c in range(1, 8)]
-                )
-                lines.append(line)
+        for line, ns, cells in nanosecond_rows(
+            f, path, header, 8, False, 10**30 + 1, "|t| ≤ 1e30 ns"
+        ):
+            times.append(ns * 1e-9)
+            if exact and -(2**63) <= ns < 2**63:
+                stamps.append(ns)
+            else:
+                exact = False
+            rows.extend([parse_float(path, line, c + 1, NAMES[c], cells[c]) for c in range(1, 8)])
+            lines.append(line)
     if not rows:
         raise TrajectoryError(f"{path}: no data rows")
     a = np.array(rows, dtype=float).reshape(-1, 7)

@@ -15,9 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .._util import progress_bars as _progress
 from .._util.atomic import atomic_write
-from ._common import bounded_lines, open_regular, parse_float, plain_number, read_line
+from ._common import nanosecond_rows, open_regular, parse_float, read_line
 from ._fast import table as fast_table
 from ._imu_common import check_imu_for_writing, finish_imu, group, integer_stamps
 from .inertial import ImuData
@@ -74,33 +73,14 @@ def read(path, sort: bool = False, dedupe: bool = False) -> ImuData:
                 )
             except TrajectoryError:
                 pass  # the careful parser below gives the message with the file's line numbers
-        with _progress.reading(path) as bar:
-            for line, text in enumerate(
-                _progress.lines(bounded_lines(f, path, 2), bar, len(header)), start=2
-            ):
-                s = text.strip()
-                if not s:
-                    continue
-                cells = s.split(",")
-                if len(cells) != 7:
-                    raise TrajectoryError(f"{path}:{line}: expected 7 columns, got {len(cells)}")
-                try:
-                    ns = int(plain_number(cells[0]))
-                except ValueError:
-                    raise TrajectoryError(
-                        f"{path}:{line}: column 1 ('timestamp'): not an integer: "
-                        f"{cells[0].strip()[:40]!r}"
-                    ) from None
-                if not -(2**63) <= ns < 2**63:
-                    raise TrajectoryError(
-                        f"{path}:{line}: column 1 ('timestamp'): {len(str(abs(ns)))}-digit "
-                        "integer beyond 64-bit nanoseconds"
-                    )
-                gyro = [parse_float(path, line, c + 1, NAMES[c], cells[c]) for c in range(1, 4)]
-                acc = group(path, line, cells, 5, NAMES[4:], groups, "accelerometer", parse_float)
-                stamps.append(ns)
-                rows.extend(gyro + (acc or [0.0, 0.0, 0.0]))
-                lines.append(line)
+        for line, ns, cells in nanosecond_rows(
+            f, path, header, 7, True, 2**63, "64-bit nanoseconds"
+        ):
+            gyro = [parse_float(path, line, c + 1, NAMES[c], cells[c]) for c in range(1, 4)]
+            acc = group(path, line, cells, 5, NAMES[4:], groups, "accelerometer", parse_float)
+            stamps.append(ns)
+            rows.extend(gyro + (acc or [0.0, 0.0, 0.0]))
+            lines.append(line)
     if not stamps:
         raise TrajectoryError(f"{path}: no data rows")
     ns = np.array(stamps, dtype=np.int64)
