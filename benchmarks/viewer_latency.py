@@ -17,8 +17,6 @@ fetch floor is the page's drawing.
 from __future__ import annotations
 
 import argparse
-import os
-import platform
 import shutil
 import tempfile
 import threading
@@ -27,27 +25,10 @@ from pathlib import Path
 
 import numpy as np
 import quatspline.io as qio
+from _common import DATA, cpu_model, load
 from quatspline.ops import design
 
-ROOT = Path(__file__).resolve().parent.parent
-TUM = ROOT / "data" / "tum_rgbd_fr1_xyz" / "freiburg1_xyz-groundtruth.txt"
-
-
-def cpu_name() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown CPU"
-
-
-def load() -> str:
-    try:
-        return " ".join(Path("/proc/loadavg").read_text().split()[:3])
-    except OSError:
-        return "?"
+TUM = DATA / "tum_rgbd_fr1_xyz" / "freiburg1_xyz-groundtruth.txt"
 
 
 def main() -> None:
@@ -128,7 +109,7 @@ def main() -> None:
     def row(name, xs):
         return f"| {name} | {min(xs):.0f} | {np.median(xs):.0f} |"
 
-    print(f"CPU: {cpu_name()}, {os.cpu_count()} cores; load average {load()} (shared machine)")
+    print(f"CPU: {cpu_model()}; load average {load()} (shared machine)")
     print(f"{args.keys} keys, {args.samples} samples, c3, {args.runs} runs each\n")
     print("| step | best (ms) | median (ms) |")
     print("|---|---|---|")

@@ -197,6 +197,8 @@ async function runEval() {
     state.result = res;
     state.other = other || null;
     drawAll();
+    const drawn = performance.now();
+    queueMicrotask(() => { window.qsDrawMs.uplotCommit = performance.now() - drawn; });  // after uPlot's own
     window.qsEvaluations += 1;
     status(`${res.method}: ${res.t.length} samples, ${state.quats.length} keys`);
     requestAnimationFrame(() => {
