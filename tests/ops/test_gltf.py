@@ -124,7 +124,7 @@ def test_export_passes_validator_and_playback_within_bound(tmp_path, interpolati
     pose = wavy_pose()
     path = tmp_path / f"m{suffix}"
     rep = to_gltf(pose, path, max_error="0.02deg", max_position_error="0.5mm",
-                  interpolation=interpolation)  # fmt: skip
+                  interpolation=interpolation, uniform=True)  # fmt: skip
     (v,) = validate(path)
     assert v["numErrors"] == 0, v["messages"]
     assert v["numWarnings"] == 0, v["messages"]
@@ -152,7 +152,7 @@ def test_real_recording_export(tmp_path):
     traj = qio.read(TUM)
     traj = qio.Trajectory(traj.times[:400], traj.quats[:400], traj.positions[:400])
     path = tmp_path / "fr1.glb"
-    rep = to_gltf(traj, path, max_error="0.05deg", max_position_error="1mm")
+    rep = to_gltf(traj, path, max_error="0.05deg", max_position_error="1mm", uniform=True)
     (v,) = validate(path)
     assert v["numErrors"] == 0, v["messages"]
     ps = qs.PoseSpline(
