@@ -102,7 +102,7 @@ def measured_errors(path, motion, t0, n=40_000, seed=1):
     kind, kt, kv = ch["rotation"]
     rng = np.random.default_rng(seed)
     t = np.sort(np.concatenate([rng.uniform(kt[0], kt[-1], n), kt]))
-    rot = motion.rotation if isinstance(motion, qs.PoseSpline) else motion
+    rot = motion.rotation if isinstance(motion, (qs.PoseSpline, qs.FittedPose)) else motion
     e_rot = rotation_error(play(kind, kt, kv, t, True), rot(t0 + t))
     e_pos = None
     if "translation" in ch:
