@@ -1,7 +1,8 @@
-"""Run inside Blender: drives the quatspline add-on's operators on a scene described by a
-JSON file and writes what Blender then plays (its own F-curve evaluation) to an .npz file.
+"""Run inside Blender: drives the quatspline add-on's operators on scenes described by a
+JSON file (a list of jobs, each with its output .npz) and writes what Blender then plays (its
+own F-curve evaluation). One Blender run serves every job (a fresh scene each).
 
-    blender -b --factory-startup --python blender_addon_driver.py -- job.json out.npz
+    blender -b --factory-startup --python blender_addon_driver.py -- jobs.json
 
 The folders to import quatspline from come in the environment variable QS_PATHS
 (os.pathsep-separated), as the installed stub add-on appends them.
@@ -22,13 +23,10 @@ for _p in os.environ.get("QS_PATHS", "").split(os.pathsep):
 import bpy  # noqa: E402
 import quatspline.blender  # noqa: E402
 
-job_path, out = sys.argv[sys.argv.index("--") + 1 :]
+(job_path,) = sys.argv[sys.argv.index("--") + 1 :]
 with open(job_path, encoding="utf-8") as f:
-    job = json.load(f)
+    jobs = json.load(f)
 quatspline.blender.register()
-scene = bpy.context.scene
-scene.render.fps = job.get("fps", 24)
-scene.render.fps_base = 1.0
 
 
 def _keyed_object(spec):
@@ -59,38 +57,52 @@ def _play(obj, frames):
     return rot, loc, curves, interp
 
 
-result = {}
-kind = job["kind"]
-if kind in ("resample", "fit", "kinematics"):
-    obj = _keyed_object(job["object"])
-    op = getattr(bpy.ops.quatspline, kind)
-    ret = op(**job.get("options", {}))
-    result["status"] = numpy.array(sorted(ret))
-    if kind == "kinematics":
-        curves = {fc.data_path: fc for fc in obj.animation_data.action.fcurves}
-        for prop in ("qs_omega", "qs_alpha", "qs_jerk"):
-            fc = curves[f'["{prop}"]']
-            result[prop] = numpy.array([fc.evaluate(f) for f in job["frames"]])
-        result["summary"] = numpy.array(obj["qs_kinematics"])
-elif kind == "import":
-    ret = bpy.ops.quatspline.import_trajectory(filepath=job["file"], **job.get("options", {}))
-    result["status"] = numpy.array(sorted(ret))
-    obj = bpy.context.view_layer.objects.active
-    result["range"] = numpy.array([scene.frame_start, scene.frame_end])
-else:
-    raise SystemExit(f"unknown job kind {kind!r}")
-if kind != "kinematics":
-    rot, loc, curves, interp = _play(obj, job["frames"])
-    result.update(
-        rotation=rot,
-        location=loc,
-        keys=numpy.array(len(curves["rotation_quaternion", 0].keyframe_points)),
-        location_keys=numpy.array(
-            len(curves["location", 0].keyframe_points) if ("location", 0) in curves else 0
-        ),
-        interpolation=numpy.array(sorted(interp)),
-        mode=numpy.array(obj.rotation_mode),
-        euler_curves=numpy.array(sum(fc.data_path == "rotation_euler" for fc in curves.values())),
-    )
-numpy.savez(out, **result)
+def _run(job):
+    for o in list(bpy.data.objects):
+        bpy.data.objects.remove(o)
+    for a in list(bpy.data.actions):
+        bpy.data.actions.remove(a)
+    scene = bpy.context.scene
+    scene.render.fps = job.get("fps", 24)
+    scene.render.fps_base = 1.0
+    result = {}
+    kind = job["kind"]
+    if kind in ("resample", "fit", "kinematics"):
+        obj = _keyed_object(job["object"])
+        op = getattr(bpy.ops.quatspline, kind)
+        ret = op(**job.get("options", {}))
+        result["status"] = numpy.array(sorted(ret))
+        if kind == "kinematics":
+            curves = {fc.data_path: fc for fc in obj.animation_data.action.fcurves}
+            for prop in ("qs_omega", "qs_alpha", "qs_jerk"):
+                fc = curves[f'["{prop}"]']
+                result[prop] = numpy.array([fc.evaluate(f) for f in job["frames"]])
+            result["summary"] = numpy.array(obj["qs_kinematics"])
+    elif kind == "import":
+        ret = bpy.ops.quatspline.import_trajectory(filepath=job["file"], **job.get("options", {}))
+        result["status"] = numpy.array(sorted(ret))
+        obj = bpy.context.view_layer.objects.active
+        result["range"] = numpy.array([scene.frame_start, scene.frame_end])
+    else:
+        raise SystemExit(f"unknown job kind {kind!r}")
+    if kind != "kinematics":
+        rot, loc, curves, interp = _play(obj, job["frames"])
+        result.update(
+            rotation=rot,
+            location=loc,
+            keys=numpy.array(len(curves["rotation_quaternion", 0].keyframe_points)),
+            location_keys=numpy.array(
+                len(curves["location", 0].keyframe_points) if ("location", 0) in curves else 0
+            ),
+            interpolation=numpy.array(sorted(interp)),
+            mode=numpy.array(obj.rotation_mode),
+            euler_curves=numpy.array(
+                sum(fc.data_path == "rotation_euler" for fc in curves.values())
+            ),
+        )
+    numpy.savez(job["out"], **result)
+
+
+for job in jobs:
+    _run(job)
 quatspline.blender.unregister()

@@ -45,10 +45,17 @@ def run(tmp_path: Path, script: str, *args, factory: bool = True, timeout: float
     return r
 
 
-def job(tmp_path: Path, spec: dict, name: str = "job") -> dict:
-    """Runs the add-on driver on ``spec``; returns its .npz as a dict."""
-    jp, out = tmp_path / f"{name}.json", tmp_path / f"{name}.npz"
-    jp.write_text(json.dumps(spec), encoding="utf-8")
-    run(tmp_path, "blender_addon_driver.py", jp, out)
-    with np.load(out) as z:
-        return {k: z[k] for k in z.files}
+def jobs(tmp_path: Path, specs: dict) -> dict:
+    """Runs the add-on driver once on every spec (name → spec); returns name → its .npz as
+    a dict."""
+    listed = []
+    for name, spec in specs.items():
+        listed.append({**spec, "out": str(tmp_path / f"{name}.npz")})
+    jp = tmp_path / "jobs.json"
+    jp.write_text(json.dumps(listed), encoding="utf-8")
+    run(tmp_path, "blender_addon_driver.py", jp)
+    out = {}
+    for name in specs:
+        with np.load(tmp_path / f"{name}.npz") as z:
+            out[name] = {k: z[k] for k in z.files}
+    return out

@@ -1,7 +1,7 @@
 """The Blender add-on in a real Blender (headless): what Blender's own F-curve evaluation
 plays after each operator, at random frames, against quatspline's spline through the same
 keys — within the stated bounds (0.01° and 0.1 mm by default), with the keys as Blender
-stores them (float32) and no slack."""
+stores them (float32) and no slack. One Blender run drives every scene of this file."""
 
 from __future__ import annotations
 
@@ -10,13 +10,18 @@ import pytest
 import quatspline as qs
 from quatspline.io.gltf import sign_continuous
 
-from .blender_run import job, needs_blender
+from .blender_run import jobs, needs_blender
 
 pytestmark = needs_blender
 
 FPS = 24
 BOUND = np.radians(0.01)
 POS_BOUND = 1e-4
+RESAMPLE = [
+    ("QUATERNION", "c3", "alpha=0.5", {"alpha": 0.5}),
+    ("XYZ", "natural", "", {}),
+    ("ZXY", "squad", "", {}),
+]
 
 
 def _f32(x):
@@ -27,6 +32,91 @@ def _keys(seed=0, n=8, step=12):
     rng = np.random.default_rng(seed)
     frames = [1 + step * k for k in range(n)]
     return frames, rng.normal(0, 0.8, (n, 3)), rng.normal(0, 1, (n, 3))
+
+
+def _resample_input(mode):
+    frames, rv, loc = _keys()
+    if mode == "QUATERNION":
+        rot = qs.from_rotvec(rv)
+        q = _f32(rot) / np.linalg.norm(_f32(rot), axis=1)[:, None]
+    else:
+        rot = rv
+        q = qs.from_euler(mode.lower(), _f32(rv))  # Blender's Euler modes: extrinsic axes
+    at = np.sort(np.random.default_rng(1).uniform(frames[0], frames[-1], 3000))
+    return frames, rot, q, loc, at
+
+
+def _noisy_input():
+    rng = np.random.default_rng(3)
+    frames = np.arange(1, 241, 2)  # 120 noisy samples over 10 s
+    t = frames / FPS
+    rv = np.column_stack([np.sin(t), 0.5 * np.cos(0.7 * t), 0.3 * t])
+    p = np.column_stack([np.sin(0.5 * t), t / 10, np.cos(t)])
+    rot = qs.from_rotvec(rv + rng.normal(0, 0.01, rv.shape))
+    loc = p + rng.normal(0, 0.01, p.shape)
+    at = np.sort(rng.uniform(frames[0], frames[-1], 3000))
+    return frames, rot, loc, at
+
+
+def _truth(t):
+    rv = np.column_stack([np.sin(t), 0.5 * np.cos(0.7 * t), 0.3 * t])
+    return qs.from_rotvec(rv), np.column_stack([np.sin(0.5 * t), t / 10, np.cos(t)])
+
+
+def _tum(path, n, seed=5):
+    rng = np.random.default_rng(seed)
+    t = 1305031102.175304 + np.arange(n) / 30.0
+    q = qs.from_rotvec(np.cumsum(rng.normal(0, 0.05, (n, 3)), axis=0))
+    p = np.cumsum(rng.normal(0, 0.01, (n, 3)), axis=0)
+    with open(path, "w", encoding="utf-8") as f:
+        f.write("# timestamp tx ty tz qx qy qz qw\n")
+        for ti, pi, qi in zip(t, p, q):
+            f.write(f"{ti:.6f} {pi[0]:.6f} {pi[1]:.6f} {pi[2]:.6f} "
+                    f"{qi[1]:.8f} {qi[2]:.8f} {qi[3]:.8f} {qi[0]:.8f}\n")  # fmt: skip
+    return qs.io.read(path)
+
+
+def _object(mode, frames, rot, loc):
+    return {"mode": mode, "frames": list(map(int, frames)), "rotation": np.asarray(rot).tolist(),
+            "location": np.asarray(loc).tolist()}  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def played(tmp_path_factory):
+    """Every scene of this file through one Blender run: name → what Blender played."""
+    d = tmp_path_factory.mktemp("blender-addon")
+    specs = {}
+    for mode, method, params, _ in RESAMPLE:
+        frames, rot, _, loc, at = _resample_input(mode)
+        specs[f"resample-{mode}"] = {
+            "kind": "resample", "fps": FPS, "object": _object(mode, frames, rot, loc),
+            "options": {"method": method, "params": params}, "frames": at.tolist(),
+        }  # fmt: skip
+    frames, rot, loc, at = _noisy_input()
+    specs["fit"] = {"kind": "fit", "fps": FPS, "object": _object("QUATERNION", frames, rot, loc),
+                    "frames": at.tolist()}  # fmt: skip
+    for name, n, method in (("import-keys", 150, None), ("import-c3", 60, "c3")):
+        traj = _tum(d / f"{name}.txt", n)
+        t = traj.times - traj.times[0]
+        at = np.concatenate([t * FPS, np.random.default_rng(2).uniform(0, t[-1] * FPS, 2000)])
+        options = {"method": method} if method else {}
+        specs[name] = {"kind": "import", "fps": FPS, "file": str(d / f"{name}.txt"),
+                       "options": options, "frames": at.tolist()}  # fmt: skip
+        specs[name]["_traj"] = traj
+    frames, rv, loc = _keys(seed=7)
+    specs["kinematics"] = {
+        "kind": "kinematics", "fps": FPS,
+        "object": _object("QUATERNION", frames, qs.from_rotvec(rv), loc),
+        "options": {"method": "natural"},
+        "frames": np.arange(frames[0], frames[-1] + 1, 1.0).tolist(),
+    }  # fmt: skip
+    trajs = {k: s.pop("_traj") for k, s in specs.items() if "_traj" in s}
+    out = jobs(d, specs)
+    for k, s in specs.items():
+        out[k]["frames"] = np.asarray(s["frames"])
+        if k in trajs:
+            out[k]["traj"] = trajs[k]
+    return out
 
 
 def _played(out):
@@ -41,31 +131,10 @@ def _errors(out, spline, t):
     )
 
 
-@pytest.mark.parametrize(
-    ("mode", "method", "params", "kw"),
-    [
-        ("QUATERNION", "c3", "alpha=0.5", {"alpha": 0.5}),
-        ("XYZ", "natural", "", {}),
-        ("ZXY", "squad", "", {}),
-    ],
-)
-def test_resample_operator_keys_play_within_the_bound_in_blender(
-    tmp_path, mode, method, params, kw
-):
-    frames, rv, loc = _keys()
-    if mode == "QUATERNION":
-        rot = qs.from_rotvec(rv)
-        q = _f32(rot) / np.linalg.norm(_f32(rot), axis=1)[:, None]
-    else:
-        rot = rv
-        q = qs.from_euler(mode.lower(), _f32(rv))  # Blender's Euler modes: extrinsic axes
-    at = np.sort(np.random.default_rng(1).uniform(frames[0], frames[-1], 3000))
-    out = job(tmp_path, {
-        "kind": "resample", "fps": FPS,
-        "object": {"mode": mode, "frames": frames, "rotation": rot.tolist(),
-                   "location": loc.tolist()},
-        "options": {"method": method, "params": params}, "frames": at.tolist(),
-    })  # fmt: skip
+@pytest.mark.parametrize(("mode", "method", "params", "kw"), RESAMPLE)
+def test_resample_operator_keys_play_within_the_bound_in_blender(played, mode, method, params, kw):
+    out = played[f"resample-{mode}"]
+    frames, _, q, loc, at = _resample_input(mode)
     assert out["status"].tolist() == ["FINISHED"]
     assert out["mode"] == "QUATERNION" and out["euler_curves"] == 0
     assert out["interpolation"].tolist() == ["LINEAR"]
@@ -76,102 +145,62 @@ def test_resample_operator_keys_play_within_the_bound_in_blender(
     assert e.max() > BOUND / 3 and ep.max() > POS_BOUND / 3  # the bound is used, not wasted
 
 
-def test_fit_operator_smooths_rotation_and_location_within_the_bound(tmp_path):
-    rng = np.random.default_rng(3)
-    frames = np.arange(1, 241, 2)  # 120 noisy samples over 10 s
-    t = (frames - 0.0) / FPS
-    true_rv = np.column_stack([np.sin(t), 0.5 * np.cos(0.7 * t), 0.3 * t])
-    true_p = np.column_stack([np.sin(0.5 * t), t / 10, np.cos(t)])
-    rot = qs.from_rotvec(true_rv + rng.normal(0, 0.01, true_rv.shape))
-    loc = true_p + rng.normal(0, 0.01, true_p.shape)
-    at = np.sort(rng.uniform(frames[0], frames[-1], 3000))
-    out = job(tmp_path, {
-        "kind": "fit", "fps": FPS,
-        "object": {"mode": "QUATERNION", "frames": frames.tolist(), "rotation": rot.tolist(),
-                   "location": loc.tolist()},
-        "frames": at.tolist(),
-    })  # fmt: skip
+def test_fit_operator_smooths_rotation_and_location_within_the_bound(played):
+    out = played["fit"]
+    frames, rot, loc, at = _noisy_input()
     assert out["status"].tolist() == ["FINISHED"]
     qf = _f32(rot) / np.linalg.norm(_f32(rot), axis=1)[:, None]
-    fitted = qs.fit(t, qf, positions=_f32(loc))
+    fitted = qs.fit(frames / FPS, qf, positions=_f32(loc))
     e, ep = _errors(out, fitted, at / FPS)
     assert e.max() <= BOUND and ep.max() <= POS_BOUND, (np.degrees(e.max()), ep.max())
-    # smoothed: closer to the noiseless motion than the samples are (σ = 0.01 rad / 1 cm)
+    # smoothed: closer to the noiseless motion than the samples are (σ = 0.01 rad, 1 cm)
     q, p = _played(out)
-    tt = at / FPS
-    truth_q = qs.from_rotvec(np.column_stack([np.sin(tt), 0.5 * np.cos(0.7 * tt), 0.3 * tt]))
-    truth_p = np.column_stack([np.sin(0.5 * tt), tt / 10, np.cos(tt)])
+    truth_q, truth_p = _truth(at / FPS)
     assert np.sqrt(np.mean(qs.angle_between(q, truth_q) ** 2)) < 0.01
     assert np.sqrt(np.mean(np.sum((p - truth_p) ** 2, axis=1))) < 0.01
 
 
-def _tum(path, n=150, seed=5):
-    rng = np.random.default_rng(seed)
-    t = 1305031102.175304 + np.arange(n) / 30.0
-    q = qs.from_rotvec(np.cumsum(rng.normal(0, 0.05, (n, 3)), axis=0))
-    p = np.cumsum(rng.normal(0, 0.01, (n, 3)), axis=0)
-    with open(path, "w", encoding="utf-8") as f:
-        f.write("# timestamp tx ty tz qx qy qz qw\n")
-        for ti, pi, qi in zip(t, p, q):
-            f.write(f"{ti:.6f} {pi[0]:.6f} {pi[1]:.6f} {pi[2]:.6f} "
-                    f"{qi[1]:.8f} {qi[2]:.8f} {qi[3]:.8f} {qi[0]:.8f}\n")  # fmt: skip
-    return qs.io.read(path)
-
-
-def test_import_of_a_tum_file_keys_its_samples_exactly(tmp_path):
-    traj = _tum(tmp_path / "take.txt")
+def test_import_of_a_tum_file_keys_its_samples_exactly(played):
+    out = played["import-keys"]
+    traj = out["traj"]
     t = traj.times - traj.times[0]
-    at = np.concatenate([t * FPS, np.random.default_rng(2).uniform(0, t[-1] * FPS, 2000)])
-    out = job(tmp_path, {"kind": "import", "fps": FPS, "file": str(tmp_path / "take.txt"),
-                         "frames": at.tolist()})  # fmt: skip
+    n = len(traj)
     assert out["status"].tolist() == ["FINISHED"]
-    assert out["keys"] == len(traj) and out["location_keys"] == len(traj)
+    assert out["keys"] == n and out["location_keys"] == n
     assert out["range"].tolist() == [0, int(np.ceil(t[-1] * FPS))]
     q, p = _played(out)
-    n = len(traj)
     # at the sample frames: the samples (float32 keys)
     assert np.max(qs.angle_between(q[:n], traj.quats)) < 1e-6
     assert np.max(np.abs(p[:n] - traj.positions)) < 1e-6
     # between them: Blender's LINEAR playback of those keys (component-wise, normalised)
-    tt = at[n:] / FPS
+    tt = out["frames"][n:] / FPS
     k = np.clip(np.searchsorted(t, tt, side="right") - 1, 0, n - 2)
     u = ((tt - t[k]) / (t[k + 1] - t[k]))[:, None]
-    qk = sign_continuous(traj.quats)  # the importer keys a sign-continuous path
+    qk = sign_continuous(traj.quats)  # the import keys a sign-continuous path
     h = qk[k] + u * (qk[k + 1] - qk[k])
     assert np.max(qs.angle_between(q[n:], h / np.linalg.norm(h, axis=1)[:, None])) < 1e-5
-    assert (
-        np.max(
-            np.abs(p[n:] - (traj.positions[k] + u * (traj.positions[k + 1] - traj.positions[k])))
-        )
-        < 1e-5
-    )
+    lin = traj.positions[k] + u * (traj.positions[k + 1] - traj.positions[k])
+    assert np.max(np.abs(p[n:] - lin)) < 1e-5
 
 
-def test_import_through_a_method_plays_its_spline_within_the_bound(tmp_path):
-    traj = _tum(tmp_path / "take.txt", n=60)
-    t = traj.times - traj.times[0]
-    at = np.sort(np.random.default_rng(4).uniform(0, t[-1] * FPS, 3000))
-    out = job(tmp_path, {"kind": "import", "fps": FPS, "file": str(tmp_path / "take.txt"),
-                         "options": {"method": "c3"}, "frames": at.tolist()})  # fmt: skip
-    spline = qs.PoseSpline(traj.quats, t, traj.positions, rotation="c3")
-    e, ep = _errors(out, spline, at / FPS)
+def test_import_through_a_method_plays_its_spline_within_the_bound(played):
+    out = played["import-c3"]
+    traj = out["traj"]
+    spline = qs.PoseSpline(traj.quats, traj.times - traj.times[0], traj.positions, rotation="c3")
+    e, ep = _errors(out, spline, out["frames"] / FPS)
     assert e.max() <= BOUND and ep.max() <= POS_BOUND, (np.degrees(e.max()), ep.max())
+    assert e.max() > BOUND / 3
 
 
-def test_kinematics_operator_writes_the_splines_omega_alpha_and_jerk(tmp_path):
-    frames, rv, loc = _keys(seed=7)
+def test_kinematics_operator_writes_the_splines_omega_alpha_and_jerk(played):
+    out = played["kinematics"]
+    frames, rv, _ = _keys(seed=7)
     q = _f32(qs.from_rotvec(rv))
-    at = np.arange(frames[0], frames[-1] + 1, 1.0)
-    out = job(tmp_path, {
-        "kind": "kinematics", "fps": FPS,
-        "object": {"mode": "QUATERNION", "frames": frames, "rotation": qs.from_rotvec(rv).tolist(),
-                   "location": loc.tolist()},
-        "options": {"method": "natural"}, "frames": at.tolist(),
-    })  # fmt: skip
     s = qs.spline("natural", q / np.linalg.norm(q, axis=1)[:, None], np.array(frames) / FPS)
-    w = np.linalg.norm(s.angular_velocity(at / FPS), axis=1)
-    a = np.linalg.norm(s.angular_acceleration(at / FPS), axis=1)
-    j = np.linalg.norm(s.jerk(at / FPS), axis=1)
+    t = out["frames"] / FPS
+    w = np.linalg.norm(s.angular_velocity(t), axis=1)
+    a = np.linalg.norm(s.angular_acceleration(t), axis=1)
+    j = np.linalg.norm(s.jerk(t), axis=1)
     for got, want in ((out["qs_omega"], w), (out["qs_alpha"], a), (out["qs_jerk"], j)):
         np.testing.assert_allclose(got, want, rtol=1e-5, atol=1e-5 * want.max())
-    assert "max |ω|" in str(out["summary"])
+    assert str(out["summary"]).startswith(f"max |ω| {w.max():.4g} rad/s")

@@ -11,6 +11,7 @@ import quatspline as qs
 from quatspline.examples import load_recording
 from quatspline.ops import to_gltf
 
+from ..ops.test_gltf_export_defaults import noisy_recording
 from .blender_run import needs_blender, run
 
 pytestmark = needs_blender
@@ -62,3 +63,25 @@ def test_cubicspline_tangents_are_dropped_by_blenders_importer(tmp_path):
     t0, t1 = pose.domain
     t, q, _ = _blender_play(tmp_path, path, t1 - t0)
     assert qs.angle_between(q, pose.orientation(t0 + t)).max() > rep.rotation_bound
+
+
+@pytest.mark.parametrize("method", [None, "fit"])
+def test_default_export_of_a_noisy_recording_plays_within_its_reported_bound(tmp_path, method):
+    """The defaults: no more keys than samples (the bound relaxed and reported) or, with
+    ``method="fit"``, the smoothed motion at the asked bound — as Blender plays the file."""
+    tr = noisy_recording(n=800)
+    path = tmp_path / "n.glb"
+    rep = to_gltf(tr, path, method=method, progress=False)
+    assert rep.rotation_keys <= len(tr) and rep.translation_keys <= len(tr)
+    if method == "fit":
+        motion = qs.fit(tr.times, tr.quats, positions=tr.positions)
+        rot = motion.rotation
+    else:
+        motion = qs.PoseSpline(tr.quats, tr.times, tr.positions, rotation="natural")
+        rot = motion.rotation
+    t0 = tr.times[0]
+    t, q, p = _blender_play(tmp_path, path, tr.times[-1] - t0)
+    e = qs.angle_between(q, rot(t0 + t))
+    ep = np.linalg.norm(p - motion.position(t0 + t), axis=1)
+    assert e.max() <= rep.rotation_bound and ep.max() <= rep.translation_bound, (
+        np.degrees(e.max()), ep.max(), rep.summary())  # fmt: skip
