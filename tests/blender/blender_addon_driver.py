@@ -14,7 +14,8 @@ import sys
 
 import numpy
 
-numpy.bool = bool  # Debian's Blender 3.4 bundles code that uses the alias numpy ≥ 1.24 removed
+if not hasattr(numpy, "bool"):  # Debian's Blender 3.4 uses the alias numpy 1.24–1.26 lack
+    numpy.bool = bool
 
 for _p in os.environ.get("QS_PATHS", "").split(os.pathsep):
     if _p and _p not in sys.path:

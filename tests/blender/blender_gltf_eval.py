@@ -8,7 +8,8 @@ import sys
 
 import numpy
 
-numpy.bool = bool  # Debian's Blender 3.4 importer uses the alias numpy ≥ 1.24 removed
+if not hasattr(numpy, "bool"):  # Debian's Blender 3.4 uses the alias numpy 1.24–1.26 lack
+    numpy.bool = bool
 
 import addon_utils  # noqa: E402
 import bpy  # noqa: E402
