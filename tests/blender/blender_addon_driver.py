@@ -35,7 +35,9 @@ def _keyed_object(spec):
     bpy.context.collection.objects.link(obj)
     bpy.context.view_layer.objects.active = obj
     obj.rotation_mode = spec["mode"]
-    path = "rotation_quaternion" if spec["mode"] == "QUATERNION" else "rotation_euler"
+    path = {"QUATERNION": "rotation_quaternion", "AXIS_ANGLE": "rotation_axis_angle"}.get(
+        spec["mode"], "rotation_euler"
+    )
     frames = spec["frames"]
     for f, rot in zip(frames, spec["rotation"]):
         setattr(obj, path, rot)
@@ -71,7 +73,11 @@ def _run(job):
     if kind in ("resample", "fit", "kinematics"):
         obj = _keyed_object(job["object"])
         op = getattr(bpy.ops.quatspline, kind)
-        ret = op(**job.get("options", {}))
+        try:
+            ret = op(**job.get("options", {}))
+        except RuntimeError as e:  # an operator's ERROR report, raised by bpy.ops
+            numpy.savez(job["out"], status=numpy.array(["ERROR"]), error=numpy.array(str(e)))
+            return
         result["status"] = numpy.array(sorted(ret))
         if kind == "kinematics":
             curves = {fc.data_path: fc for fc in obj.animation_data.action.fcurves}

@@ -110,6 +110,17 @@ def played(tmp_path_factory):
         "options": {"method": "natural"},
         "frames": np.arange(frames[0], frames[-1] + 1, 1.0).tolist(),
     }  # fmt: skip
+    frames, rv, loc = _keys()
+    specs["bad-parameter"] = {
+        "kind": "resample", "fps": FPS,
+        "object": _object("QUATERNION", frames, qs.from_rotvec(rv), loc),
+        "options": {"method": "c3", "params": "alpha=wide"}, "frames": [],
+    }  # fmt: skip
+    specs["axis-angle"] = {
+        "kind": "resample", "fps": FPS,
+        "object": _object("AXIS_ANGLE", frames, np.column_stack([np.ones(len(rv)), rv]), loc),
+        "frames": [],
+    }  # fmt: skip
     trajs = {k: s.pop("_traj") for k, s in specs.items() if "_traj" in s}
     out = jobs(d, specs)
     for k, s in specs.items():
@@ -204,3 +215,20 @@ def test_kinematics_operator_writes_the_splines_omega_alpha_and_jerk(played):
     for got, want in ((out["qs_omega"], w), (out["qs_alpha"], a), (out["qs_jerk"], j)):
         np.testing.assert_allclose(got, want, rtol=1e-5, atol=1e-5 * want.max())
     assert str(out["summary"]).startswith(f"max |ω| {w.max():.4g} rad/s")
+
+
+@pytest.mark.parametrize(
+    ("scene", "message"),
+    [
+        ("bad-parameter", "Error: alpha: "),
+        (
+            "axis-angle",
+            "Error: body: rotation mode AXIS_ANGLE is not read; use QUATERNION or an Euler mode",
+        ),
+    ],
+)
+def test_operators_report_a_bad_value_in_one_line(played, scene, message):
+    out = played[scene]
+    assert out["status"].tolist() == ["ERROR"]
+    assert str(out["error"]).startswith(message), str(out["error"])
+    assert str(out["error"]).strip().count("\n") == 0

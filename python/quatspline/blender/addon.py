@@ -85,12 +85,16 @@ def _object_motion(obj, fps: float) -> Trajectory:
     if ad is None or ad.action is None:
         raise ValueError(f"{obj.name}: no action (animate its rotation or location first)")
     mode = obj.rotation_mode
+    if mode == "AXIS_ANGLE":
+        raise ValueError(
+            f"{obj.name}: rotation mode AXIS_ANGLE is not read; use QUATERNION or an Euler mode"
+        )
     rot_path = "rotation_quaternion" if mode == "QUATERNION" else "rotation_euler"
     curves = {(fc.data_path, fc.array_index): fc for fc in ad.action.fcurves}
     n_rot = 4 if mode == "QUATERNION" else 3
     keyed = [fc for (p, _), fc in curves.items() if p in (rot_path, "location")]
     frames = curve_frames([[k.co[0] for k in fc.keyframe_points] for fc in keyed])
-    base_rot = list(getattr(obj, rot_path)) if mode != "AXIS_ANGLE" else []
+    base_rot = list(getattr(obj, rot_path))
     rot = np.array(
         [
             [
