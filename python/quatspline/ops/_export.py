@@ -417,13 +417,26 @@ def _verify(ch: _Channel, keys, tol: float, check_t, name: str, max_candidates: 
 
 def _fit_capped(ch: _Channel, tol: float, check_t, name: str, max_candidates: int, cap):
     """:func:`_fit` with at most ``cap`` keys: when the bound needs more, the bound is
-    relaxed until it does not — the fraction of the span that ``cap`` keys covered tells
-    how far (LINEAR keys grow as tol^-½, cubic ones as tol^-¼; the step is squared and
-    doubled to stay ahead). Returns (keys, error, check points, bound met)."""
+    relaxed until it does not. How far: an eighth of ``cap`` keys are placed first, and the
+    share of the span they cover estimates the keys the whole span needs (LINEAR keys grow as
+    tol^-½, cubic ones as tol^-¼, so the bound grows by the square or the fourth power of the
+    excess, with a tenth to spare); then the full placement, relaxed again by the share of
+    the span it reached if it still stops at ``cap``. Returns (keys, error, check points,
+    bound met)."""
     if cap is None:
         return (*_fit(ch, tol, check_t, name, max_candidates), tol)
+    power = 4 if ch.cubic else 2
     bound = tol
+    probe = cap // 8 if cap >= 512 else None
     for _ in range(60):
+        if probe is not None:
+            got, probe_keys, probe = _greedy(ch, bound, probe), probe, None
+            if isinstance(got, list):
+                continue  # the probe's keys covered the span: place them all
+            excess = probe_keys / max(got, 1e-3) / cap  # needed keys / cap, estimated
+            if excess > 0.9:
+                bound *= (1.1 * excess) ** power
+            continue
         got = _greedy(ch, bound, cap)
         if isinstance(got, list):
             keys, err, grid = _verify(ch, got, bound, check_t, name, max_candidates)
@@ -431,7 +444,7 @@ def _fit_capped(ch: _Channel, tol: float, check_t, name: str, max_candidates: in
                 return keys, err, grid, bound
             got = len(got) / len(keys)  # verification added keys: relax by their share
         reach = min(max(got, 1e-3), 0.95)
-        bound *= max(1.5, (1.2 / reach) ** (4 if ch.cubic else 2))
+        bound *= max(1.5, (1.2 / reach) ** power)
     _refuse(name, tol, bound, f"with at most {cap} keys (max_keys)")
 
 
