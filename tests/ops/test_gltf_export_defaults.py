@@ -49,8 +49,21 @@ def test_max_keys_none_asks_for_the_bound_whatever_the_key_count(tmp_path):
     rep = to_gltf(tr, tmp_path / "a.glb", max_keys=None, progress=False)
     assert rep.rotation_bound == rep.rotation_requested
     assert rep.rotation_keys > len(tr)  # the interpolant wiggles between noisy samples
-    capped = to_gltf(tr, tmp_path / "b.glb", max_keys=100, progress=False)
-    assert capped.rotation_keys <= 100 and capped.translation_keys <= 100
+
+
+@pytest.mark.parametrize(("interpolation", "cap"), [("linear", 100), ("cubicspline", 40)])
+@pytest.mark.parametrize("n", [600, 4000])  # the cap's probe starts at 512 keys
+def test_a_key_cap_is_kept_and_the_file_holds_the_bound_it_reports(tmp_path, interpolation, cap, n):
+    tr = noisy_recording(n=n)
+    cap = cap if n < 4000 else 600
+    path = tmp_path / "c.glb"
+    rep = to_gltf(tr, path, max_keys=cap, interpolation=interpolation, progress=False)
+    assert rep.rotation_keys <= cap and rep.translation_keys <= cap
+    assert rep.rotation_bound > rep.rotation_requested
+    pose = qs.PoseSpline(tr.quats, tr.times, tr.positions, rotation="natural")
+    e_rot, e_pos, ch = measured_errors(path, pose, tr.times[0])
+    assert ch["rotation"][0] == interpolation.upper()
+    assert e_rot.max() <= rep.rotation_bound and e_pos.max() <= rep.translation_bound
 
 
 def test_fit_smooths_translation_too(tmp_path):
