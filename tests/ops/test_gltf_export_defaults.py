@@ -5,10 +5,13 @@ Khronos validator and play within the bound the report states."""
 
 from __future__ import annotations
 
+import contextlib
+
 import numpy as np
 import pytest
 import quatspline as qs
 import quatspline.io as qio
+import quatspline.ops._export as ex
 from quatspline.ops import export, to_gltf
 
 from .test_gltf import measured_errors, validate
@@ -102,3 +105,27 @@ def test_uniform_count_only_on_request(tmp_path):
     assert rep.rotation_uniform_keys == 0 and "uniform needs" not in rep.summary()
     rep = to_gltf(s, tmp_path / "v.glb", max_error="0.1deg", uniform=True, progress=False)
     assert f"(uniform needs {rep.rotation_uniform_keys})" in rep.summary()
+
+
+def test_a_long_export_reports_progress_as_the_keys_advance(tmp_path, monkeypatch):
+    """The bar advances with the share of the span keyed, not once per channel."""
+    made = []
+
+    class Bar:
+        def __init__(self, total):
+            self.total, self.steps = total, []
+
+        def update(self, n=1):
+            self.steps.append(n)
+
+    @contextlib.contextmanager
+    def fake(total=None, desc="", enabled=True, **kw):
+        made.append(Bar(total))
+        yield made[-1]
+
+    monkeypatch.setattr(ex, "bar", fake)
+    tr = noisy_recording(n=1500)
+    to_gltf(tr, tmp_path / "p.glb", max_keys=None, progress=True)
+    (b,) = made
+    assert all(s > 0 for s in b.steps) and sum(b.steps) == b.total
+    assert len(b.steps) >= 10  # thousands of keys: many steps per channel

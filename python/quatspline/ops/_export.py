@@ -191,6 +191,7 @@ class _Channel:
     roundoff: float = 0.0  # added to every measured error (players' float32 arithmetic)
     clock: float = 0.0  # times |t| + origin added too (players' float32 clock, see _clock)
     origin: float = 0.0  # the player's time at the motion's start (Blender: frame 0 at t = 0)
+    tick: object = None  # called with the share of the span the key placement has reached
 
     def err(self, keys_t, keys_v, keys_a, keys_b, t, target) -> np.ndarray:
         """Playback error at t, the worst of the players' interpolations, plus roundoff."""
@@ -265,6 +266,8 @@ def _greedy(ch: _Channel, tol: float, cap: int | None = None) -> list[int] | flo
     keys = [0]
     i = 0
     while i < n - 1:
+        if ch.tick is not None and len(keys) % 64 == 0:
+            ch.tick(float(ch.t[i] / ch.t[-1]))
         if cap is not None and len(keys) > cap:
             return float(ch.t[i] / ch.t[-1]) if ch.t[-1] > 0 else 0.0
         step, good = 1, i + 1
@@ -744,9 +747,20 @@ def _bounded_keys(
         chans.append(("translation", "max_position_error", m.p, m.dp, tol_p, False))
     t = _candidate_times(m, samples)
     results = {}
-    with bar(total=len(chans) * (2 if uniform else 1), desc="export glTF", enabled=progress) as pb:
+    per = 1000  # bar units per channel and stage: the share of the span keyed so far
+    total = len(chans) * (2 if uniform else 1) * per
+    with bar(total=total, desc="export glTF", enabled=progress) as pb:
         for name, bound, f, fd, tol, rot in chans:
             ch = _Channel(rot, cubic, t, None, None, None, f, fd, span)
+            shown = [0]
+
+            def tick(share, shown=shown):
+                step = int(per * min(max(share, 0.0), 1.0)) - shown[0]
+                if step > 0:
+                    pb.update(step)
+                    shown[0] += step
+
+            ch.tick = tick
             v, a, b = ch.values(t)
             if rot:
                 sgn = np.sign(np.sum(sign_continuous(v) * v, axis=1))[:, None]
@@ -767,11 +781,12 @@ def _bounded_keys(
             keys, err, check_t, met = _fit_capped(
                 ch, tol, _dense(ch.t), bound, 2 * MAX_SAMPLES, cap
             )
-            pb.update(1)
+            ch.tick = None
+            pb.update(per - shown[0])
             nu = 0
             if uniform:
                 nu = _uniform_keys(ch, tol, check_t, len(keys))
-                pb.update(1)
+                pb.update(per)
             idx = np.array(keys)  # keep the keys only: the candidates' memory is released
             kept = (ch.t[idx], ch.v[idx], ch.a[idx], ch.b[idx])
             results[name] = (kept, keys, err, nu, met, len(check_t), tol)
