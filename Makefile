@@ -11,7 +11,7 @@ DEV     := $(VENV)/.dev-stamp
 # maturin finds zig (the pip package `ziglang`) through the venv's python on PATH
 export PATH := $(abspath $(VENV))/bin:$(PATH)
 
-.PHONY: viewer-assets browser build demo test test-rust test-python test-wheel lint typecheck docs wheel sdist \
+.PHONY: viewer-assets browser blender build demo test test-rust test-python test-wheel lint typecheck docs wheel sdist \
 	bench accuracy fuzz clean
 
 $(BASE):
@@ -66,7 +66,15 @@ browser:
 			apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium; \
 		else echo "make: no chromium and no way to install it here: browser tests will skip"; fi; }
 
-test-python: build $(DEV) $(GLTF_VALIDATOR) viewer-assets browser
+# Headless Blender for the add-on's and the glTF importer's tests (tests/blender): Debian's
+# package (system Python; python3-numpy for its glTF importer), installed when root.
+blender:
+	@command -v blender >/dev/null 2>&1 || { \
+		if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
+			apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq blender python3-numpy; \
+		else echo "make: no blender and no way to install it here: Blender tests will skip"; fi; }
+
+test-python: build $(DEV) $(GLTF_VALIDATOR) viewer-assets browser blender
 	$(VPY) -m pytest
 	QUATSPLINE_SIMD=scalar $(VPY) -m pytest -q tests/core/test_simd.py tests/core/test_engine.py tests/splines/test_splines.py
 

@@ -40,6 +40,7 @@ RANK = {
     "quatspline.ops": 6,
     "quatspline.arguments": 7,
     "quatspline.viewer": 7,
+    "quatspline.blender": 7,
     "quatspline.demo": 7,
     "quatspline.batch": 8,
     "quatspline.cli": 9,

@@ -3,6 +3,8 @@ trajectory with --extrapolate, bag topics, KITTI times."""
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 import quatspline.io as qio
@@ -29,7 +31,8 @@ def test_export_glb_within_bound_and_valid(tmp_path, capsys):
     out = tmp_path / "motion.glb"
     args = ["export", str(src), "-o", str(out), "--max-error", "0.02deg", "--node", "body"]
     assert main([*args, "--interpolation", "cubicspline"]) == 0
-    assert "keys (uniform needs" in capsys.readouterr().out
+    out_text = capsys.readouterr().out
+    assert " keys, max error " in out_text and "CUBICSPLINE tangents: three.js" in out_text
     assert validate(out)[0]["numErrors"] == 0
     import quatspline as qs
 
@@ -38,7 +41,11 @@ def test_export_glb_within_bound_and_valid(tmp_path, capsys):
     )  # the export default
     e_rot, e_pos, _ = measured_errors(out, ps, 0.0)
     assert np.degrees(e_rot.max()) <= 0.02 * (1 + 1e-3)
-    assert e_pos.max() <= 1e-4 * (1 + 1e-3)
+    # 60 random positions: the 0.1 mm bound would need more keys than samples, so the export
+    # relaxes it (and says so); the file holds the bound it reports (3 digits printed)
+    met = float(re.search(r"translation \d+ keys, max error \S+ m ≤ (\S+) m", out_text)[1])
+    assert "translation bound relaxed from 0.0001 m to keep at most 60 keys" in out_text
+    assert e_pos.max() <= met * (1 + 5e-3)
 
 
 def test_export_bvh(tmp_path):

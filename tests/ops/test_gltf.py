@@ -102,7 +102,7 @@ def measured_errors(path, motion, t0, n=40_000, seed=1):
     kind, kt, kv = ch["rotation"]
     rng = np.random.default_rng(seed)
     t = np.sort(np.concatenate([rng.uniform(kt[0], kt[-1], n), kt]))
-    rot = motion.rotation if isinstance(motion, qs.PoseSpline) else motion
+    rot = motion.rotation if isinstance(motion, (qs.PoseSpline, qs.FittedPose)) else motion
     e_rot = rotation_error(play(kind, kt, kv, t, True), rot(t0 + t))
     e_pos = None
     if "translation" in ch:
@@ -124,7 +124,7 @@ def test_export_passes_validator_and_playback_within_bound(tmp_path, interpolati
     pose = wavy_pose()
     path = tmp_path / f"m{suffix}"
     rep = to_gltf(pose, path, max_error="0.02deg", max_position_error="0.5mm",
-                  interpolation=interpolation)  # fmt: skip
+                  interpolation=interpolation, uniform=True)  # fmt: skip
     (v,) = validate(path)
     assert v["numErrors"] == 0, v["messages"]
     assert v["numWarnings"] == 0, v["messages"]
@@ -152,7 +152,7 @@ def test_real_recording_export(tmp_path):
     traj = qio.read(TUM)
     traj = qio.Trajectory(traj.times[:400], traj.quats[:400], traj.positions[:400])
     path = tmp_path / "fr1.glb"
-    rep = to_gltf(traj, path, max_error="0.05deg", max_position_error="1mm")
+    rep = to_gltf(traj, path, max_error="0.05deg", max_position_error="1mm", uniform=True)
     (v,) = validate(path)
     assert v["numErrors"] == 0, v["messages"]
     ps = qs.PoseSpline(

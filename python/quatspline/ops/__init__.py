@@ -23,7 +23,7 @@ from __future__ import annotations
 from ..io.trajectory import set_sampler
 from . import _resample
 from ._compare import IMPULSES, compare, format_table, markdown_cell
-from ._export import BvhReport, GltfReport, export, to_bvh, to_gltf
+from ._export import BvhReport, GltfReport, export, keyframes, to_bvh, to_gltf
 from ._fit import FIT_EXTRAPOLATE, fit_trajectory, rms_residual_deg
 from ._imu import calibrate_imu, imu_motion, simulate_imu, write_simulated
 from ._ops import DEFAULT_MAX_SAMPLES, ParameterError, build_spline
@@ -41,6 +41,7 @@ __all__ = [
     "BvhReport",
     "export",
     "GltfReport",
+    "keyframes",
     "to_bvh",
     "to_gltf",
     "DEFAULT_MAX_SAMPLES",

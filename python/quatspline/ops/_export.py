@@ -38,10 +38,13 @@ from .._util.options import DEFAULT_METHOD, parse_angle, parse_length
 from .._util.progress_bars import progress as bar
 from ..core.interpolate import slerp
 from ..core.metrics import angle_between
+from ..fitting import FittedPose
+from ..fitting import fit as fit_motion
 from ..io import bvh, gltf
 from ..io.gltf import F32_MAX, sign_continuous
 from ..io.trajectory import Trajectory
 from ..poses.pose_spline import PoseSpline
+from ..registry import METHODS
 from ..registry import spline as make_spline
 from ..splines import Spline
 from ._ops import DEFAULT_MAX_SAMPLES, ParameterError
@@ -50,6 +53,7 @@ __all__ = [
     "BvhReport",
     "GltfReport",
     "export",
+    "keyframes",
     "parse_angle",
     "parse_length",
     "to_bvh",
@@ -80,14 +84,28 @@ class _Motion:
                     "method: a spline is exported as it is; method applies to an io.Trajectory only"
                 )
         method = DEFAULT_METHOD if method is None else method
+        self.samples = None
         if isinstance(motion, Trajectory):
             self.name = motion.name
+            self.samples = len(motion)
             t = motion.times
-            if motion.positions is not None:
+            if motion.positions is not None and method == "fit":
+                # rotation and translation both smoothed, with the same knots and penalty
+                p = METHODS["fit"].resolve(params)
+                motion = fit_motion(
+                    t,
+                    motion.quats,
+                    positions=motion.positions,
+                    smoothing=p["smoothing"],
+                    penalty=p["penalty"],
+                    robust=p["robust"],
+                    knots=p["knots"],
+                )
+            elif motion.positions is not None:
                 motion = PoseSpline(motion.quats, t, motion.positions, rotation=method, **params)
             else:
                 motion = make_spline(method, motion.quats, t, **params)
-        if isinstance(motion, PoseSpline):
+        if isinstance(motion, (PoseSpline, FittedPose)):
             self.rot, self.pos = motion.rotation, motion
         elif isinstance(motion, Spline):
             self.rot, self.pos = motion, None
@@ -171,6 +189,9 @@ class _Channel:
     fd: object = None  # its derivative
     span: float = 0.0
     roundoff: float = 0.0  # added to every measured error (players' float32 arithmetic)
+    clock: float = 0.0  # times |t| + origin added too (players' float32 clock, see _clock)
+    origin: float = 0.0  # the player's time at the motion's start (Blender: frame 0 at t = 0)
+    tick: object = None  # called with the share of the span the key placement has reached
 
     def err(self, keys_t, keys_v, keys_a, keys_b, t, target) -> np.ndarray:
         """Playback error at t, the worst of the players' interpolations, plus roundoff."""
@@ -183,7 +204,7 @@ class _Channel:
             else:
                 e = np.linalg.norm(got - target, axis=1)
             worst = np.maximum(worst, e)
-        return worst + self.roundoff
+        return worst + self.roundoff + self.clock * (np.abs(t) + self.origin)
 
     def keys(self, idx):
         return self.t[idx], _f32(self.v[idx]), _f32(self.a[idx]), _f32(self.b[idx])
@@ -221,13 +242,34 @@ class _Channel:
         return old
 
 
-def _greedy(ch: _Channel, tol: float) -> list[int]:
+def _clock(rot: bool, t: np.ndarray, v: np.ndarray) -> float:
+    """Error per second of playback time from the players' float32 clock: the time and
+    the frame (Blender: ``frame = time × fps``, a float32) each rounded to float32 (two
+    roundings of at most half a unit, relative 2⁻²⁴; the key times are float32 already and
+    the offset from a key is exact), times the motion's largest speed (the largest chord
+    speed over the candidates, with a quarter more for the arc)."""
+    if len(t) < 2:
+        return 0.0
+    dt = np.diff(t)
+    step = angle(v[:-1], v[1:]) if rot else np.linalg.norm(np.diff(v, axis=0), axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        speed = np.where(dt > 0, step / np.where(dt > 0, dt, 1.0), 0.0)
+    return 2 * 2.0**-24 * 1.25 * float(speed.max(initial=0.0))
+
+
+def _greedy(ch: _Channel, tol: float, cap: int | None = None) -> list[int] | float:
     """From each key, the farthest candidate the bound allows (exponential, then binary
-    search); every accepted interval is checked on all candidates inside it."""
+    search); every accepted interval is checked on all candidates inside it. With ``cap``,
+    stops once more than ``cap`` keys are placed and returns the fraction of the span they
+    covered instead."""
     n = len(ch.t)
     keys = [0]
     i = 0
     while i < n - 1:
+        if ch.tick is not None and len(keys) % 64 == 0:
+            ch.tick(float(ch.t[i] / ch.t[-1]))
+        if cap is not None and len(keys) > cap:
+            return float(ch.t[i] / ch.t[-1]) if ch.t[-1] > 0 else 0.0
         step, good = 1, i + 1
         while True:
             j = min(i + step, n - 1)
@@ -335,6 +377,11 @@ def _fit(ch: _Channel, tol: float, check_t, name: str, max_candidates: int):
     still fails gets new candidates (and check points) inside it, up to ``max_candidates``.
     Returns (keys, measured error, check points)."""
     keys = _greedy(ch, tol)
+    return _verify(ch, keys, tol, check_t, name, max_candidates)
+
+
+def _verify(ch: _Channel, keys, tol: float, check_t, name: str, max_candidates: int):
+    """The verification and splitting rounds of :func:`_fit` from the keys given."""
     for _ in range(200):
         kt = ch.t[np.array(keys)]
         e = _check(ch, keys, check_t)
@@ -371,6 +418,39 @@ def _fit(ch: _Channel, tol: float, check_t, name: str, max_candidates: int):
     _refuse(name, tol, float(e.max()), "after 200 rounds of adding keys")
 
 
+def _fit_capped(ch: _Channel, tol: float, check_t, name: str, max_candidates: int, cap):
+    """:func:`_fit` with at most ``cap`` keys: when the bound needs more, the bound is
+    relaxed until it does not. How far: an eighth of ``cap`` keys are placed first, and the
+    share of the span they cover estimates the keys the whole span needs (LINEAR keys grow as
+    tol^-½, cubic ones as tol^-¼, so the bound grows by the square or the fourth power of the
+    excess, with a tenth to spare); then the full placement, relaxed again by the share of
+    the span it reached if it still stops at ``cap``. Returns (keys, error, check points,
+    bound met)."""
+    if cap is None:
+        return (*_fit(ch, tol, check_t, name, max_candidates), tol)
+    power = 4 if ch.cubic else 2
+    bound = tol
+    probe = cap // 8 if cap >= 512 else None
+    for _ in range(60):
+        if probe is not None:
+            got, probe_keys, probe = _greedy(ch, bound, probe), probe, None
+            if isinstance(got, list):
+                continue  # the probe's keys covered the span: place them all
+            excess = probe_keys / max(got, 1e-3) / cap  # needed keys / cap, estimated
+            if excess > 0.9:
+                bound *= (1.1 * excess) ** power
+            continue
+        got = _greedy(ch, bound, cap)
+        if isinstance(got, list):
+            keys, err, grid = _verify(ch, got, bound, check_t, name, max_candidates)
+            if len(keys) <= cap:
+                return keys, err, grid, bound
+            got = len(got) / len(keys)  # verification added keys: relax by their share
+        reach = min(max(got, 1e-3), 0.95)
+        bound *= max(1.5, (1.2 / reach) ** power)
+    _refuse(name, tol, bound, f"with at most {cap} keys (max_keys)")
+
+
 def _uniform_keys(ch: _Channel, tol: float, check_t, start: int) -> int:
     """The smallest number of evenly spaced keys meeting the same bound (doubling, then
     bisection), capped at 8× the adaptive count."""
@@ -381,7 +461,9 @@ def _uniform_keys(ch: _Channel, tol: float, check_t, start: int) -> int:
         if ch.rot:
             sgn = np.sign(np.sum(sign_continuous(v) * v, axis=1))[:, None]
             v, a, b = v * sgn, a * sgn, b * sgn
-        u = _Channel(ch.rot, ch.cubic, kt, v, a, b, ch.f, ch.fd, ch.span, ch.roundoff)
+        u = _Channel(
+            ch.rot, ch.cubic, kt, v, a, b, ch.f, ch.fd, ch.span, ch.roundoff, ch.clock, ch.origin
+        )
         return _check(u, np.arange(len(kt)), check_t).max() <= tol
 
     lo, hi = 1, max(2, start // 2)
@@ -416,25 +498,64 @@ class GltfReport:
     translation_error: float = 0.0
     translation_bound: float = 0.0
     check_points: int = 0
+    rotation_requested: float = 0.0
+    translation_requested: float = 0.0
+    max_keys: int | None = None
+    samples: int | None = None
+    start: float = 0.0
 
     def summary(self) -> str:
         deg = np.degrees
         s = (
             f"{self.path}: {self.interpolation}, {self.duration:.6g} s; rotation "
-            f"{self.rotation_keys} keys (uniform needs {self._u(self.rotation_uniform_keys)}), "
+            f"{self.rotation_keys} keys{self._u(self.rotation_uniform_keys)}, "
             f"max error {deg(self.rotation_error):.3g}° ≤ {deg(self.rotation_bound):.3g}°"
         )
         if self.translation_keys:
             s += (
-                f"; translation {self.translation_keys} keys (uniform needs "
-                f"{self._u(self.translation_uniform_keys)}), max error "
+                f"; translation {self.translation_keys} keys"
+                f"{self._u(self.translation_uniform_keys)}, max error "
                 f"{self.translation_error:.3g} m ≤ {self.translation_bound:.3g} m"
             )
-        return s + f" (checked at {self.check_points} times)"
+        s += f" (checked at {self.check_points} times)"
+        relaxed = [
+            f"{what} bound relaxed from {asked} to keep at most {self.max_keys} keys"
+            for what, asked, met in (
+                ("rotation", f"{deg(self.rotation_requested):.3g}°", self.rotation_bound),
+                ("translation", f"{self.translation_requested:.3g} m", self.translation_bound),
+            )
+            if met > 0
+            and met
+            != (self.rotation_requested if what == "rotation" else self.translation_requested)
+        ]
+        if relaxed:
+            s += (
+                "; "
+                + "; ".join(relaxed)
+                + (
+                    " (the input's sample count; a noisy recording exports closer with "
+                    "method='fit', or give max_keys=None)"
+                    if self.max_keys == self.samples
+                    else ""
+                )
+            )
+        if self.interpolation == "cubicspline":
+            s += "; CUBICSPLINE tangents: " + TANGENTS
+        return s
 
     @staticmethod
     def _u(n):
-        return str(n) if n > 0 else "more than 8×"
+        if n == 0:
+            return ""
+        return f" (uniform needs {n if n > 0 else 'more than 8×'})"
+
+
+#: Which players honour CUBICSPLINE tangents (stated in the export report and the docs).
+TANGENTS = (
+    "three.js and Babylon.js play them; Blender's glTF importer (3.4, checked) drops them "
+    "and rebuilds automatic Bézier handles, so in Blender the bound holds for LINEAR only "
+    "(or import with the quatspline Blender add-on)"
+)
 
 
 def to_gltf(
@@ -449,7 +570,8 @@ def to_gltf(
     size: float = 0.1,
     samples: int | None = None,
     method: str | None = None,
-    uniform: bool = True,
+    uniform: bool = False,
+    max_keys="samples",
     progress: bool = True,
     **params,
 ) -> GltfReport:
@@ -484,7 +606,16 @@ def to_gltf(
         with ``params``; a spline is exported as it is (giving ``method`` or parameters with
         one is a ``TypeError``).
     uniform : bool
-        Also find how many evenly spaced keys the same bound needs (for the report).
+        Also find how many evenly spaced keys the same bound needs (for the report; about
+        doubles the time).
+    max_keys : "samples", int or None
+        The most keys a channel gets. ``"samples"`` (default): an io.Trajectory's sample
+        count (no limit for a spline), so a recording never exports to more keys than it
+        has samples; ``None``: no limit. When the bound needs more keys, the bound is
+        relaxed until it does not, and the report says so (the bound met is in
+        ``rotation_bound`` / ``translation_bound``, the one asked in ``*_requested``).
+        An interpolating spline through a noisy recording wiggles between the samples by
+        about the noise; ``method="fit"`` smooths rotation and translation instead.
     progress : bool
         Show a progress bar.
 
@@ -509,7 +640,8 @@ def to_gltf(
     >>> q = qs.from_axis_angle([0, 0, 1], np.linspace(0, 3, 6))
     >>> s = qs.C3Spline(q, np.arange(6.0))
     >>> with tempfile.TemporaryDirectory() as d:
-    ...     r = to_gltf(s, os.path.join(d, "m.glb"), max_error="0.1deg", progress=False)
+    ...     r = to_gltf(s, os.path.join(d, "m.glb"), max_error="0.1deg", uniform=True,
+    ...                 progress=False)
     >>> r.rotation_error <= r.rotation_bound, r.rotation_keys < r.rotation_uniform_keys
     (True, True)
     """
@@ -519,7 +651,86 @@ def to_gltf(
         if not isinstance(flag_value, (bool, np.bool_)):
             raise TypeError(f"{flag_name}: expected True or False, got {type(flag_value).__name__}")
     path, size = gltf.check_options(path, interpolation, node, mesh, size)
+    rep, chosen, name = _bounded_keys(
+        motion, str(path), tol_r, tol_p, interpolation, samples, method, uniform, max_keys,
+        progress, params,
+    )  # fmt: skip
+    # the format's writer stores the chosen keys (one document builder for every glTF route)
+    gltf.write_animation(
+        path,
+        chosen["rotation"],
+        chosen.get("translation"),
+        interpolation=interpolation,
+        node=node,
+        mesh=mesh,
+        size=size,
+        name=name,
+    )
+    return rep
+
+
+def keyframes(
+    motion,
+    *,
+    max_error="0.01deg",
+    max_position_error="0.1mm",
+    method: str | None = None,
+    max_keys="samples",
+    samples: int | None = None,
+    progress: bool = False,
+    **params,
+):
+    """LINEAR keys whose playback stays within the bounds: the key placement of
+    :func:`to_gltf` without the file, for front ends that write keys themselves (the
+    Blender add-on writes them as F-curves).
+
+    The bound holds for slerp and for component-wise interpolation normalised (as Blender
+    plays quaternion F-curves), with float32 keys, times and clock (Blender's frames are
+    float32: ``frame = start + time × fps`` adds one rounding, which the check includes).
+
+    Parameters
+    ----------
+    motion, max_error, max_position_error, method, max_keys, samples, progress, **params
+        As :func:`to_gltf`.
+
+    Returns
+    -------
+    (dict, GltfReport)
+        ``{"rotation": (times, quats wxyz), "translation": (times, positions)}`` (translation
+        only with positions; times from 0, at the motion's start ``report.start``), and the
+        report (its ``path`` is empty).
+
+    Examples
+    --------
+    >>> import numpy as np, quatspline as qs
+    >>> s = qs.C3Spline(qs.from_axis_angle([0, 0, 1], np.linspace(0, 3, 6)), np.arange(6.0))
+    >>> keys, rep = keyframes(s, max_error="0.1deg")
+    >>> t, q = keys["rotation"]
+    >>> len(t) == rep.rotation_keys, rep.rotation_error <= rep.rotation_bound, q.shape[1]
+    (True, True, 4)
+    """
+    tol_r = parse_angle(max_error, "max_error")
+    tol_p = parse_length(max_position_error, "max_position_error")
+    if not isinstance(progress, (bool, np.bool_)):
+        raise TypeError(f"progress: expected True or False, got {type(progress).__name__}")
+    rep, chosen, _ = _bounded_keys(
+        motion, "", tol_r, tol_p, "linear", samples, method, False, max_keys, progress, params,
+        absolute=True,
+    )  # fmt: skip
+    out = {
+        name: (np.asarray(k.times, float), np.asarray(k.values, float))
+        for name, k in chosen.items()
+    }
+    return out, rep
+
+
+def _bounded_keys(
+    motion, path, tol_r, tol_p, interpolation, samples, method, uniform, max_keys, progress, params,
+    absolute=False,
+):  # fmt: skip
+    """The keys of each channel meeting its bound, and the report."""
     m = _Motion(motion, method, params)
+    cap = _max_keys(max_keys, m.samples)
     cubic = interpolation == "cubicspline"
     span = m.t1 - m.t0
     if samples is None:
@@ -536,9 +747,20 @@ def to_gltf(
         chans.append(("translation", "max_position_error", m.p, m.dp, tol_p, False))
     t = _candidate_times(m, samples)
     results = {}
-    with bar(total=len(chans) * (2 if uniform else 1), desc="export glTF", enabled=progress) as pb:
+    per = 1000  # bar units per channel and stage: the share of the span keyed so far
+    total = len(chans) * (2 if uniform else 1) * per
+    with bar(total=total, desc="export glTF", enabled=progress) as pb:
         for name, bound, f, fd, tol, rot in chans:
             ch = _Channel(rot, cubic, t, None, None, None, f, fd, span)
+            shown = [0]
+
+            def tick(share, shown=shown):
+                step = int(per * min(max(share, 0.0), 1.0)) - shown[0]
+                if step > 0:
+                    pb.update(step)
+                    shown[0] += step
+
+            ch.tick = tick
             v, a, b = ch.values(t)
             if rot:
                 sgn = np.sign(np.sum(sign_continuous(v) * v, axis=1))[:, None]
@@ -547,6 +769,8 @@ def to_gltf(
             else:
                 ch.roundoff = _ROUNDOFF * float(np.abs(v).max(initial=0.0)) * np.sqrt(3)
             ch.v, ch.a, ch.b = v, a, b
+            ch.clock = _clock(rot, t, v)
+            ch.origin = abs(m.t0) if absolute else 0.0
             if not rot and not np.abs(v).max(initial=0.0) <= F32_MAX:
                 raise ValueError(
                     f"motion: positions reach {float(np.abs(v).max()):.3g} m, beyond the float32 "
@@ -554,31 +778,23 @@ def to_gltf(
                 )
             if ch.roundoff >= tol:
                 _refuse(bound, tol, ch.roundoff, "by float32 keys (players' roundoff)")
-            keys, err, check_t = _fit(ch, tol, _dense(ch.t), bound, 2 * MAX_SAMPLES)
-            pb.update(1)
+            keys, err, check_t, met = _fit_capped(
+                ch, tol, _dense(ch.t), bound, 2 * MAX_SAMPLES, cap
+            )
+            ch.tick = None
+            pb.update(per - shown[0])
             nu = 0
             if uniform:
                 nu = _uniform_keys(ch, tol, check_t, len(keys))
-                pb.update(1)
+                pb.update(per)
             idx = np.array(keys)  # keep the keys only: the candidates' memory is released
             kept = (ch.t[idx], ch.v[idx], ch.a[idx], ch.b[idx])
-            results[name] = (kept, keys, err, nu, tol, len(check_t))
+            results[name] = (kept, keys, err, nu, met, len(check_t), tol)
             del ch, check_t, v, a, b
 
-    # the format's writer stores the chosen keys (one document builder for every glTF route)
     chosen = {}
     for name, ((kt, kv, ka, kb), *_) in results.items():
         chosen[name] = gltf.Keys(kt, kv, ka if cubic else None, kb if cubic else None)
-    gltf.write_animation(
-        path,
-        chosen["rotation"],
-        chosen.get("translation"),
-        interpolation=interpolation,
-        node=node,
-        mesh=mesh,
-        size=size,
-        name=m.name,
-    )
     r = results["rotation"]
     rep = GltfReport(
         str(path),
@@ -589,12 +805,37 @@ def to_gltf(
         r[2],
         r[4],
         check_points=max(r[5] for r in results.values()),
+        rotation_requested=r[6],
+        max_keys=cap,
+        samples=m.samples,
+        start=float(m.t0),
     )
     if "translation" in results:
         p = results["translation"]
         rep.translation_keys, rep.translation_uniform_keys = len(p[1]), p[3]
         rep.translation_error, rep.translation_bound = p[2], p[4]
-    return rep
+        rep.translation_requested = p[6]
+    return rep, chosen, m.name
+
+
+def _max_keys(max_keys, samples: int | None) -> int | None:
+    """The key cap: "samples" (a Trajectory's sample count, none for a spline), None or an
+    integer ≥ 2."""
+    if isinstance(max_keys, str):
+        if max_keys != "samples":
+            raise ValueError(
+                f"max_keys: expected 'samples', None or an integer ≥ 2, got {max_keys!r}"
+            )
+        return None if samples is None else max(samples, 2)
+    if max_keys is None:
+        return None
+    if isinstance(max_keys, bool) or not isinstance(max_keys, (int, np.integer)):
+        raise TypeError(
+            f"max_keys: expected an integer, 'samples' or None, got {type(max_keys).__name__}"
+        )
+    if max_keys < 2:
+        raise ValueError(f"max_keys: expected an integer ≥ 2, got {max_keys}")
+    return int(max_keys)
 
 
 def to_bvh(trajectory, path, *, joint: str = "Root") -> None:
@@ -639,7 +880,8 @@ def export(
     mesh: str | None = "axes",
     size: float = 0.1,
     samples: int | None = None,
-    uniform: bool = True,
+    uniform: bool = False,
+    max_keys="samples",
     fps: float | None = None,
     joint: str = "Root",
     progress: bool = True,
@@ -659,7 +901,7 @@ def export(
         Default: from the extension.
     method : str, optional
         For a Trajectory, the registry method of its spline; ``params`` its parameters.
-    max_error, max_position_error, interpolation, node, mesh, size, samples, uniform
+    max_error, max_position_error, interpolation, node, mesh, size, samples, uniform, max_keys
         glTF: as for :func:`to_gltf` (the bounds are checked for BVH too; the other glTF
         options are not used by BVH).
     fps : float, optional
@@ -729,6 +971,7 @@ def export(
             samples=samples,
             method=method,
             uniform=uniform,
+            max_keys=max_keys,
             progress=progress,
             **params,
         )

@@ -1,0 +1,3 @@
+"""The scripts here run inside Blender, not under pytest."""
+
+collect_ignore = ["blender_addon_driver.py", "blender_gltf_eval.py"]

@@ -1,0 +1,106 @@
+"""``python -m quatspline.blender install|uninstall`` against a real Blender whose user
+folders live in the test's temporary directory; and the add-on's modules outside Blender."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import quatspline.blender
+from quatspline._util.optional import MissingDependency
+from quatspline.blender import actions, installer
+
+from .blender_run import BLENDER, env, needs_blender
+
+CHECK = """
+import sys, addon_utils, bpy
+print("QS enabled", addon_utils.check("quatspline_addon")[1])
+print("QS ops", hasattr(bpy.types, "QUATSPLINE_OT_resample"),
+      hasattr(bpy.types, "QUATSPLINE_PT_panel"))
+stub = sys.modules.get("quatspline_addon")
+print("QS paths", stub is not None and all(p in sys.path for p in stub.PATHS))
+"""
+
+
+def _module(tmp_path, *args):
+    e = env(tmp_path)
+    e["PYTHONPATH"] = installer._paths()[0]
+    return subprocess.run(
+        [sys.executable, "-m", "quatspline.blender", *args],
+        capture_output=True, text=True, env=e, timeout=300,
+    )  # fmt: skip
+
+
+def _check(tmp_path):
+    (tmp_path / "check.py").write_text(CHECK, encoding="utf-8")
+    r = subprocess.run(
+        [BLENDER, "-b", "--python-exit-code", "1", "--python", str(tmp_path / "check.py")],
+        capture_output=True, text=True, env=env(tmp_path), timeout=300,
+    )  # fmt: skip
+    assert r.returncode == 0, r.stderr[-2000:]
+    return [ln for ln in r.stdout.splitlines() if ln.startswith("QS ")]
+
+
+@needs_blender
+def test_install_enables_the_addon_and_uninstall_removes_it(tmp_path):
+    r = _module(tmp_path, "install", "--blender", BLENDER)
+    assert r.returncode == 0, r.stderr
+    stub = tmp_path / "blender-scripts" / "addons" / "quatspline_addon.py"
+    assert f"installed and enabled: {stub}" in r.stdout
+    assert "appends these folders to sys.path" in stub.read_text(encoding="utf-8")
+    assert _check(tmp_path) == ["QS enabled True", "QS ops True True", "QS paths True"]
+    r = _module(tmp_path, "uninstall", "--blender", BLENDER)
+    assert r.returncode == 0 and not stub.exists(), r.stderr
+    assert _check(tmp_path)[:2] == ["QS enabled False", "QS ops False False"]
+
+
+def test_install_names_a_missing_blender(tmp_path):
+    r = _module(tmp_path, "install", "--blender", str(tmp_path / "no-blender"))
+    assert r.returncode == 1
+    assert (
+        r.stderr.strip()
+        == f"quatspline.blender: --blender: no Blender executable at {tmp_path / 'no-blender'}"
+    )
+
+
+def test_the_addon_imports_outside_blender_and_says_where_it_runs():
+    assert quatspline.blender.bl_info["name"] == "quatspline"
+    with pytest.raises(
+        MissingDependency, match=r"runs inside Blender .*quatspline.blender install"
+    ):
+        quatspline.blender.register()
+
+
+def test_actions_translate_frames_rotation_modes_and_parameters():
+    assert actions.frames_to_times([0, 12], 24).tolist() == [0.0, 0.5]
+    q = actions.quats_from_rotation("ZYX", [[0.3, -0.2, 0.1]])
+    # Blender's ZYX: Z first, then Y, then X, about fixed axes = Rx · Ry · Rz
+    want = qs_mul(qs_mul(axis(0, 0.1), axis(1, -0.2)), axis(2, 0.3))
+    assert min(np.abs(q[0] - want).max(), np.abs(q[0] + want).max()) < 1e-12
+    with pytest.raises(ValueError, match=r"^mode: expected QUATERNION or an Euler mode"):
+        actions.quats_from_rotation("AXIS_ANGLE", [[1, 0, 0, 0]])
+    with pytest.raises(ValueError, match=r"^keys: .*fewer than two keyframes"):
+        actions.curve_frames([[3.0], [3.0]])
+    with pytest.raises(ValueError, match=r"^alpha: "):
+        actions.parse_params("c3", "alpha=wide")
+    with pytest.raises(ValueError, match=r"^fps: expected a positive frame rate"):
+        actions.times_to_frames([0.0], 0)
+
+
+def axis(i, a):
+    q = np.zeros(4)
+    q[0], q[1 + i] = np.cos(a / 2), np.sin(a / 2)
+    return q
+
+
+def qs_mul(a, b):
+    w1, x1, y1, z1 = a
+    w2, x2, y2, z2 = b
+    return np.array([
+        w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
+        w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+        w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
+        w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
+    ])  # fmt: skip
