@@ -252,16 +252,52 @@ def test_the_c3_count_is_the_count_the_class_takes():
 
 
 PER_KEY_BAD = [
-    ("kochanek_bartels", {"tension": [0.0] * 7}, r"^tension: expected one value or 5 \(one per key\), got 7 values$"),
-    ("kochanek_bartels", {"bias": [0.0, np.nan, 0, 0, 0]}, r"^bias: non-finite value \(NaN or inf\) at element 1$"),
-    ("kochanek_bartels", {"continuity": "0,0,x"}, r"^continuity: expected numbers separated by commas, got '0,0,x'$"),
-    ("c3", {"alpha": [0.3] * 5, "variant": "patent"}, r"^alpha: expected one value or 4 \(one per segment\), got 5 values$"),
-    ("c3", {"beta": [0, 0, 2e6, 0, 0]}, r"^beta: beta\[2\] = 2000000 is beyond the supported range"),
-    ("beta", {"beta1": [1, 1, 0, 1, 1]}, r"^beta1: beta1\[2\] = 0 must be > 0$"),
-    ("beta", {"beta2": [0.0] * 3}, r"^beta2: expected one value or 5 \(one per key\), got 3 values$"),
-    ("beta", {"beta2": [[0.0] * 5]}, r"^beta2: expected a number or a 1-D sequence of numbers, got shape \(1, 5\)$"),
-    ("beta", {"beta1": []}, r"^beta1: expected at least one number"),
-]  # fmt: skip
+    (
+        "kochanek_bartels",
+        {"tension": [0.0] * 7},
+        r"^tension: expected one value or 5 \(one per key\), got 7 values$",
+    ),
+    (
+        "kochanek_bartels",
+        {"bias": [0.0, np.nan, 0, 0, 0]},
+        r"^bias: non-finite value \(NaN or inf\) at element 1$",
+    ),
+    (
+        "kochanek_bartels",
+        {"continuity": "0,0,x"},
+        r"^continuity: expected numbers separated by commas, got '0,0,x'$",
+    ),
+    (
+        "c3",
+        {"alpha": [0.3] * 5, "variant": "patent"},
+        r"^alpha: expected one value or 4 \(one per segment\), got 5 values$",
+    ),
+    (
+        "c3",
+        {"beta": [0, 0, 2e6, 0, 0]},
+        r"^beta: beta\[2\] = 2000000 is beyond the supported range",
+    ),
+    (
+        "beta",
+        {"beta1": [1, 1, 0, 1, 1]},
+        r"^beta1: beta1\[2\] = 0 must be > 0$",
+    ),
+    (
+        "beta",
+        {"beta2": [0.0] * 3},
+        r"^beta2: expected one value or 5 \(one per key\), got 3 values$",
+    ),
+    (
+        "beta",
+        {"beta2": [[0.0] * 5]},
+        r"^beta2: expected a number or a 1-D sequence of numbers, got shape \(1, 5\)$",
+    ),
+    (
+        "beta",
+        {"beta1": []},
+        r"^beta1: expected at least one number",
+    ),
+]
 
 
 @pytest.mark.parametrize(("method", "params", "match"), PER_KEY_BAD)
