@@ -855,7 +855,12 @@ def spline(
         seconds.
     **params
         The method's parameters (e.g. ``alpha``, ``beta`` for ``c3``; ``ends`` for
-        ``natural``), converted to their declared types.
+        ``natural``), converted to their declared types. The shape parameters of ``beta``
+        (``beta1``, ``beta2``), ``c3`` (``alpha``, ``beta``) and ``kochanek_bartels``
+        (``tension``, ``continuity``, ``bias``) take one number or one per key — per segment
+        for ``c3`` with ``variant="patent"`` (N − 1; N round a closed loop) — as a sequence
+        or comma-separated text (``"0,0.5,0"``); ``beta``'s doubled end vertices take their
+        key's value.
 
     Returns
     -------
@@ -882,6 +887,11 @@ def spline(
     >>> s = qs.spline("c3", keys, [0.0, 1.0, 3.0], alpha=0.5)
     >>> type(s).__name__, s.domain
     ('C3Spline', (0.0, 3.0))
+    >>> kb = qs.spline("kochanek_bartels", keys, [0.0, 1.0, 3.0], tension=[0.0, 0.8, 0.0])
+    >>> qs.spline("kochanek_bartels", keys, tension=[0.0, 0.8])
+    Traceback (most recent call last):
+    ...
+    quatspline.ops.ParameterError: tension: expected one value or 3 (one per key), got 2 values
     >>> qs.spline("cubic", keys)
     Traceback (most recent call last):
     ...

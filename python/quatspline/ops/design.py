@@ -71,8 +71,10 @@ def method_specs() -> list[dict]:
     -------
     list of dict
         ``name``, ``summary``, ``interpolating``, ``continuity`` and ``params``: a list of
-        ``{"name", "kind", "default", "help", "choices"}`` where ``kind`` is ``"float"``,
-        ``"int"``, ``"bool"`` or ``"str"`` and ``choices`` lists the valid strings (or None).
+        ``{"name", "kind", "per", "default", "help", "choices"}`` where ``kind`` is
+        ``"float"``, ``"int"``, ``"bool"`` or ``"str"``, ``per`` is ``"key"`` or
+        ``"key/segment"`` for a shape parameter that also takes a list of one value per key
+        (per segment; None otherwise) and ``choices`` lists the valid strings (or None).
 
     Examples
     --------
