@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import quatspline as qs
+import quatspline.io as qio
 
 from .test_design_tool import (
     _click_key_on_timeline,
@@ -188,3 +189,37 @@ def test_switching_the_c3_variant_keeps_one_value_per_key_or_segment(browser, ex
     assert page.evaluate("qsState.params.beta") == [*knot[:-1], knot[-2]]
     _agrees(page)
     assert not errors, errors
+
+
+@pytest.mark.parametrize("variant", ["knot", "patent"])
+def test_a_c3_loop_with_a_closing_key_has_one_value_per_key_or_segment_of_the_loop(
+    browser,  # noqa: F811
+    tmp_path,
+    variant,
+):
+    """Round a closed loop whose last key repeats the first, the closing key has no value
+    of its own: N − 1 keys and N − 1 segments, as :func:`quatspline.spline` counts them."""
+    keys = qs.from_euler(
+        "xyz", [[0, 0, 0], [0, 0, 90], [60, 0, 90], [60, 40, 150], [0, 0, 0]], True
+    )
+    path = tmp_path / "loop.json"
+    qio.write(path, qio.Trajectory(np.arange(5.0), keys))
+    with Server(path) as s:
+        page, errors = _open(browser, s)
+        for k, v in (("variant", variant), ("ends", "closed")):
+            n = _evaluations(page)
+            page.select_option(f"#params select[name={k}]", v)
+            _wait_next(page, n)
+        _click_key_on_timeline(page, 1)
+        slider = page.locator("#key-shapes input[type=range][data-perkey=alpha]")
+        box = slider.bounding_box()
+        y = box["y"] + box["height"] / 2
+        n = _evaluations(page)
+        _drag(page, (box["x"] + box["width"] / 3, y), (box["x"] + box["width"] * 0.6, y), steps=4)
+        _wait_next(page, n)
+        _settled(page, "alpha")
+        assert len(page.evaluate("qsState.params.alpha")) == 4
+        _agrees(page)
+        _runs_the_python_call(page)
+        assert "error" not in page.inner_text("#status")
+        assert not errors, errors

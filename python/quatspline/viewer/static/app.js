@@ -177,9 +177,15 @@ function perSpecs() {
 }
 const perUnit = () => (state.method === "c3" && (state.params.variant ?? "knot") === "patent" ? "segment" : "key");
 function perCount() {
-  const n = state.times.length;
-  if (perUnit() === "key") return n;
-  return (state.params.ends ?? "open") === "closed" ? n : n - 1;
+  let n = state.times.length;
+  if (state.method !== "c3") return n;
+  const closed = (state.params.ends ?? "open") === "closed";
+  // a C³ loop whose last key equals the first (q or −q): that closing key is dropped
+  // (as the registry decides: the angle between them at most 1e-12 rad)
+  const [a0, ...a1] = state.quats[0];
+  const d = qmul([a0, ...a1.map((v) => -v)], state.quats[n - 1]);
+  if (closed && 2 * Math.atan2(Math.hypot(d[1], d[2], d[3]), Math.abs(d[0])) <= 1e-12) n -= 1;
+  return perUnit() === "key" || closed ? n : n - 1;
 }
 // The value every key has while a parameter is one number ("auto" of the C³ spline: (1/2, −3)).
 function perScalar(p) {
