@@ -62,7 +62,7 @@ def test_a_new_method_is_one_class_and_one_row_that_every_reader_finds(flavoured
     # the viewer: its method list with the row's controls, and a design
     spec = next(m for m in design.method_specs() if m["name"] == "flavoured")
     assert spec["params"] == [
-        {"name": "flavour", "kind": "str", "default": "plain", "help": "a flavour",
+        {"name": "flavour", "kind": "str", "per": None, "default": "plain", "help": "a flavour",
          "choices": ["plain", "mint"]}
     ]  # fmt: skip
     d = design.evaluate("flavoured", KEYS, TIMES, {"flavour": "mint"}, samples=9)
@@ -169,3 +169,167 @@ def test_method_specs_offer_every_choice_of_a_parameter():
 def test_parameter_error_is_one_class_under_every_name():
     assert ops.ParameterError is ParameterError is registry.ParameterError
     assert issubclass(ParameterError, ValueError)
+
+
+# ---- per-key shape parameters: one value, or one per key (per segment for the patent C³) -------
+PER_KEY = {
+    "tension": [0.0, 0.5, -0.3, 0.2, 0.0],
+    "continuity": [0.0, 0.1, 0.0, -0.2, 0.0],
+    "bias": [0.0, -0.4, 0.3, 0.0, 0.1],
+}
+
+
+def _same_curve(a, b) -> None:
+    t = np.linspace(*a.domain, 301)
+    assert a.domain == b.domain
+    np.testing.assert_allclose(a(t), b(t), rtol=0, atol=1e-14)
+
+
+def test_per_key_kochanek_bartels_is_the_class_called_with_the_arrays():
+    s = qs.spline("kochanek_bartels", KEYS, TIMES, **PER_KEY)
+    _same_curve(s, qs.KochanekBartels(KEYS, TIMES, **PER_KEY))
+    # the arrays matter: not the scalar curve of any one of their values
+    t = np.linspace(0, 3.1, 50)
+    assert np.abs(s(t) - qs.spline("kochanek_bartels", KEYS, TIMES)(t)).max() > 1e-3
+
+
+@pytest.mark.parametrize(("variant", "count"), [("knot", 5), ("patent", 4)])
+def test_per_key_c3_is_the_class_called_with_the_arrays(variant, count):
+    alpha = np.linspace(0.2, 0.45, count)
+    beta = np.linspace(-1.0, 0.5, count)
+    s = qs.spline("c3", KEYS, TIMES, alpha=list(alpha), beta=beta, variant=variant)
+    _same_curve(s, qs.C3Spline(KEYS, TIMES, alpha=alpha, beta=beta, variant=variant))
+    t = np.linspace(0, 3.1, 50)
+    assert np.abs(s(t) - qs.spline("c3", KEYS, TIMES, variant=variant)(t)).max() > 1e-4
+
+
+def test_per_key_beta_follows_the_keys_to_the_doubled_end_vertices():
+    b1, b2 = [1.0, 2.0, 0.5, 1.5, 3.0], [0.0, 4.0, 1.0, 0.0, 2.0]
+    s = qs.spline("beta", KEYS, TIMES, beta1=b1, beta2=b2)
+    vertices = np.vstack([KEYS[:1], KEYS, KEYS[-1:]])
+    pad = lambda v: [v[0], *v, v[-1]]  # noqa: E731
+    _same_curve(s, qs.BetaSpline(vertices, beta1=pad(b1), beta2=pad(b2), times=TIMES))
+    # equal per-key values are the scalar
+    _same_curve(
+        qs.spline("beta", KEYS, TIMES, beta1=[2.0] * 5), qs.spline("beta", KEYS, TIMES, beta1=2.0)
+    )
+
+
+def test_per_key_values_from_the_command_line_are_the_arrays(tmp_path):
+    src, out = tmp_path / "keys.csv", tmp_path / "out.csv"
+    qio.write(src, qio.Trajectory(TIMES, KEYS))
+    tension = ",".join(map(str, PER_KEY["tension"]))
+    run = ["sample", str(src), "-o", str(out), "--method", "kochanek_bartels", "--count", "41"]
+    assert main([*run, "--param", f"tension={tension}", "--param", "bias=0.2"]) == 0
+    got = qio.read(out)
+    s = qs.KochanekBartels(KEYS, TIMES, tension=PER_KEY["tension"], bias=0.2)
+    np.testing.assert_allclose(got.quats, s(got.times), atol=1e-12)
+    # a single number stays the scalar it always was
+    assert METHODS["c3"].params["alpha"].convert("alpha", "0.3") == 0.3
+    assert METHODS["c3"].params["alpha"].convert("alpha", "auto") == "auto"
+
+
+def test_the_c3_count_is_the_count_the_class_takes():
+    """One per key (knot) or per segment (patent; N round a loop), a closing key dropped."""
+    loop = np.vstack([KEYS, KEYS[:1]])
+    for q in (KEYS, loop):
+        for variant in ("knot", "patent"):
+            for ends in ("open", "rest", "closed"):
+                took, accepted = [], []
+                for n in range(2, 8):
+                    a = np.linspace(0.2, 0.4, n)
+                    try:
+                        qs.C3Spline(q, alpha=a, variant=variant, ends=ends)
+                        took.append(n)
+                    except ValueError:
+                        pass
+                    try:
+                        qs.spline("c3", q, alpha=a, variant=variant, ends=ends)
+                        accepted.append(n)
+                    except ParameterError:
+                        pass
+                assert accepted == took and len(took) == 1, (len(q), variant, ends)
+
+
+PER_KEY_BAD = [
+    (
+        "kochanek_bartels",
+        {"tension": [0.0] * 7},
+        r"^tension: expected one value or 5 \(one per key\), got 7 values$",
+    ),
+    (
+        "kochanek_bartels",
+        {"bias": [0.0, np.nan, 0, 0, 0]},
+        r"^bias: non-finite value \(NaN or inf\) at element 1$",
+    ),
+    (
+        "kochanek_bartels",
+        {"continuity": "0,0,x"},
+        r"^continuity: expected numbers separated by commas, got '0,0,x'$",
+    ),
+    (
+        "c3",
+        {"alpha": [0.3] * 5, "variant": "patent"},
+        r"^alpha: expected one value or 4 \(one per segment\), got 5 values$",
+    ),
+    (
+        "c3",
+        {"beta": [0, 0, 2e6, 0, 0]},
+        r"^beta: beta\[2\] = 2000000 is beyond the supported range",
+    ),
+    (
+        "beta",
+        {"beta1": [1, 1, 0, 1, 1]},
+        r"^beta1: beta1\[2\] = 0 must be > 0$",
+    ),
+    (
+        "beta",
+        {"beta2": [0.0] * 3},
+        r"^beta2: expected one value or 5 \(one per key\), got 3 values$",
+    ),
+    (
+        "beta",
+        {"beta2": [[0.0] * 5]},
+        r"^beta2: expected a number or a 1-D sequence of numbers, got shape \(1, 5\)$",
+    ),
+    (
+        "beta",
+        {"beta1": []},
+        r"^beta1: expected at least one number",
+    ),
+]
+
+
+@pytest.mark.parametrize(("method", "params", "match"), PER_KEY_BAD)
+def test_bad_per_key_values_are_refused_in_one_line(method, params, match):
+    with pytest.raises(ParameterError, match=match) as e:
+        qs.spline(method, KEYS, TIMES, **params)
+    assert "\n" not in str(e.value)
+
+
+def test_a_per_key_element_of_the_wrong_kind_is_a_type_error():
+    with pytest.raises(TypeError, match=r"^tension\[1\]: expected a number, got str$"):
+        qs.spline("kochanek_bartels", KEYS, TIMES, tension=[0, "a", 0, 0, 0])
+
+
+def test_scalar_shape_parameters_keep_their_messages():
+    with pytest.raises(
+        ParameterError, match=r"^tension: non-finite value \(NaN or inf\) at element 0$"
+    ):
+        qs.spline("kochanek_bartels", KEYS, TIMES, tension=np.nan)
+    with pytest.raises(ParameterError, match=r"^beta1: beta1\[0\] = -1 must be > 0$"):
+        qs.spline("beta", KEYS, TIMES, beta1=-1.0)
+
+
+def test_the_design_call_writes_lists_that_rebuild_the_curve():
+    params = {"alpha": [0.2, 0.3, 0.25, 0.4, 0.3], "beta": 0.0}
+    d = design.evaluate("c3", KEYS, TIMES, params, samples=33)
+    assert "alpha=[0.2, 0.3, 0.25, 0.4, 0.3]" in d["python"]
+    ns: dict = {}
+    exec(d["python"], ns)
+    np.testing.assert_allclose(ns["s"](d["t"]), d["quats"], atol=1e-15)
+    np.testing.assert_allclose(d["quats"], qs.spline("c3", KEYS, TIMES, **params)(d["t"]), atol=0)
+    with pytest.raises(ValueError, match=r"^alpha: expected one value or 5 \(one per key\), got 2"):
+        design.evaluate("c3", KEYS, TIMES, {"alpha": [0.2, 0.3]})
+    with pytest.raises(TypeError, match=r"^params\.alpha\[1\]: expected a real number"):
+        design.evaluate("c3", KEYS, TIMES, {"alpha": [0.2, None, 0, 0, 0]})

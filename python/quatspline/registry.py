@@ -45,7 +45,7 @@ from numpy.typing import ArrayLike
 from . import _core
 from ._util.arrays import as_real, with_width
 from ._util.errors import ParameterError
-from ._util.options import parse_smoothing
+from ._util.options import parse_numbers, parse_smoothing
 from .core.algebra import conjugate, multiply, normalize
 from .fitting import MinimumEnergySpline, fit
 from .io._common import open_regular
@@ -192,21 +192,35 @@ def _short(x: float) -> str:
 
 
 def _shape(name, v, p) -> None:
-    """A shape parameter: finite and within :data:`SHAPE_RANGE` (``None``/"auto" pass)."""
+    """A shape parameter, one value or one per key (segment): each finite and within
+    :data:`SHAPE_RANGE` (``None``/"auto" pass); the message names the first bad index."""
     if v is None or isinstance(v, str):
         return
-    if not math.isfinite(v):
-        raise ParameterError(f"{name}: non-finite value (NaN or inf) at element 0")
-    if abs(v) > SHAPE_RANGE:
-        raise ParameterError(
-            f"{name}: {name}[0] = {_short(v)} is beyond the supported range |{name}| ≤ 1e6"
-        )
+    for k, x in enumerate(np.atleast_1d(v).tolist()):
+        if not math.isfinite(x):
+            raise ParameterError(f"{name}: non-finite value (NaN or inf) at element {k}")
+        if abs(x) > SHAPE_RANGE:
+            raise ParameterError(
+                f"{name}: {name}[{k}] = {_short(x)} is beyond the supported range |{name}| ≤ 1e6"
+            )
 
 
 def _positive_shape(name, v, p) -> None:
     _shape(name, v, p)
-    if not v > 0:
-        raise ParameterError(f"{name}: {name}[0] = {_short(v)} must be > 0")
+    for k, x in enumerate(np.atleast_1d(v).tolist()):
+        if not x > 0:
+            raise ParameterError(f"{name}: {name}[{k}] = {_short(x)} must be > 0")
+
+
+def _per_count(p: dict, names, n: int, unit: str) -> None:
+    """Shape parameters given as arrays hold one value or ``n``, one per ``unit``; a
+    :class:`ParameterError` names the parameter, the count expected and the count given."""
+    for name in names:
+        v = p[name]
+        if isinstance(v, np.ndarray) and len(v) not in (1, n):
+            raise ParameterError(
+                f"{name}: expected one value or {n} (one per {unit}), got {len(v)} values"
+            )
 
 
 def _unit_interval(name, v, p) -> None:
@@ -249,6 +263,9 @@ class Param:
     choices: tuple[str, ...] | None = None
     check: Callable | None = None
     aliases: tuple[str, ...] = ()
+    #: ``"key"`` (or ``"key/segment"``, C³): the parameter may also be one value per key
+    #: (per segment), given as a sequence or as comma-separated text (``"0,0.5,0"``).
+    per: str | None = None
 
     @property
     def kind(self) -> str:
@@ -265,7 +282,12 @@ class Param:
         return known[0] if known is not None else getattr(self.type, "__name__", "a value")
 
     def convert(self, name: str, v):
-        """``v`` converted to the parameter's type (a :class:`ParameterError` naming it)."""
+        """``v`` converted to the parameter's type (a :class:`ParameterError` naming it); for a
+        per-key parameter a sequence or comma-separated text becomes a float array."""
+        if self.per is not None and (
+            (isinstance(v, str) and "," in v) or (not isinstance(v, str) and np.ndim(v) > 0)
+        ):
+            return parse_numbers(v, name)
         try:
             return self.type(v)
         except ParameterError:
@@ -368,6 +390,7 @@ def _hermite(q, times, p):
 
 
 def _kochanek_bartels(q, times, p):
+    _per_count(p, ("tension", "continuity", "bias"), len(q), "key")
     return KochanekBartels(
         q,
         times,
@@ -380,7 +403,22 @@ def _kochanek_bartels(q, times, p):
     )
 
 
+def _c3_count(q, times, p) -> tuple[int, str]:
+    """How many α/β values the C³ spline takes: one per key (``"knot"``) or one per segment
+    (``"patent"``: N − 1, or N round a closed loop), after a closing key equal to the first
+    is dropped from a loop."""
+    n = len(q)
+    if p["ends"] == "closed" and n >= 2 and (times is None or len(times) == n):
+        d = multiply(conjugate(normalize(q[0])), normalize(q[-1]))
+        if 2 * np.arctan2(np.linalg.norm(d[1:]), abs(d[0])) <= 1e-12:
+            n -= 1  # the closing key
+    if p["variant"] == "knot":
+        return n, "key"
+    return (n if p["ends"] == "closed" else n - 1), "segment"
+
+
 def _c3(q, times, p):
+    _per_count(p, ("alpha", "beta"), *_c3_count(q, times, p))
     return C3Spline(
         q,
         times,
@@ -456,7 +494,10 @@ def _nonuniform_bspline(q, times, p):
 
 def _beta(q, times, p):
     t = _key_times(q, times)
-    return BetaSpline(_pad(q), beta1=p["beta1"], beta2=p["beta2"], times=t)
+    _per_count(p, ("beta1", "beta2"), len(q), "key")
+    # per-key values follow the keys to the vertices: the doubled end keys keep theirs
+    b1, b2 = (np.r_[v[:1], v, v[-1:]] if np.size(v) > 1 else v for v in (p["beta1"], p["beta2"]))
+    return BetaSpline(_pad(q), beta1=b1, beta2=b2, times=t)
 
 
 def _knot_spacing(spacing, t) -> None:
@@ -587,14 +628,17 @@ METHODS: dict[str, Method] = {
                 "alpha": Param(
                     float_or_auto,
                     5 / 16,
-                    "shape parameter α (q', q'', q''' at keys) | auto",
+                    "shape parameter α (q', q'', q''' at keys) | auto; one value, or one per "
+                    "key (variant knot) or per segment (patent)",
                     check=_shape,
+                    per="key/segment",
                 ),
                 "beta": Param(
                     float_or_none,
                     None,
-                    "shape parameter β (q''' at keys; default 0, −3 auto)",
+                    "shape parameter β (q''' at keys; default 0, −3 auto); per key or segment as α",
                     check=_shape,
+                    per="key/segment",
                 ),
                 "variant": Param(str, "knot", "knot | patent", ("knot", "patent")),
                 "ends": Param(str, "open", "open | rest | closed", _OPEN_ENDS),
@@ -626,12 +670,26 @@ METHODS: dict[str, Method] = {
             True,
             "C1",
             {
-                "tension": Param(float, 0.0, "tension T (1: stop at keys)", check=_shape),
+                "tension": Param(
+                    float,
+                    0.0,
+                    "tension T (1: stop at keys); one or one per key",
+                    check=_shape,
+                    per="key",
+                ),
                 "continuity": Param(
-                    float, 0.0, "continuity C (≠ 0: a corner at keys)", check=_shape
+                    float,
+                    0.0,
+                    "continuity C (≠ 0: a corner at keys); one or one per key",
+                    check=_shape,
+                    per="key",
                 ),
                 "bias": Param(
-                    float, 0.0, "bias B (−1 … 1: towards the next / previous key)", check=_shape
+                    float,
+                    0.0,
+                    "bias B (−1 … 1: towards the next / previous key); one or one per key",
+                    check=_shape,
+                    per="key",
                 ),
                 "alpha": _ALPHA,
                 "ends": _REFLECT,
@@ -736,8 +794,20 @@ METHODS: dict[str, Method] = {
             False,
             "G1",
             {
-                "beta1": Param(float, 1.0, "shape parameter β₁ > 0 (bias)", check=_positive_shape),
-                "beta2": Param(float, 0.0, "shape parameter β₂ (tension)", check=_shape),
+                "beta1": Param(
+                    float,
+                    1.0,
+                    "shape parameter β₁ > 0 (bias); one or one per key",
+                    check=_positive_shape,
+                    per="key",
+                ),
+                "beta2": Param(
+                    float,
+                    0.0,
+                    "shape parameter β₂ (tension); one or one per key",
+                    check=_shape,
+                    per="key",
+                ),
             },
             _beta,
         ),
@@ -785,7 +855,12 @@ def spline(
         seconds.
     **params
         The method's parameters (e.g. ``alpha``, ``beta`` for ``c3``; ``ends`` for
-        ``natural``), converted to their declared types.
+        ``natural``), converted to their declared types. The shape parameters of ``beta``
+        (``beta1``, ``beta2``), ``c3`` (``alpha``, ``beta``) and ``kochanek_bartels``
+        (``tension``, ``continuity``, ``bias``) take one number or one per key — per segment
+        for ``c3`` with ``variant="patent"`` (N − 1; N round a closed loop) — as a sequence
+        or comma-separated text (``"0,0.5,0"``); ``beta``'s doubled end vertices take their
+        key's value.
 
     Returns
     -------
@@ -812,6 +887,11 @@ def spline(
     >>> s = qs.spline("c3", keys, [0.0, 1.0, 3.0], alpha=0.5)
     >>> type(s).__name__, s.domain
     ('C3Spline', (0.0, 3.0))
+    >>> kb = qs.spline("kochanek_bartels", keys, [0.0, 1.0, 3.0], tension=[0.0, 0.8, 0.0])
+    >>> qs.spline("kochanek_bartels", keys, tension=[0.0, 0.8])
+    Traceback (most recent call last):
+    ...
+    quatspline.ops.ParameterError: tension: expected one value or 3 (one per key), got 2 values
     >>> qs.spline("cubic", keys)
     Traceback (most recent call last):
     ...

@@ -224,7 +224,7 @@ def test_a_shape_slider_dragged_gives_the_python_apis_curve(browser, example):  
     n = _evaluations(page)
     page.select_option("#method", "beta")
     _wait_next(page, n)
-    assert "one value shared by every key" in page.inner_text("#shape-note")
+    assert "set every key at once" in page.inner_text("#shape-note")
     slider = page.locator("#params input[type=range][data-param=beta2]").bounding_box()
     y = slider["y"] + slider["height"] / 2
     n = _evaluations(page)

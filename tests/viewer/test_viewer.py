@@ -107,7 +107,8 @@ KEYS3 = [[1, 0, 0, 0], [0, 0, 0, 1], [0, 1, 0, 0]]
         ("c3", {"variant": 5}, TypeError, "params.variant: expected a string"),
         ("c3", {"ends": {}}, TypeError, "params.ends: expected a string"),
         ("c3", {"alpha": "0.3"}, TypeError, "params.alpha: expected a number or 'auto'"),
-        ("c3", {"alpha": [1]}, TypeError, "params.alpha: expected a number or 'auto'"),
+        # one per key: each element a number
+        ("c3", {"alpha": [1, "x", 0]}, TypeError, r"params.alpha\[1\]: expected a real number"),
         ("c3", {"beta": float("nan")}, ValueError, "params.beta: expected a finite number"),
         ("kochanek_bartels", {"tension": "1"}, TypeError, "params.tension: expected a real"),
         ("bspline", {"order": "4"}, TypeError, "params.order: expected an integer"),

@@ -29,6 +29,7 @@ __all__ = [
     "parse_choice",
     "parse_length",
     "parse_list",
+    "parse_numbers",
     "parse_pairs",
     "parse_positive_int",
     "parse_smoothing",
@@ -256,6 +257,46 @@ def parse_list(value, name: str) -> list[str]:
     if not out:
         raise ParameterError(f"{name}: expected at least one name, got {value!r}")
     return out
+
+
+def parse_numbers(value, name: str) -> np.ndarray:
+    """One number per key (or segment): comma-separated text (``"0,0.5,0"``, as
+    ``--param tension=0,0.5,0`` gives it) or a 1-D sequence of real numbers, as a float array.
+    Elements are not range-checked here (the parameter's own check names the bad index).
+
+    Examples
+    --------
+    >>> parse_numbers("0, 0.5,0", "tension").tolist(), parse_numbers([1, 2.5], "beta1").tolist()
+    ([0.0, 0.5, 0.0], [1.0, 2.5])
+    >>> parse_numbers("0,x", "bias")
+    Traceback (most recent call last):
+    ...
+    quatspline.ops.ParameterError: bias: expected numbers separated by commas, got '0,x'
+    """
+    if isinstance(value, str):
+        items = [x.strip() for x in value.split(",")]
+        try:
+            out = np.array([float(x) for x in items], dtype=float)
+        except ValueError:
+            raise ParameterError(
+                f"{name}: expected numbers separated by commas, got {value!r}"
+            ) from None
+        return out
+    try:
+        shape = np.shape(value)
+    except ValueError:  # ragged nesting
+        raise ParameterError(f"{name}: expected a number or a 1-D sequence of numbers") from None
+    if len(shape) != 1:
+        raise ParameterError(
+            f"{name}: expected a number or a 1-D sequence of numbers, got shape {shape}"
+        )
+    seq = list(value)
+    for k, x in enumerate(seq):
+        if not _is_real(x):
+            raise TypeError(f"{name}[{k}]: expected a number, got {type(x).__name__}")
+    if not seq:
+        raise ParameterError(f"{name}: expected at least one number, got an empty sequence")
+    return np.array(seq, dtype=float)
 
 
 def parse_choice(value, name: str, choices) -> str:

@@ -71,8 +71,10 @@ def method_specs() -> list[dict]:
     -------
     list of dict
         ``name``, ``summary``, ``interpolating``, ``continuity`` and ``params``: a list of
-        ``{"name", "kind", "default", "help", "choices"}`` where ``kind`` is ``"float"``,
-        ``"int"``, ``"bool"`` or ``"str"`` and ``choices`` lists the valid strings (or None).
+        ``{"name", "kind", "per", "default", "help", "choices"}`` where ``kind`` is
+        ``"float"``, ``"int"``, ``"bool"`` or ``"str"``, ``per`` is ``"key"`` or
+        ``"key/segment"`` for a shape parameter that also takes a list of one value per key
+        (per segment; None otherwise) and ``choices`` lists the valid strings (or None).
 
     Examples
     --------
@@ -100,6 +102,8 @@ def _param_spec(name: str, p: Param) -> dict:
     return {
         "name": name,
         "kind": p.kind,
+        # "key" or "key/segment": one value, or a list of one per key (segment)
+        "per": p.per,
         "default": default,
         "help": p.help,
         # the row's named choices (Hermite rates: the estimates only; a design reads no
@@ -148,8 +152,12 @@ def _param_value(method: str, name: str, value):
     ``TypeError`` for a value of another kind (a string or list for a number, a number for a
     flag), a ``ValueError`` naming it for a bad value. Never a file name: Hermite rates are
     ``"bessel"``, ``"zero"`` or an (N, 3) array (a design reads no files)."""
-    conv = METHODS[method].params[name].type
+    spec = METHODS[method].params[name]
+    conv = spec.type
     label = f"params.{name}"
+    if spec.per is not None and isinstance(value, (list, tuple)):
+        # one value per key (segment): each element a number; the count is the registry's
+        return [_checks.real(x, f"{label}[{k}]") for k, x in enumerate(value)]
     if value is None and conv in (float_or_none, int_or_none, str_or_none):
         return None
     if conv in (float, float_or_none):
@@ -277,6 +285,8 @@ def _fmt(x) -> str:
         return repr(float(x))
     if isinstance(x, (int, np.integer)):
         return str(int(x))
+    if isinstance(x, (list, tuple, np.ndarray)):
+        return "[" + ", ".join(_fmt(v) for v in x) + "]"
     return repr(x)
 
 

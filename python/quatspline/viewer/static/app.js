@@ -80,10 +80,12 @@ function toEulerXYZ(q) {  // inverse of fromEulerXYZ (degrees), away from gimbal
 const unit = (q) => { const n = Math.hypot(...q); return q.map((v) => v / n); };
 
 // ---- undo / redo: every edit is a snapshot of the design before it -----------------------------
+// parameters copied with their per-key arrays (an edit replaces an array, never changes it)
+const copyParams = (p) => Object.fromEntries(Object.entries(p).map(([k, v]) => [k, Array.isArray(v) ? v.slice() : v]));
 function snapshot() {
   return {
     quats: state.quats.map((x) => x.slice()), times: state.times.slice(), method: state.method,
-    params: { ...state.params }, compare: state.compare, compareParams: { ...state.compareParams },
+    params: copyParams(state.params), compare: state.compare, compareParams: copyParams(state.compareParams),
     selected: state.selected,
   };
 }
@@ -118,7 +120,8 @@ function paramControls(container, spec, values, tag) {
   for (const p of spec.params) {
     const label = document.createElement("label");
     label.title = p.help;
-    label.append(`${p.name} `);
+    // a per-key parameter's control here sets every key's value at once
+    label.append(`${p.name}${p.per && tag === "param" ? " (all keys)" : ""} `);
     let input;
     if (p.choices) {
       input = document.createElement("select");
@@ -129,7 +132,9 @@ function paramControls(container, spec, values, tag) {
       input.type = "checkbox";
       input.checked = values[p.name] ?? p.default;
     } else if (p.kind === "float" || p.kind === "int") {
-      const v = values[p.name] ?? p.default ?? 0;
+      let v = values[p.name] ?? p.default ?? 0;
+      if (Array.isArray(v)) v = v[Math.max(0, Math.min(state.selected, v.length - 1))];  // per key: the selected one's
+      if (typeof v !== "number") v = 0;
       const span = Math.max(1, Math.abs(v) * 4);
       const range = document.createElement("input");
       range.type = "range"; range.min = -span; range.max = span;
@@ -154,6 +159,7 @@ function paramControls(container, spec, values, tag) {
       }
       remember(`${tag} ${p.name}`);
       values[p.name] = v;
+      if (tag === "param") drawKeyShapes();
       requestEval();
     });
     label.append(input);
@@ -161,16 +167,130 @@ function paramControls(container, spec, values, tag) {
   }
 }
 
-// The registry's shape parameters of the methods that have them: one value for all keys today
-// (the spline classes take per-key arrays; quatspline.spline and so this page take scalars).
-const SHAPES = { beta: ["beta1", "beta2"], c3: ["alpha", "beta"], kochanek_bartels: ["tension", "continuity", "bias"] };
+// ---- per-key shape parameters: one value for all keys, or an array of one per key ---------------
+// (per segment for the C³ spline's patent variant: N − 1 open, N round a closed loop). The
+// registry marks them (spec "per"); the request carries the arrays as they are.
+const PER_RANGE = { tension: [-1, 1], continuity: [-1, 1], bias: [-1, 1], beta1: [0.1, 10], beta2: [0, 20], alpha: [0, 1], beta: [-6, 6] };
+function perSpecs() {
+  const spec = state.methods.find((m) => m.name === state.method);
+  return spec ? spec.params.filter((p) => p.per) : [];
+}
+const perUnit = () => (state.method === "c3" && (state.params.variant ?? "knot") === "patent" ? "segment" : "key");
+function perCount() {
+  let n = state.times.length;
+  if (state.method !== "c3") return n;
+  const closed = (state.params.ends ?? "open") === "closed";
+  // a C³ loop whose last key equals the first (q or −q): that closing key is dropped
+  // (as the registry decides: the angle between them at most 1e-12 rad)
+  const [a0, ...a1] = state.quats[0];
+  const d = qmul([a0, ...a1.map((v) => -v)], state.quats[n - 1]);
+  if (closed && 2 * Math.atan2(Math.hypot(d[1], d[2], d[3]), Math.abs(d[0])) <= 1e-12) n -= 1;
+  return perUnit() === "key" || closed ? n : n - 1;
+}
+// The value every key has while a parameter is one number ("auto" of the C³ spline: (1/2, −3)).
+function perScalar(p) {
+  const v = state.params[p.name] ?? p.default;
+  if (typeof v === "number") return v;
+  if (p.name === "alpha") return 0.5;
+  if (p.name === "beta" && state.params.alpha === "auto") return -3;
+  return 0;
+}
+function perValue(p, i) {
+  const v = state.params[p.name];
+  return Array.isArray(v) ? v[i] : perScalar(p);
+}
+function setPerValue(p, i, x) {
+  remember(`perkey ${p.name} ${i}`);
+  const v = Array.isArray(state.params[p.name]) ? state.params[p.name].slice() : new Array(perCount()).fill(perScalar(p));
+  v[i] = x;
+  state.params[p.name] = v;
+  for (const el of $("params").querySelectorAll(`input[data-param="${p.name}"]`)) el.value = x;
+  requestEval();
+}
+// Arrays kept one per key (segment): a key added copies its neighbour's value (a segment split,
+// the split one's), a key deleted takes its value (a merged segment keeps the earlier one's).
+function perInsert(at) {
+  for (const p of perSpecs()) {
+    const v = state.params[p.name];
+    if (!Array.isArray(v)) continue;
+    const w = v.slice();
+    w.splice(Math.min(at, w.length), 0, w[Math.max(0, Math.min(at - 1, w.length - 1))]);
+    state.params[p.name] = w;
+  }
+}
+function perDelete(i) {
+  for (const p of perSpecs()) {
+    const v = state.params[p.name];
+    if (!Array.isArray(v)) continue;
+    const w = v.slice();
+    w.splice(Math.min(i, w.length - 1), 1);
+    state.params[p.name] = w;
+  }
+}
+// After a variant or end change (knot ↔ patent): arrays cut or extended by their last value.
+function perConform() {
+  const n = perCount();
+  for (const p of perSpecs()) {
+    const v = state.params[p.name];
+    if (!Array.isArray(v) || v.length === n) continue;
+    const w = v.slice(0, n);
+    while (w.length < n) w.push(v[v.length - 1]);
+    state.params[p.name] = w;
+  }
+}
+function drawKeyShapes() {
+  const box = $("key-shapes");
+  box.innerHTML = "";
+  const specs = perSpecs();
+  if (!specs.length) return;
+  const i = state.selected, unit = perUnit(), n = state.times.length;
+  if (i < 0 || i >= n) { box.textContent = `select a key to set its own ${specs.map((p) => p.name).join(", ")}`; return; }
+  if (i >= perCount()) { box.textContent = `key ${i} starts no segment (the ${specs.map((p) => p.name).join(", ")} of the patent variant belong to segments)`; return; }
+  const head = document.createElement("div");
+  head.id = "key-shapes-head";
+  head.textContent = unit === "key" ? `key ${i} only:` : `segment ${i} (key ${i} → ${(i + 1) % n}) only:`;
+  box.append(head);
+  for (const p of specs) {
+    const [lo, hi] = PER_RANGE[p.name] ?? [-1, 1];
+    const v = perValue(p, i);
+    const label = document.createElement("label");
+    label.title = `${p.help} — this ${unit} only`;
+    label.append(`${p.name}[${i}] `);
+    const range = document.createElement("input");
+    range.type = "range"; range.min = Math.min(lo, v); range.max = Math.max(hi, v);
+    range.step = (hi - lo) / 1000; range.value = v; range.dataset.perkey = p.name;
+    const input = document.createElement("input");
+    input.type = "number"; input.step = "any"; input.value = v; input.dataset.perkey = p.name;
+    range.addEventListener("input", () => { input.value = range.value; setPerValue(p, i, Number(range.value)); });
+    input.addEventListener("input", () => {
+      const x = Number(input.value);
+      if (input.value.trim() === "" || !Number.isFinite(x)) { input.classList.add("bad"); return; }
+      input.classList.remove("bad");
+      range.value = x;
+      setPerValue(p, i, x);
+    });
+    const all = document.createElement("button");
+    all.textContent = "→ all keys";
+    all.title = `every ${unit} takes this value (one number again)`;
+    all.dataset.perkeyAll = p.name;
+    all.addEventListener("click", () => {
+      remember();
+      state.params[p.name] = perValue(p, i);
+      buildParamControls();
+      requestEval();
+    });
+    label.append(range, input, all);
+    box.append(label);
+  }
+}
 function buildParamControls() {
   const spec = state.methods.find((m) => m.name === state.method);
   paramControls($("params"), spec, state.params, "param");
-  const shapes = SHAPES[state.method];
-  $("shape-note").textContent = shapes
-    ? `${shapes.join(", ")}: one value shared by every key (quatspline.spline takes scalars)`
+  const shapes = perSpecs().map((p) => p.name);
+  $("shape-note").textContent = shapes.length
+    ? `${shapes.join(", ")}: the controls above set every ${perUnit()} at once; below, the selected ${perUnit()}'s own value`
     : "";
+  drawKeyShapes();
   const other = state.methods.find((m) => m.name === state.compare);
   if (other) paramControls($("compare-params"), other, state.compareParams, "compare");
   else $("compare-params").innerHTML = "";
@@ -179,6 +299,7 @@ function buildParamControls() {
 // ---- evaluation (one request in flight; the latest change wins) ----------------------------
 let inflight = false, pending = null;
 function requestEval() {
+  perConform();
   pending = performance.now();
   if (!inflight) runEval();
 }
@@ -426,6 +547,7 @@ function fillEditor() {
 function refreshKeys() {
   drawKeys();
   fillEditor();
+  drawKeyShapes();
   attachGizmo();
   drawTimeline();
   if (plots["graph-euler"]) plots["graph-euler"].redraw(false, false);
@@ -468,6 +590,7 @@ function addKeyAtPlayhead() {
   remember();
   state.times.splice(at, 0, t);
   state.quats.splice(at, 0, q.slice());
+  perInsert(at);
   state.selected = at;
   message(`added key ${at} at t = ${t.toPrecision(6)}`);
   refreshKeys();
@@ -481,6 +604,7 @@ function deleteKey() {
   remember();
   state.times.splice(i, 1);
   state.quats.splice(i, 1);
+  perDelete(i);
   state.selected = Math.min(i, state.times.length - 1);
   message(`deleted key ${i}`);
   refreshKeys();
