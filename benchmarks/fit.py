@@ -19,6 +19,7 @@ the angular velocity, RMS jerk (‖d²ω/dt²‖). "Best interpolant" = the inte
 
     python benchmarks/fit.py                 # tables, figure, MinimumEnergySpline check
     python benchmarks/fit.py --scale 1000000 # also time 10⁶ samples (fixed λ and auto)
+    python benchmarks/fit.py --scale 1000000 --scale-only --repeats 3  # the timing alone
 """
 
 from __future__ import annotations
@@ -389,34 +390,79 @@ SCALE_SCRIPT = r"""
 import json, os, resource, sys, time
 import numpy as np, quatspline as qs
 n, smoothing, with_pos = int(sys.argv[1]), sys.argv[2], sys.argv[3] == "1"
+max_iter = int(sys.argv[4])
 t = np.arange(n) / 300.0
 rv = np.stack([0.8 * np.sin(0.5 * t), 0.6 * np.cos(0.37 * t), 0.2 * np.sin(0.05 * t)], 1)
 rng = np.random.default_rng(0)
 q = qs.multiply(qs.from_rotvec(rv), qs.from_rotvec(rng.normal(size=(n, 3)) * 0.01))
 pos = np.column_stack([np.sin(t), np.cos(0.3 * t), 0.1 * t]) + rng.normal(size=(n, 3)) * 1e-3
 lam = "auto" if smoothing == "auto" else float(smoothing)
+
+
+def status(key):  # kB → GB, from /proc/self/status (None where unavailable)
+    try:
+        for line in open("/proc/self/status"):
+            if line.startswith(key + ":"):
+                return int(line.split()[1]) / 1e6
+    except OSError:
+        pass
+    return None
+
+
+try:  # reset the peak RSS to the current RSS (Linux): the fit's own peak is read after it
+    with open("/proc/self/clear_refs", "w") as fh:
+        fh.write("5")
+except OSError:
+    pass
+before = status("VmRSS")
 load = os.getloadavg()[0]
 t0, c0 = time.perf_counter(), time.process_time()
-f = qs.fit(t, q, smoothing=lam, positions=pos if with_pos else None)
+stopped = False
+try:
+    f = qs.fit(t, q, smoothing=lam, positions=pos if with_pos else None, max_iter=max_iter)
+except RuntimeError:  # the floor runs: stopped after max_iter iterations (not converged)
+    f, stopped = None, True
 dt, cpu = time.perf_counter() - t0, time.process_time() - c0
 print(json.dumps({"n": n, "smoothing": smoothing, "positions": with_pos, "seconds": dt,
-                  "cpu_seconds": cpu, "load": load, "iterations": f.iterations,
-                  "lambda": f.smoothing,
+                  "cpu_seconds": cpu, "load": load, "max_iter": max_iter, "stopped": stopped,
+                  "iterations": None if f is None else f.iterations,
+                  "lambda": None if f is None else f.smoothing,
+                  "rss_before_gb": before, "fit_peak_rss_gb": status("VmHWM"),
                   "peak_rss_gb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6}))
 """
+
+# The floor of a fit (the least work any Gauss–Newton fit of this size does): one iteration
+# with a fixed λ — an assembly of the normal equations at the start and at the step, a banded
+# factorisation, a solve, a retraction — and, for λ = "auto", two (the second one's
+# linearisation is the first where λ is searched by GCV). Timed as the same fit stopped after
+# `max_iter` = 1 or 2 iterations.
+FLOOR_ITERATIONS = {"1e-6": 1, "auto": 2}
 
 
 def scale(n: int, repeats: int):
     """Best of `repeats` runs (by wall time), each in a fresh process: wall and CPU (user +
     sys of all threads) seconds of the fit, peak RSS of the process (the data and the
-    interpreter included), and the 1-minute load average when the run started (the machine
-    may be shared: wall time above CPU time / threads means the fit waited for a core)."""
+    interpreter included) and of the fit (the peak reset when the fit starts; it includes the
+    RSS before the fit), and the 1-minute load average when the run started (the machine
+    may be shared: wall time above CPU time / threads means the fit waited for a core).
+    Each orientation-only case is followed by its floor (see `FLOOR_ITERATIONS`)."""
     out = []
-    for smoothing, with_pos in (("1e-6", False), ("auto", False), ("1e-6", True), ("auto", True)):
+    cases = [("1e-6", False, 100), ("1e-6", False, FLOOR_ITERATIONS["1e-6"])]
+    cases += [("auto", False, 100), ("auto", False, FLOOR_ITERATIONS["auto"])]
+    cases += [("1e-6", True, 100), ("auto", True, 100)]
+    for smoothing, with_pos, max_iter in cases:
         best = None
         for _ in range(repeats):
             r = subprocess.run(
-                [sys.executable, "-c", SCALE_SCRIPT, str(n), smoothing, str(int(with_pos))],
+                [
+                    sys.executable,
+                    "-c",
+                    SCALE_SCRIPT,
+                    str(n),
+                    smoothing,
+                    str(int(with_pos)),
+                    str(max_iter),
+                ],
                 capture_output=True,
                 text=True,
                 check=True,
@@ -428,10 +474,31 @@ def scale(n: int, repeats: int):
     return out
 
 
+def print_scale(sc, repeats: int, cpu: str):
+    print(f"\n## scale (best of {repeats}, fresh process each; CPU: {cpu})\n")
+    print(
+        "| samples | smoothing | positions | run | wall (s) | CPU user+sys (s) | load | "
+        "iterations | λ | peak RSS: process, fit (GB) |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    fmt = lambda v, f: "–" if v is None else format(v, f)  # noqa: E731
+    for r in sc:
+        run = f"floor ({r['max_iter']} it.)" if r.get("stopped") else "fit"
+        print(
+            f"| {r['n']:,} | {r['smoothing']} | {'yes' if r['positions'] else 'no'} | {run} | "
+            f"{r['seconds']:.1f} | {r['cpu_seconds']:.1f} | {r['load']:.1f} | "
+            f"{fmt(r['iterations'], 'd')} | {fmt(r['lambda'], '.3g')} | "
+            f"{r['peak_rss_gb']:.2f}, {fmt(r.get('fit_peak_rss_gb'), '.2f')} |"
+        )
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--scale", type=int, nargs="*", default=[], help="sample counts to time")
+    ap.add_argument(
+        "--scale-only", action="store_true", help="only the --scale table (no quality tables)"
+    )
     ap.add_argument("--repeats", type=int, default=2)
     ap.add_argument("--draws", type=int, default=8, help="noise draws for the spread table")
     ap.add_argument("--figure", default=str(ROOT / "docs" / "_static" / "fit_speed.png"))
@@ -439,6 +506,12 @@ def main():
     args = ap.parse_args()
     cpu = cpu_model()
     print(f"CPU: {cpu}")
+    if args.scale_only:
+        sc = [r for n in args.scale for r in scale(n, args.repeats)]
+        print_scale(sc, args.repeats, cpu)
+        if args.json:
+            Path(args.json).write_text(json.dumps({"cpu": cpu, "scale": sc}, indent=1))
+        return
     rows, figure = noise_table(args.seed)
     print("\n## fit vs the best interpolant (ratios: fit / interpolant)\n")
     print(
@@ -585,18 +658,7 @@ def main():
     for n in args.scale:
         sc += scale(n, args.repeats)
     if sc:
-        print(f"\n## scale (best of {args.repeats}, fresh process each; CPU: {cpu})\n")
-        print(
-            "| samples | smoothing | positions | wall (s) | CPU user+sys (s) | load | "
-            "iterations | λ | peak RSS (GB) |"
-        )
-        print("|---|---|---|---|---|---|---|---|---|")
-        for r in sc:
-            print(
-                f"| {r['n']:,} | {r['smoothing']} | {'yes' if r['positions'] else 'no'} | "
-                f"{r['seconds']:.1f} | {r['cpu_seconds']:.1f} | {r['load']:.1f} | "
-                f"{r['iterations']} | {r['lambda']:.3g} | {r['peak_rss_gb']:.2f} |"
-            )
+        print_scale(sc, args.repeats, cpu)
     if args.json:
         Path(args.json).write_text(
             json.dumps(

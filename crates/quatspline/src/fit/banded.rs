@@ -106,10 +106,67 @@ impl Band {
     /// Overwrites H with its Cholesky factor L (no copy; on failure the band holds a partial
     /// factor and must not be used).
     pub fn cholesky_in_place(&mut self) -> Result<()> {
+        self.cholesky_rows(|_, _| {})
+    }
+
+    /// Overwrites G = `self` with the Cholesky factor of H = G + λP: the same sums as
+    /// [`Band::axpy_assign`] then [`Band::cholesky_in_place`] (so the same factor to the bit),
+    /// each row of H formed just before the factorisation first reads it, while it is in
+    /// cache (one pass over the band instead of two).
+    pub fn cholesky_plus(&mut self, lam: f64, p: &Band) -> Result<()> {
+        let w = self.p + 1;
+        self.cholesky_rows(|i, row| {
+            for (x, y) in row.iter_mut().zip(&p.a[i * w..i * w + w]) {
+                *x += lam * y;
+            }
+        })
+    }
+
+    /// `out` ← the Cholesky factor of H = `self` + λP: the same sums as [`Band::axpy_into`]
+    /// then [`Band::cholesky_in_place`], fused as in [`Band::cholesky_plus`] (`out`'s storage
+    /// reused).
+    pub fn cholesky_of_sum_into(&self, lam: f64, p: &Band, out: &mut Band) -> Result<()> {
+        let w = self.p + 1;
+        out.n = self.n;
+        out.p = self.p;
+        if out.a.len() != self.a.len() {
+            out.a.clear();
+            out.a.resize(self.a.len(), 0.0);
+        }
+        out.cholesky_rows(|i, row| {
+            let (g, q) = (&self.a[i * w..i * w + w], &p.a[i * w..i * w + w]);
+            for ((x, g), q) in row.iter_mut().zip(g).zip(q) {
+                *x = g + lam * q;
+            }
+        })
+    }
+
+    /// `self` = P ← the Cholesky factor of H = G + λP (the sums of [`Band::cholesky_of_sum_into`],
+    /// in P's storage).
+    pub fn cholesky_of_sum_in_place(&mut self, g: &Band, lam: f64) -> Result<()> {
+        let w = self.p + 1;
+        self.cholesky_rows(|i, row| {
+            for (x, g) in row.iter_mut().zip(&g.a[i * w..i * w + w]) {
+                *x = g + lam * *x;
+            }
+        })
+    }
+
+    /// Band Cholesky in place; `init(i, row)` prepares row i of H (its w stored entries) just
+    /// before the factorisation first reads it (rows 0 … p before column 0, row j + p before
+    /// column j).
+    fn cholesky_rows(&mut self, mut init: impl FnMut(usize, &mut [f64])) -> Result<()> {
         let (n, p) = (self.n, self.p);
         let w = p + 1;
         let a = &mut self.a[..];
+        for r in 0..(p + 1).min(n) {
+            init(r, &mut a[r * w..r * w + w]);
+        }
         for j in 0..n {
+            if j > 0 && j + p < n {
+                let r = j + p;
+                init(r, &mut a[r * w..r * w + w]);
+            }
             // Row j of L left of the diagonal: L[j][j−d] = a[j·w + d], d = 1 … min(j, p).
             let dj = j.min(p);
             let mut s = a[j * w];
@@ -226,6 +283,87 @@ impl Band {
     /// selected inversion of [`Band::selected_inverse`] fused with the trace, keeping only the
     /// last p + 1 columns of Σ = H⁻¹ (O(p²) memory instead of the O(n p) band of Σ).
     pub fn trace_inverse_product(&self, b: &Band) -> f64 {
+        // The bandwidths of the fits (3k − 1, k = 4 … 8) with fixed-size rings: the same
+        // operations in the same order (the same trace to the bit), without the index
+        // arithmetic of a runtime width.
+        match self.p + 1 {
+            12 => self.trace_fixed::<12>(b),
+            15 => self.trace_fixed::<15>(b),
+            18 => self.trace_fixed::<18>(b),
+            21 => self.trace_fixed::<21>(b),
+            24 => self.trace_fixed::<24>(b),
+            _ => self.trace_any(b),
+        }
+    }
+
+    /// [`Band::trace_inverse_product`] for a width w = p + 1 known at compile time, the
+    /// recursion reordered to run across e: every Σ[i+e][i] (e ≥ 1) subtracts the same terms
+    /// L[i+f][i] Σ[i+f][i+e] in the same order f = 1 … m as there (so the same trace to the
+    /// bit), but the loop over f is outside and the one over e vectorises. The window
+    /// Σ[i … i+p][i … i+p] is kept as a symmetric ring of W rows, each held twice side by
+    /// side (2W entries), so that row i + f, columns i … i + m, is one contiguous slice.
+    fn trace_fixed<const W: usize>(&self, b: &Band) -> f64 {
+        let n = self.n;
+        let p = W - 1;
+        debug_assert_eq!(self.p + 1, W);
+        let w2 = 2 * W;
+        let mut sym = vec![0.0f64; W * w2];
+        let mut t = 0.0;
+        // Row i with m = min(p, n − 1 − i) entries below the diagonal; inlined twice, with
+        // m = p constant for the bulk of the rows.
+        #[inline(always)]
+        fn row<const W: usize>(l: &[f64], b: &[f64], i: usize, m: usize, sym: &mut [f64], t: &mut f64) {
+            let w2 = 2 * W;
+            let lii = l[i * W];
+            let base = i % W;
+            let ring = |e: usize| if base + e >= W { base + e - W } else { base + e };
+            // acc[e] for e = 1 … m: −Σ_f L[i+f][i] Σ[i+f][i+e], f = 1 … m in order
+            let mut acc = [0.0f64; W];
+            for f in 1..=m {
+                let lf = l[(i + f) * W + f];
+                let r = ring(f) * w2 + base;
+                let src = &sym[r..r + W];
+                for e in 1..=m {
+                    acc[e] -= lf * src[e];
+                }
+            }
+            let mut v = [0.0f64; W];
+            for e in 1..=m {
+                v[e] = acc[e] / lii;
+            }
+            let mut a0 = 1.0 / lii;
+            for f in 1..=m {
+                a0 -= l[(i + f) * W + f] * v[f];
+            }
+            v[0] = a0 / lii;
+            for e in 0..=m {
+                let r = ring(e);
+                // Σ[i+e][i] into row i + e (column i) and row i (column i + e), both copies
+                sym[r * w2 + base] = v[e];
+                sym[r * w2 + base + W] = v[e];
+                sym[base * w2 + r] = v[e];
+                sym[base * w2 + r + W] = v[e];
+            }
+            // added to the running trace one term at a time, as in `trace_any`
+            *t += v[0] * b[i * W];
+            for e in 1..=m {
+                *t += 2.0 * v[e] * b[(i + e) * W + e];
+            }
+        }
+        let (l, bb) = (&self.a[..n * W], &b.a[..n * W]);
+        for i in (0..n).rev() {
+            let m = (n - 1 - i).min(p);
+            if m == p {
+                row::<W>(l, bb, i, p, &mut sym, &mut t);
+            } else {
+                row::<W>(l, bb, i, m, &mut sym, &mut t);
+            }
+        }
+        t
+    }
+
+    /// [`Band::trace_inverse_product`] for any width.
+    fn trace_any(&self, b: &Band) -> f64 {
         let (n, p, w) = (self.n, self.p, self.p + 1);
         // Ring of columns: col[slot(i) + d] = Σ[i + d][i], d = 0 … p, slot(i) = (i mod w)·w.
         let mut col = vec![0.0; w * w];
@@ -341,6 +479,42 @@ mod tests {
             inplace.axpy_assign(0.5, &b);
             assert_eq!(out.a, inplace.a);
         }
+    }
+
+    /// The fixed-width traces equal the runtime-width one to the bit, and the fused factors
+    /// of G + λP equal the factor of the sum formed first, for every width the fits use, with
+    /// more and fewer rows than the width.
+    #[test]
+    fn fixed_width_trace_and_fused_factor_match_the_general_ones() {
+        for w in [12, 15, 18, 21, 24] {
+            for n in [w / 2, w + 1, 3 * w + 7, 200] {
+                let p = w - 1;
+                let g = random_spd(n, p, 5 + n as u64);
+                let q = random_spd(n, p, 9 + w as u64);
+                let lam = 0.37;
+                let mut want = g.axpy(lam, &q);
+                want.cholesky_in_place().unwrap();
+                let mut a = g.clone();
+                a.cholesky_plus(lam, &q).unwrap();
+                assert_eq!(a.a, want.a, "w {w} n {n}: cholesky_plus");
+                let mut out = Band::zeros(3, 1);
+                g.cholesky_of_sum_into(lam, &q, &mut out).unwrap();
+                assert_eq!(out.a, want.a, "w {w} n {n}: cholesky_of_sum_into");
+                let mut c = q.clone();
+                c.cholesky_of_sum_in_place(&g, lam).unwrap();
+                assert_eq!(c.a, want.a, "w {w} n {n}: cholesky_of_sum_in_place");
+                let (fixed, any) = (want.trace_inverse_product(&g), want.trace_any(&g));
+                assert_eq!(fixed.to_bits(), any.to_bits(), "w {w} n {n}: {fixed} vs {any}");
+                let dense = want.selected_inverse().trace_product(&g);
+                assert!((fixed - dense).abs() <= 1e-12 * dense.abs(), "w {w} n {n}");
+            }
+        }
+        // a fused factorisation still refuses a matrix that is not positive definite
+        let mut g = Band::zeros(3, 1);
+        g.a[0] = 1.0;
+        let mut q = Band::zeros(3, 1);
+        q.a[2] = -1.0;
+        assert!(g.cholesky_plus(1.0, &q).is_err());
     }
 
     #[test]

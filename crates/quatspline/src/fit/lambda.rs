@@ -8,8 +8,7 @@ use crate::error::Result;
 /// GCV of the linearised problem at λ: (score, tr A). `h` is workspace for H = G + λP and
 /// its factor (reused between calls).
 pub(super) fn gcv_at(lin: &Lin, lam: f64, h: &mut Band) -> Result<(f64, f64)> {
-    lin.g.axpy_into(lam, &lin.p, h);
-    h.cholesky_in_place()?;
+    lin.g.cholesky_of_sum_into(lam, &lin.p, h)?;
     gcv_of_factor(lin, lam, h)
 }
 
@@ -17,10 +16,7 @@ pub(super) fn gcv_at(lin: &Lin, lam: f64, h: &mut Band) -> Result<(f64, f64)> {
 /// (the same sums, so the same score), which saves a band.
 pub(super) fn gcv_final(lin: Lin, lam: f64) -> Result<(f64, f64)> {
     let Lin { g, p: mut h, gd, gp, rwr, pcp, nobs } = lin;
-    for (x, y) in h.a.iter_mut().zip(&g.a) {
-        *x = y + lam * *x;
-    }
-    h.cholesky_in_place()?;
+    h.cholesky_of_sum_in_place(&g, lam)?;
     gcv_of_factor(&Lin { g, p: Band::zeros(0, 0), gd, gp, rwr, pcp, nobs }, lam, &h)
 }
 

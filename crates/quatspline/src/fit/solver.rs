@@ -359,16 +359,20 @@ impl<'a> Solver<'a> {
             // needed after this (a failed factorisation, the final score after a step below
             // the tolerance): the assembly is deterministic, so the result is the same.
             let mut h = std::mem::replace(&mut lin.g, Band::zeros(0, 0));
-            h.axpy_assign(lam, &lin.p);
-            if self.mu > 0.0 {
+            let factored = if self.mu > 0.0 {
+                h.axpy_assign(lam, &lin.p);
                 let diag = h.diag();
                 let dmax = diag.iter().cloned().fold(0.0, f64::max);
                 for (i, d) in diag.iter().enumerate() {
                     let idx = h.idx(i, i);
                     h.a[idx] += self.mu * d.max(1e-12 * dmax);
                 }
-            }
-            if h.cholesky_in_place().is_err() {
+                h.cholesky_in_place()
+            } else {
+                // H = G + λP formed row by row inside the factorisation (the same sums)
+                h.cholesky_plus(lam, &lin.p)
+            };
+            if factored.is_err() {
                 lin.g = data_half(&self.model, data, &self.w, &self.offs, h).band;
                 self.mu = if self.mu == 0.0 { 1e-6 } else { self.mu * 10.0 };
                 continue;

@@ -58,8 +58,11 @@ pub struct CumulativeBSpline {
     basis: Vec<Vec<f64>>,
     order: usize,
     joints: Vec<f64>,
-    /// Flat per-segment data of the batch kernels (`crate::simd::cumulative`).
-    batch: Option<crate::simd::cumulative::CumulativeTable>,
+    /// Flat per-segment data of the batch kernels (`crate::simd::cumulative`), built on the
+    /// first batch evaluation: 640 bytes a segment for the cubic (20× the control points),
+    /// which a spline that is never evaluated in bulk (a fit's result at 10⁶ samples) does
+    /// not pay for.
+    batch: std::sync::OnceLock<Option<CumulativeTable>>,
     closed: bool,
 }
 
@@ -108,12 +111,22 @@ impl CumulativeBSpline {
         logs.extend(super::chain_logs(&ctrl));
         let joints: Vec<f64> = (0..=segs).map(|i| t0 + i as f64 * dt).collect();
         let basis = cumulative_blending_matrix(order);
-        let degree = basis[1..order].iter().map(|c| c.len().saturating_sub(1)).max().unwrap_or(0);
-        let batch = CumulativeTable::with_shape(&joints, Basis::Power, order - 1, degree, |i, factors| {
-            factors.extend((1..order).map(|j| (logs[i + j], basis[j].as_slice())));
-            ctrl[i]
-        });
+        let batch = std::sync::OnceLock::new();
         Ok(CumulativeBSpline { ctrl, logs, basis, order, joints, batch, closed })
+    }
+
+    /// The batch kernels' table (see the field `batch`).
+    fn table(&self) -> Option<&CumulativeTable> {
+        self.batch
+            .get_or_init(|| {
+                let (order, basis, logs, ctrl) = (self.order, &self.basis, &self.logs, &self.ctrl);
+                let degree = basis[1..order].iter().map(|c| c.len().saturating_sub(1)).max().unwrap_or(0);
+                CumulativeTable::with_shape(&self.joints, Basis::Power, order - 1, degree, |i, factors| {
+                    factors.extend((1..order).map(|j| (logs[i + j], basis[j].as_slice())));
+                    ctrl[i]
+                })
+            })
+            .as_ref()
     }
 
     #[inline(always)]
@@ -143,7 +156,7 @@ impl Spline for CumulativeBSpline {
         (self.order - 2) as u8
     }
     fn batch(&self) -> Option<&dyn crate::simd::BatchKernel> {
-        self.batch.as_ref().map(|b| b as &dyn crate::simd::BatchKernel)
+        self.table().map(|b| b as &dyn crate::simd::BatchKernel)
     }
     fn closed(&self) -> bool {
         self.closed
