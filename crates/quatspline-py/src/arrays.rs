@@ -328,7 +328,7 @@ pub fn keys_in<'a>(q: &'a PyReadonlyArray2<'_, f64>, name: &'static str) -> PyRe
     );
     let rows = Rows::unchecked(q, name, 4)?;
     match rows.flat {
-        Some(s) if (s.as_ptr() as usize) % std::mem::align_of::<Quat>() == 0 => {
+        Some(s) if s.as_ptr().cast::<Quat>().is_aligned() => {
             if let Some(k) = first_non_finite(s) {
                 return Err(to_py(Error::NonFinite { arg: name, index: k / 4 }));
             }
