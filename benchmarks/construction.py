@@ -5,9 +5,10 @@ N − 1 (default N = 10⁶). For each method, in a fresh process: the best of ``
 constructions (wall time per key) and memory per key of the first construction, read from
 /proc/self/status — *kept*, the resident set held by the live spline over the process before it
 (keys and times already made), and *peak*, the high-water mark during construction over the same
-base (VmHWM, reset through /proc/self/clear_refs). *fill* is the floor that memory sets: the time
-to write as many fresh bytes as the spline keeps (``numpy.ones``, one thread: page faults and
-zeroing included), per key, in CPU time. *CPU* is the construction's processor time (all
+base (VmHWM, reset through /proc/self/clear_refs). *fill* is the floor that memory sets: the
+processor time numpy takes to allocate and fill as many bytes as the spline keeps
+(``numpy.ones``, one thread, best of the same runs; numpy backs large arrays with huge pages),
+per key. *CPU* is the construction's processor time (all
 threads; wall time × threads on an idle machine, and what a loaded shared machine inflates
 least). The CPU is named from /proc/cpuinfo.
 

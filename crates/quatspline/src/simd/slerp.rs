@@ -182,7 +182,7 @@ impl SlerpTable {
             return None;
         }
         let stride = 4 + PER_POINT * (n - 1);
-        let mut data = vec![0.0; ctrl.len() * stride];
+        let mut data = super::table_buffer(ctrl.len() * stride);
         // records are independent: filled in parallel blocks (the same numbers as one thread)
         data.par_chunks_mut(stride * BUILD_CHUNK).enumerate().for_each(|(b, block)| {
             for (k, r) in block.chunks_mut(stride).enumerate() {
@@ -222,7 +222,7 @@ impl SlerpTable {
     /// sᵢ⁺* sᵢ₊₁⁻.
     pub fn squad(joints: &[f64], keys: &[Quat], logs: &[Axis], s_out: &[Quat], inner: &[Axis]) -> Self {
         let nseg = joints.len() - 1;
-        let mut data = vec![0.0; nseg * SQUAD_STRIDE];
+        let mut data = super::table_buffer(nseg * SQUAD_STRIDE);
         data.par_chunks_mut(SQUAD_STRIDE * BUILD_CHUNK).enumerate().for_each(|(b, block)| {
             for (k, r) in block.chunks_mut(SQUAD_STRIDE).enumerate() {
                 let i = b * BUILD_CHUNK + k;
