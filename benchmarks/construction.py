@@ -5,7 +5,12 @@ N − 1 (default N = 10⁶). For each method, in a fresh process: the best of ``
 constructions (wall time per key) and memory per key of the first construction, read from
 /proc/self/status — *kept*, the resident set held by the live spline over the process before it
 (keys and times already made), and *peak*, the high-water mark during construction over the same
-base (VmHWM, reset through /proc/self/clear_refs). The CPU is named from /proc/cpuinfo.
+base (VmHWM, reset through /proc/self/clear_refs). *fill* is the floor that memory sets: the
+processor time numpy takes to allocate and fill as many bytes as the spline keeps
+(``numpy.ones``, one thread, best of the same runs; numpy backs large arrays with huge pages),
+per key. *CPU* is the construction's processor time (all
+threads; wall time × threads on an idle machine, and what a loaded shared machine inflates
+least). The CPU is named from /proc/cpuinfo.
 
 ``--save FILE`` stores each spline's orientations and angular velocities at 10⁴ times;
 ``--compare FILE`` checks them for bit-identity against a stored run (construction changes
@@ -85,16 +90,29 @@ def one(name: str, n: int, repeat: int, sample_to: str | None) -> dict:
         ts = np.linspace(a, b, 10_000)
         np.savez(sample_to, q=s(ts), w=s.angular_velocity(ts))
     del s
-    best = float("inf")
+    best = cpu = float("inf")
     for _ in range(repeat):
         gc.collect()
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         s = make(q, t)
         best = min(best, time.perf_counter() - t0)
+        cpu = min(cpu, time.process_time() - c0)
         del s
+    # the memory floor: writing as many fresh bytes as the spline keeps (page faults and
+    # zeroing included), one thread, best of the same number of runs
+    fill = float("inf")
+    words = max(1, int(kept * 1024 / 8))
+    for _ in range(repeat):
+        gc.collect()
+        c0 = time.process_time()
+        buf = np.ones(words)
+        fill = min(fill, time.process_time() - c0)
+        del buf
     out = {
         "method": name,
+        "fill_ns_per_key": fill / n * 1e9,
         "ns_per_key": best / n * 1e9,
+        "cpu_ns_per_key": cpu / n * 1e9,
         "kept_bytes_per_key": kept * 1024 / n,
         "peak_bytes_per_key": peak * 1024 / n,
     }
@@ -115,7 +133,10 @@ def main() -> None:
         print(json.dumps(one(a.one, a.n, a.repeat, a.sample_to)))
         return
     print(f"CPU: {cpu_name()}; N = {a.n} keys, best of {a.repeat}")
-    print(f"{'method':<18} {'ns/key':>9} {'kept B/key':>11} {'peak B/key':>11}")
+    print(
+        f"{'method':<18} {'ns/key':>9} {'CPU ns/key':>11} {'kept B/key':>11} {'peak B/key':>11} "
+        f"{'fill ns/key':>12}"
+    )
     samples, failed = {}, []
     for name in a.methods:
         tmp = f"/tmp/construction_{name}.npz"
@@ -124,8 +145,9 @@ def main() -> None:
             cmd += ["--sample-to", tmp]
         r = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
         print(
-            f"{name:<18} {r['ns_per_key']:>9.1f} {r['kept_bytes_per_key']:>11.0f} "
-            f"{r['peak_bytes_per_key']:>11.0f}"
+            f"{name:<18} {r['ns_per_key']:>9.1f} {r['cpu_ns_per_key']:>11.1f} "
+            f"{r['kept_bytes_per_key']:>11.0f} "
+            f"{r['peak_bytes_per_key']:>11.0f} {r['fill_ns_per_key']:>12.1f}"
         )
         if a.save or a.compare:
             with np.load(tmp) as z:

@@ -7,6 +7,7 @@ use pyo3::exceptions::{PyMemoryError, PyOverflowError, PyRuntimeError, PyValueEr
 use pyo3::prelude::*;
 use quatspline::{Error, Quat};
 use rayon::prelude::*;
+use std::borrow::Cow;
 
 /// Maps the core's error to a Python exception: `RuntimeError` for internal errors,
 /// `ValueError` for everything the caller can fix.
@@ -300,6 +301,51 @@ pub fn vec_of(a: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
 /// An optional 1-D array (key times) as a vector.
 pub fn times_of(t: &Option<PyReadonlyArray1<'_, f64>>) -> Option<Vec<f64>> {
     t.as_ref().map(vec_of)
+}
+
+/// Elements per parallel block of the key checks; shorter inputs are checked on this thread.
+const KEY_BLOCK: usize = 1 << 16;
+
+/// The index of the first element of `s` that is not finite (in parallel blocks for long
+/// slices: the first block with one, then its first).
+fn first_non_finite(s: &[f64]) -> Option<usize> {
+    if s.len() < 2 * KEY_BLOCK {
+        return if all_finite(s) { None } else { s.iter().position(|v| !v.is_finite()) };
+    }
+    let bad = s.par_chunks(KEY_BLOCK).map(|c| !all_finite(c)).collect::<Vec<bool>>();
+    let b = bad.iter().position(|&x| x)?;
+    let c = &s[b * KEY_BLOCK..((b + 1) * KEY_BLOCK).min(s.len())];
+    c.iter().position(|v| !v.is_finite()).map(|k| b * KEY_BLOCK + k)
+}
+
+/// Spline keys (N, 4) as quaternions, as given: shape and finiteness checked with messages
+/// naming `name` (as [`quats_of`]); a C-contiguous, aligned array is read in place (no copy —
+/// the constructor makes the one copy it keeps), any other is copied once.
+pub fn keys_in<'a>(q: &'a PyReadonlyArray2<'_, f64>, name: &'static str) -> PyResult<Cow<'a, [Quat]>> {
+    const _: () = assert!(
+        std::mem::size_of::<Quat>() == 4 * std::mem::size_of::<f64>()
+            && std::mem::align_of::<Quat>() == std::mem::align_of::<f64>()
+    );
+    let rows = Rows::unchecked(q, name, 4)?;
+    match rows.flat {
+        Some(s) if s.as_ptr().cast::<Quat>().is_aligned() => {
+            if let Some(k) = first_non_finite(s) {
+                return Err(to_py(Error::NonFinite { arg: name, index: k / 4 }));
+            }
+            // SAFETY: `Quat` is `repr(C)` of four f64 (w, x, y, z), the size and alignment of
+            // [f64; 4] (asserted above); the pointer is aligned and the slice holds len/4 of them.
+            Ok(Cow::Borrowed(unsafe { std::slice::from_raw_parts(s.as_ptr().cast::<Quat>(), s.len() / 4) }))
+        }
+        _ => Ok(Cow::Owned(quats_of(q, name)?)),
+    }
+}
+
+/// Optional key times, read in place when contiguous (the core checks them).
+pub fn times_in<'a>(t: &'a Option<PyReadonlyArray1<'_, f64>>) -> Option<Cow<'a, [f64]>> {
+    t.as_ref().map(|a| match a.as_slice() {
+        Ok(s) => Cow::Borrowed(s),
+        Err(_) => Cow::Owned(vec_of(a)),
+    })
 }
 
 /// Rows (N, W), shape and finiteness checked with messages naming `name`.

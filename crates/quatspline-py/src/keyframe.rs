@@ -1,6 +1,6 @@
 //! Bindings of keyframe control: Hermite keys, Kochanek–Bartels, closed/rest ends.
 
-use crate::arrays::{quats_of, rows_of, times_of, to_py, vec_of};
+use crate::arrays::{keys_in, quats_of, rows_of, times_in, times_of, to_py, vec_of};
 use crate::spline::{wrap, PySpline};
 use numpy::{PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
@@ -42,11 +42,11 @@ fn kochanek_bartels(
     holds: bool,
     canonicalize: bool,
 ) -> PyResult<PySpline> {
-    let q = quats_of(&quats, "quats")?;
+    let q = keys_in(&quats, "quats")?;
     let ends = TcbEnds::for_method(ends, "kochanek_bartels").map_err(to_py)?;
     let (t, c, b) = (vec_of(&tension), vec_of(&continuity), vec_of(&bias));
     let tcb = sp::Tcb { tension: &t, continuity: &c, bias: &b };
-    wrap(sp::KochanekBartels::new(&q, times_of(&times).as_deref(), alpha, tcb, ends, holds, canonicalize))
+    wrap(sp::KochanekBartels::new(&q, times_in(&times).as_deref(), alpha, tcb, ends, holds, canonicalize))
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -1,7 +1,7 @@
 //! Bindings of the spline family: constructors and one `Spline` class for all methods.
 
 use crate::arrays::Count;
-use crate::arrays::{guarded, quats_of, rows_of, times_of, to_py, vec_of};
+use crate::arrays::{guarded, keys_in, quats_of, rows_of, times_in, times_of, to_py, vec_of};
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -357,8 +357,8 @@ fn piecewise_slerp(
     times: Option<PyReadonlyArray1<'_, f64>>,
     canonicalize: bool,
 ) -> PyResult<PySpline> {
-    let q = quats_of(&quats, "quats")?;
-    wrap(sp::PiecewiseSlerp::new(&q, times_of(&times).as_deref(), canonicalize))
+    let q = keys_in(&quats, "quats")?;
+    wrap(sp::PiecewiseSlerp::new(&q, times_in(&times).as_deref(), canonicalize))
 }
 
 #[pyfunction]
@@ -466,9 +466,9 @@ fn squad(
     ends: &str,
     holds: bool,
 ) -> PyResult<PySpline> {
-    let q = quats_of(&quats, "quats")?;
+    let q = keys_in(&quats, "quats")?;
     let ends = KeyEnds::for_method(ends, "squad").map_err(to_py)?;
-    wrap(sp::Squad::with_keyframes(&q, times_of(&times).as_deref(), ends, holds, canonicalize))
+    wrap(sp::Squad::with_keyframes(&q, times_in(&times).as_deref(), ends, holds, canonicalize))
 }
 
 #[pyfunction]
@@ -481,9 +481,9 @@ fn catmull_rom(
     alpha: Option<f64>,
     holds: bool,
 ) -> PyResult<PySpline> {
-    let q = quats_of(&quats, "quats")?;
+    let q = keys_in(&quats, "quats")?;
     let ends = TcbEnds::for_method(ends, "catmull_rom").map_err(to_py)?;
-    wrap(sp::CatmullRom::with_keyframes(&q, times_of(&times).as_deref(), alpha, ends, holds, canonicalize))
+    wrap(sp::CatmullRom::with_keyframes(&q, times_in(&times).as_deref(), alpha, ends, holds, canonicalize))
 }
 
 #[pyfunction]
@@ -497,7 +497,7 @@ fn cumulative_bspline(
     closed: bool,
 ) -> PyResult<PySpline> {
     let order = order.0;
-    let q = quats_of(&control_quats, "control_quats")?;
+    let q = keys_in(&control_quats, "control_quats")?;
     wrap(sp::CumulativeBSpline::with_closed(&q, dt, t0, order, closed, canonicalize))
 }
 
@@ -512,10 +512,10 @@ fn natural_spline(
     canonicalize: bool,
     holds: bool,
 ) -> PyResult<PySpline> {
-    let q = quats_of(&quats, "quats")?;
+    let q = keys_in(&quats, "quats")?;
     let ends =
         sp::NaturalEnds::for_method(ends, "the natural spline", start_rate, end_rate).map_err(to_py)?;
-    wrap(sp::NaturalSpline::with_keyframes(&q, times_of(&times).as_deref(), ends, holds, canonicalize))
+    wrap(sp::NaturalSpline::with_keyframes(&q, times_in(&times).as_deref(), ends, holds, canonicalize))
 }
 
 #[pyfunction]
@@ -527,8 +527,8 @@ fn beta_spline(
     times: Option<PyReadonlyArray1<'_, f64>>,
     canonicalize: bool,
 ) -> PyResult<PySpline> {
-    let q = quats_of(&vertices, "vertices")?;
-    wrap(sp::BetaSpline::new(&q, &vec_of(&beta1), &vec_of(&beta2), times_of(&times).as_deref(), canonicalize))
+    let q = keys_in(&vertices, "vertices")?;
+    wrap(sp::BetaSpline::new(&q, &vec_of(&beta1), &vec_of(&beta2), times_in(&times).as_deref(), canonicalize))
 }
 
 #[pyfunction]
@@ -544,12 +544,12 @@ fn c3_spline(
     ends: &str,
     holds: bool,
 ) -> PyResult<PySpline> {
-    let q = quats_of(&quats, "quats")?;
+    let q = keys_in(&quats, "quats")?;
     let variant: sp::C3Variant = variant.parse().map_err(to_py)?;
     let ends = KeyEnds::for_method(ends, "c3").map_err(to_py)?;
     wrap(sp::C3Spline::with_keyframes(
         &q,
-        times_of(&times).as_deref(),
+        times_in(&times).as_deref(),
         &vec_of(&alpha),
         &vec_of(&beta),
         variant,

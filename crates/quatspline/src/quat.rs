@@ -10,8 +10,10 @@ use crate::special::{atan2_over, sinc};
 use crate::vec3::{self, Vec3};
 use std::ops::{Add, Mul, Neg, Sub};
 
-/// A quaternion w + xi + yj + zk (f64, scalar first).
+/// A quaternion w + xi + yj + zk (f64, scalar first; laid out as [w, x, y, z], so that an
+/// (N, 4) array of keys can be read as quaternions in place).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[repr(C)]
 pub struct Quat {
     pub w: f64,
     pub x: f64,

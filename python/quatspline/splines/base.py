@@ -65,11 +65,21 @@ def _recording(init):
 
     @functools.wraps(init)
     def __init__(self, *args, **kwargs):
-        if "_made" not in self.__dict__:
-            skip = type(self)._not_pickled
-            kept = {k: _snapshot(v) for k, v in kwargs.items() if k not in skip}
-            self.__dict__["_made"] = (type(self), tuple(_snapshot(a) for a in args), kept)
-        init(self, *args, **kwargs)
+        if "_made" in self.__dict__:
+            init(self, *args, **kwargs)
+            return
+        skip = type(self)._not_pickled
+        kept = {k: _snapshot(v) for k, v in kwargs.items() if k not in skip}
+        snaps = tuple(_snapshot(a) for a in args)
+        self.__dict__["_made"] = (type(self), snaps, kept)
+        # the frozen copies of array arguments, by the identity of the argument, so that
+        # Spline.__init__ keeps the same copy among its parameters instead of a second one
+        pairs = [*zip(args, snaps), *((v, kept[k]) for k, v in kwargs.items() if k in kept)]
+        self.__dict__["_copies"] = {id(a): c for a, c in pairs if isinstance(a, np.ndarray)}
+        try:
+            init(self, *args, **kwargs)
+        finally:
+            self.__dict__.pop("_copies", None)
 
     return __init__
 
@@ -164,7 +174,11 @@ class Spline:
         self.extrapolate = extrapolate
         # Own copies (read-only) of array parameters: a caller mutating its keys or times after
         # construction must not change what reparameterize() and friends read.
-        self.params = {k: _frozen_copy(v) for k, v in params.items()}
+        copies = self.__dict__.get("_copies", {})
+        self.params = {
+            k: copies[id(v)] if isinstance(v, np.ndarray) and id(v) in copies else _frozen_copy(v)
+            for k, v in params.items()
+        }
 
     # ---- description ------------------------------------------------------------------
     @property

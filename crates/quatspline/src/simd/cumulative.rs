@@ -185,7 +185,7 @@ impl CumulativeTable {
         // multiples of 4, so that records can be read 4 doubles at a time
         let vlen = (6 + nj * (nd + 4)).next_multiple_of(4);
         let stride = (vlen + 3 * nj).next_multiple_of(4);
-        let mut data = vec![0.0; 2 * nseg * stride];
+        let mut data = super::table_buffer(2 * nseg * stride);
         let fill = |factors: &mut Vec<(Axis, &'a [f64])>, s: usize, rec: &mut [f64]| -> bool {
             factors.clear();
             let base = form(s, factors);

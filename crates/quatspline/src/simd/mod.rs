@@ -43,6 +43,7 @@ pub mod slerp;
 
 use crate::frame::Frame;
 use lanes::Lanes;
+use rayon::prelude::*;
 use std::sync::atomic::{AtomicU8, Ordering};
 
 /// The instruction set a kernel runs on.
@@ -137,6 +138,38 @@ pub fn parse_mode(s: &str) -> Option<Mode> {
         "reference" | "ref" => Some(Mode::Reference),
         _ => None,
     }
+}
+
+/// A zeroed table of `n` doubles for per-segment data. Large tables are allocated untouched
+/// (calloc's fresh pages) and, on Linux, advised as transparent huge pages before they are
+/// filled: a table of 10⁶ segments is hundreds of megabytes, and with 4 KiB pages its page
+/// faults (and their release) cost more than computing its contents. The advice changes no
+/// value; where the kernel declines it the table is the same, in small pages.
+pub(crate) fn table_buffer(n: usize) -> Vec<f64> {
+    let mut v = vec![0.0; n];
+    #[cfg(target_os = "linux")]
+    {
+        const HUGE: usize = 2 << 20;
+        const MADV_HUGEPAGE: i32 = 14;
+        extern "C" {
+            fn madvise(addr: *mut std::ffi::c_void, len: usize, advice: i32) -> i32;
+        }
+        let bytes = n * std::mem::size_of::<f64>();
+        if bytes >= 4 * HUGE {
+            let start = v.as_mut_ptr() as usize;
+            let a = start.next_multiple_of(HUGE);
+            let e = (start + bytes) / HUGE * HUGE;
+            if e > a {
+                // SAFETY: [a, e) lies inside the vector's allocation and is page aligned;
+                // MADV_HUGEPAGE only advises how the range is backed (no data changes) and
+                // its failure is harmless.
+                unsafe {
+                    madvise(a as *mut std::ffi::c_void, e - a, MADV_HUGEPAGE);
+                }
+            }
+        }
+    }
+    v
 }
 
 /// The current mode (first call reads `QUATSPLINE_SIMD`; an unknown value means `auto`).
@@ -493,28 +526,43 @@ impl Locator {
         let (t0, t1) = (joints[0], joints[nseg]);
         let w = (t1 - t0) / nb as f64;
         let inv_w = if w > 0.0 && (1.0 / w).is_finite() { 1.0 / w } else { 0.0 };
-        let mut start = Vec::with_capacity(nb + 1);
-        let mut k = 0usize;
-        for b in 0..=nb {
-            let edge = t0 + b as f64 * w;
-            while k + 1 < nseg && joints[k + 1] <= edge {
-                k += 1;
+        // start[b]: the last segment k (< nseg) with joints[k] ≤ the bucket's left edge (k = 0
+        // at least) — found by a merge of edges and joints, in parallel blocks of buckets, each
+        // block's first by binary search (the same numbers as one merge over all)
+        const BLOCK: usize = 8192;
+        let first_at = |edge: f64| -> usize { joints[1..nseg].partition_point(|&x| x <= edge) };
+        let mut start = vec![0u32; nb + 1];
+        let fill = |(c, blk): (usize, &mut [u32])| {
+            let b0 = c * BLOCK;
+            let mut k = first_at(t0 + b0 as f64 * w);
+            for (i, st) in blk.iter_mut().enumerate() {
+                let edge = t0 + (b0 + i) as f64 * w;
+                while k + 1 < nseg && joints[k + 1] <= edge {
+                    k += 1;
+                }
+                *st = k as u32;
             }
-            start.push(k as u32);
+        };
+        if nb < 4 * BLOCK {
+            start.chunks_mut(BLOCK).enumerate().for_each(fill);
+        } else {
+            start.par_chunks_mut(BLOCK).enumerate().for_each(fill);
         }
         let split = start[..nb]
-            .iter()
+            .par_iter()
+            .with_min_len(BLOCK)
             .map(|&k| if (k as usize) < nseg - 1 { joints[k as usize + 1] } else { f64::INFINITY })
             .collect();
         // bucket b holds the joints start[b] + 1 … start[b + 1]: at most one, and a time in
         // the bucket lies in segment start[b] or the next, told apart by split[b]
-        for b in 0..nb {
-            if start[b + 1] - start[b] > 1 {
-                start[b] |= MULTI;
+        let multi: Vec<bool> = start.windows(2).map(|p| p[1] - p[0] > 1).collect();
+        for (st, m) in start.iter_mut().zip(multi) {
+            if m {
+                *st |= MULTI;
             }
         }
         start.truncate(nb);
-        Locator { joints: joints.to_vec(), t0, inv_w, w, start, split }
+        Locator { joints: crate::spline::par_copy(joints), t0, inv_w, w, start, split }
     }
 
     /// The segment containing t (the right one at an interior joint, the last at the end).
@@ -706,9 +754,16 @@ mod tests {
 
     #[test]
     fn locator_equals_partition_point() {
+        // 300 joints: the one-thread table; 40 000: the table built in parallel blocks
+        for n in [300, 40_000] {
+            locator_equals_partition_point_at(n);
+        }
+    }
+
+    fn locator_equals_partition_point_at(n: usize) {
         let mut joints = vec![0.0];
         let mut x: u64 = 7;
-        for _ in 0..300 {
+        for _ in 0..n {
             x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
             let h = if (x >> 60) < 3 { 1e-6 } else { ((x >> 11) as f64 / (1u64 << 53) as f64) * 5.0 + 1e-3 };
             joints.push(joints.last().unwrap() + h);

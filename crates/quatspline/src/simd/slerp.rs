@@ -23,6 +23,10 @@
 use super::lanes::{Lanes, MAX_LANES, P2};
 use super::quat_lanes::{slerp, times_exp, Q4};
 use super::{Kernel, Locator};
+use rayon::prelude::*;
+
+/// Segments per parallel task when a table is filled.
+const BUILD_CHUNK: usize = 4096;
 use crate::jet::Axis;
 use crate::quat::Quat;
 
@@ -178,33 +182,39 @@ impl SlerpTable {
             return None;
         }
         let stride = 4 + PER_POINT * (n - 1);
-        let mut data = vec![0.0; ctrl.len() * stride];
-        for (i, (c, l)) in ctrl.iter().zip(logs).enumerate() {
-            let r = &mut data[i * stride..(i + 1) * stride];
-            r[0] = joints[i];
-            r[1] = joints[i + 1] - joints[i];
-            // field 2: 1 + the series tier where one applies, else 0 (see `body`). The
-            // shortest tier only for a single curve: segments of a spline sharing a vector
-            // (unsorted times) cost one pyramid per tier present, and a third tier among
-            // Catmull–Rom segments made unsorted input slower than it saves on sorted input
-            let first = if ctrl.len() == 1 { 0 } else { 1 };
-            r[2] = match SERIES_MAX_ANGLE[first..].iter().position(|&m| l[..n - 1].iter().all(|ax| ax.a <= m))
-            {
-                Some(tier) => (first + tier + 1) as f64,
-                None => 0.0,
-            };
-            for j in 0..n - 1 {
-                let o = 4 + PER_POINT * j;
-                r[o..o + 4].copy_from_slice(&c[j].to_wxyz());
-                put_log(&mut r[o + 4..o + 8], &l[j]);
-                // eⱼ = cⱼ exp(aⱼ nⱼ) (the end of the first-level slerp) and xⱼ = cos aⱼ − 1
-                let (sa, ca) = crate::special::sin_cos(l[j].a);
-                let e = c[j] * Quat::new(ca, sa * l[j].n[0], sa * l[j].n[1], sa * l[j].n[2]);
-                r[o + 8..o + 12].copy_from_slice(&e.to_wxyz());
-                let h = (0.5 * l[j].a).sin();
-                r[o + 12] = -2.0 * h * h;
+        let mut data = super::table_buffer(ctrl.len() * stride);
+        // records are independent: filled in parallel blocks (the same numbers as one thread)
+        data.par_chunks_mut(stride * BUILD_CHUNK).enumerate().for_each(|(b, block)| {
+            for (k, r) in block.chunks_mut(stride).enumerate() {
+                let i = b * BUILD_CHUNK + k;
+                let (c, l) = (ctrl[i], logs[i]);
+                r[0] = joints[i];
+                r[1] = joints[i + 1] - joints[i];
+                // field 2: 1 + the series tier where one applies, else 0 (see `body`). The
+                // shortest tier only for a single curve: segments of a spline sharing a vector
+                // (unsorted times) cost one pyramid per tier present, and a third tier among
+                // Catmull–Rom segments made unsorted input slower than it saves on sorted input
+                let first = if ctrl.len() == 1 { 0 } else { 1 };
+                r[2] = match SERIES_MAX_ANGLE[first..]
+                    .iter()
+                    .position(|&m| l[..n - 1].iter().all(|ax| ax.a <= m))
+                {
+                    Some(tier) => (first + tier + 1) as f64,
+                    None => 0.0,
+                };
+                for j in 0..n - 1 {
+                    let o = 4 + PER_POINT * j;
+                    r[o..o + 4].copy_from_slice(&c[j].to_wxyz());
+                    put_log(&mut r[o + 4..o + 8], &l[j]);
+                    // eⱼ = cⱼ exp(aⱼ nⱼ) (the end of the first-level slerp) and xⱼ = cos aⱼ − 1
+                    let (sa, ca) = crate::special::sin_cos(l[j].a);
+                    let e = c[j] * Quat::new(ca, sa * l[j].n[0], sa * l[j].n[1], sa * l[j].n[2]);
+                    r[o + 8..o + 12].copy_from_slice(&e.to_wxyz());
+                    let h = (0.5 * l[j].a).sin();
+                    r[o + 12] = -2.0 * h * h;
+                }
             }
-        }
+        });
         Some(SlerpTable { kind: Kind::Casteljau, points: n, stride, data, locator: Locator::new(joints) })
     }
 
@@ -212,16 +222,18 @@ impl SlerpTable {
     /// sᵢ⁺* sᵢ₊₁⁻.
     pub fn squad(joints: &[f64], keys: &[Quat], logs: &[Axis], s_out: &[Quat], inner: &[Axis]) -> Self {
         let nseg = joints.len() - 1;
-        let mut data = vec![0.0; nseg * SQUAD_STRIDE];
-        for i in 0..nseg {
-            let r = &mut data[i * SQUAD_STRIDE..(i + 1) * SQUAD_STRIDE];
-            r[0] = joints[i];
-            r[1] = joints[i + 1] - joints[i];
-            r[4..8].copy_from_slice(&keys[i].to_wxyz());
-            put_log(&mut r[8..12], &logs[i]);
-            r[12..16].copy_from_slice(&s_out[i].to_wxyz());
-            put_log(&mut r[16..20], &inner[i]);
-        }
+        let mut data = super::table_buffer(nseg * SQUAD_STRIDE);
+        data.par_chunks_mut(SQUAD_STRIDE * BUILD_CHUNK).enumerate().for_each(|(b, block)| {
+            for (k, r) in block.chunks_mut(SQUAD_STRIDE).enumerate() {
+                let i = b * BUILD_CHUNK + k;
+                r[0] = joints[i];
+                r[1] = joints[i + 1] - joints[i];
+                r[4..8].copy_from_slice(&keys[i].to_wxyz());
+                put_log(&mut r[8..12], &logs[i]);
+                r[12..16].copy_from_slice(&s_out[i].to_wxyz());
+                put_log(&mut r[16..20], &inner[i]);
+            }
+        });
         SlerpTable { kind: Kind::Squad, points: 4, stride: SQUAD_STRIDE, data, locator: Locator::new(joints) }
     }
 }

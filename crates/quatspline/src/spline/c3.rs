@@ -181,9 +181,13 @@ impl C3Spline {
             padded.extend_from_slice(k);
             padded.push(k[n - 1]);
         }
-        let logs: Vec<Axis> = std::iter::once(Axis::default())
-            .chain(padded.windows(2).map(|w| Axis::from_log((w[0].conj() * w[1]).log().vec())))
-            .collect();
+        let logs: Vec<Axis> = super::par_map(padded.len(), |i| {
+            if i == 0 {
+                Axis::default()
+            } else {
+                Axis::from_log((padded[i - 1].conj() * padded[i]).log().vec())
+            }
+        });
         let hold = if holds { kl.hold_keys() } else { vec![false; n] };
         let pinned = |key: usize| hold[key] || (ends == KeyEnds::Rest && (key == 0 || key == n - 1));
         // Per segment, the blending functions C₀ … C₃ as the cumulative C̃₁, C̃₂, C̃₃.
@@ -198,25 +202,23 @@ impl C3Spline {
                     per(alpha, segs, "alpha", "one per segment")?,
                     per(beta, segs, "beta", "one per segment")?,
                 );
-                (0..segs)
-                    .map(|s| {
-                        let mut c = patent_blending(a[s], b[s]);
-                        // A pinned key (rest end, hold end): the first (last) four Bernstein
-                        // coefficients of every blending function made equal, so its first
-                        // three derivatives vanish there; the other end is the patent's.
-                        for cj in c.iter_mut() {
-                            if pinned(s % n) {
-                                let v = cj[0];
-                                cj[1..4].fill(v);
-                            }
-                            if pinned((s + 1) % n) {
-                                let v = cj[7];
-                                cj[4..7].fill(v);
-                            }
+                super::par_map(segs, |s| {
+                    let mut c = patent_blending(a[s], b[s]);
+                    // A pinned key (rest end, hold end): the first (last) four Bernstein
+                    // coefficients of every blending function made equal, so its first
+                    // three derivatives vanish there; the other end is the patent's.
+                    for cj in c.iter_mut() {
+                        if pinned(s % n) {
+                            let v = cj[0];
+                            cj[1..4].fill(v);
                         }
-                        cumulative(c)
-                    })
-                    .collect()
+                        if pinned((s + 1) % n) {
+                            let v = cj[7];
+                            cj[4..7].fill(v);
+                        }
+                    }
+                    cumulative(c)
+                })
             }
             C3Variant::Knot => {
                 let (mut a, mut b) =
@@ -249,30 +251,28 @@ impl C3Spline {
                     let cm = [a1 * r, a2 * r * m, a3 * r * m * m];
                     std::array::from_fn(|k| [am[k], -(am[k] + cm[k]), cm[k]])
                 };
-                (0..segs)
-                    .map(|s| {
-                        let hs = h[s];
-                        let w0 = scaled(s, hs);
-                        let w1 = scaled(s + 1, hs);
-                        let at0 = |j: usize| -> [f64; 4] {
-                            // C0 ↔ a, C1 ↔ b, C2 ↔ c at key s; C3 not involved
-                            if j == 3 {
-                                return [0.0; 4];
-                            }
-                            let v = if j == 1 { 1.0 } else { 0.0 };
-                            [v, w0[0][j], w0[1][j], w0[2][j]]
-                        };
-                        let at1 = |j: usize| -> [f64; 4] {
-                            // C1 ↔ a, C2 ↔ b, C3 ↔ c at key s+1; C0 not involved
-                            if j == 0 {
-                                return [0.0; 4];
-                            }
-                            let v = if j == 2 { 1.0 } else { 0.0 };
-                            [v, w1[0][j - 1], w1[1][j - 1], w1[2][j - 1]]
-                        };
-                        cumulative(std::array::from_fn(|j| hermite7(at0(j), at1(j))))
-                    })
-                    .collect()
+                super::par_map(segs, |s| {
+                    let hs = h[s];
+                    let w0 = scaled(s, hs);
+                    let w1 = scaled(s + 1, hs);
+                    let at0 = |j: usize| -> [f64; 4] {
+                        // C0 ↔ a, C1 ↔ b, C2 ↔ c at key s; C3 not involved
+                        if j == 3 {
+                            return [0.0; 4];
+                        }
+                        let v = if j == 1 { 1.0 } else { 0.0 };
+                        [v, w0[0][j], w0[1][j], w0[2][j]]
+                    };
+                    let at1 = |j: usize| -> [f64; 4] {
+                        // C1 ↔ a, C2 ↔ b, C3 ↔ c at key s+1; C0 not involved
+                        if j == 0 {
+                            return [0.0; 4];
+                        }
+                        let v = if j == 2 { 1.0 } else { 0.0 };
+                        [v, w1[0][j - 1], w1[1][j - 1], w1[2][j - 1]]
+                    };
+                    cumulative(std::array::from_fn(|j| hermite7(at0(j), at1(j))))
+                })
             }
         };
         let batch = CumulativeTable::with_shape(&times, Basis::Bernstein, 3, 7, |s, factors| {

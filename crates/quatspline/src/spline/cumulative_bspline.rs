@@ -107,8 +107,14 @@ impl CumulativeBSpline {
         let segs = ctrl.len() - order + 1;
         super::check_span("dt", t0, t0 + dt, 1)?;
         super::check_span("dt", t0, t0 + segs as f64 * dt, segs)?;
-        let mut logs = vec![Axis::default()];
-        logs.extend(super::chain_logs(&ctrl));
+        // logs[j] = log(c_{j−1}* c_j), logs[0] unused (zero)
+        let logs: Vec<Axis> = super::par_map(ctrl.len(), |j| {
+            if j == 0 {
+                Axis::default()
+            } else {
+                Axis::from_log((ctrl[j - 1].conj() * ctrl[j]).log().vec())
+            }
+        });
         let joints: Vec<f64> = (0..=segs).map(|i| t0 + i as f64 * dt).collect();
         let basis = cumulative_blending_matrix(order);
         let batch = std::sync::OnceLock::new();

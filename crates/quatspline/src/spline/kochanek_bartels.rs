@@ -183,17 +183,18 @@ impl KochanekBartels {
         let hold = if holds { kl.hold_keys() } else { vec![false; n] };
         let (incoming, outgoing) = rates(&kl, &t, &c, &b, ends, &hold);
         let segs = kl.segments();
-        let mut ctrl = Vec::with_capacity(segs);
-        let mut logs = Vec::with_capacity(segs);
-        for i in 0..segs {
+        // segments are independent: built in parallel (the same numbers as one thread)
+        let ctrl: Vec<[Quat; 4]> = super::par_map(segs, |i| {
             let h = kl.h(i);
             let (q0, q1) = (kl.key_at_joint(i), kl.key_at_joint(i + 1));
             let d = Quat::pure(vec3::scale(outgoing[i], h / 3.0)).exp() * q0;
             let e = Quat::pure(vec3::scale(incoming[kl.key_index(i + 1)], -h / 3.0)).exp() * q1;
-            let seg = [q0, d.canonical_to(q0), e.canonical_to(q1), q1];
-            logs.push(std::array::from_fn(|j| Axis::from_log((seg[j].conj() * seg[j + 1]).log().vec())));
-            ctrl.push(seg);
-        }
+            [q0, d.canonical_to(q0), e.canonical_to(q1), q1]
+        });
+        let logs: Vec<[Axis; 3]> = super::par_map(segs, |i| {
+            let seg = &ctrl[i];
+            std::array::from_fn(|j| Axis::from_log((seg[j].conj() * seg[j + 1]).log().vec()))
+        });
         // C¹ where the incoming and outgoing rates agree at every joint (C = 0), else C⁰.
         let corner = (0..n).any(|k| {
             let interior = closed || (k > 0 && k < n - 1);
@@ -201,8 +202,8 @@ impl KochanekBartels {
         });
         let batch = crate::simd::slerp::SlerpTable::casteljau(
             &kl.times,
-            &ctrl.iter().map(|c| &c[..]).collect::<Vec<_>>(),
-            &logs.iter().map(|l| &l[..]).collect::<Vec<_>>(),
+            &super::par_map(segs, |i| &ctrl[i][..]),
+            &super::par_map(segs, |i| &logs[i][..]),
         );
         let order = if corner { 0 } else { 1 };
         Ok(KochanekBartels { times: kl.times, ctrl, logs, closed, order, name, batch })
@@ -238,11 +239,12 @@ fn rates(
     let n = q.len();
     let segs = kl.segments();
     let h = |i: usize| kl.h(i);
-    let mut inc = vec![[0.0; 3]; n];
-    let mut out = vec![[0.0; 3]; n];
-    for k in 0..n {
+    // the chord logs log(q_{k+1} q_k*) (cyclic), each shared by the keys at its two ends
+    let chord_log = super::par_map(n, |k| log_canonical(q[(k + 1) % n] * q[k].conj()));
+    // each key's rates read only its neighbours: in parallel (the same numbers as one thread)
+    let both = super::par_map(n, |k| -> (Vec3, Vec3) {
         if hold[k] {
-            continue;
+            return ([0.0; 3], [0.0; 3]);
         }
         let (tt, cc, bb) = (t[k], c[k], b[k]);
         // (w⁻, w⁺) of the outgoing and of the incoming rate.
@@ -252,8 +254,7 @@ fn rates(
         if interior {
             let (p, nx) = ((k + n - 1) % n, (k + 1) % n);
             let (hm, hp) = (h(if k == 0 { segs - 1 } else { k - 1 }), h(k));
-            let dm = log_canonical(q[k] * q[p].conj());
-            let dp = log_canonical(q[nx] * q[k].conj());
+            let (dm, dp) = (chord_log[p], chord_log[k]);
             let l = log_canonical(q[nx] * q[p].conj());
             let diff = vec3::sub(dp, dm);
             let tangent = |(wm, wp): (f64, f64)| -> Vec3 {
@@ -261,14 +262,12 @@ fn rates(
                 let mu = wp * hm / (hp * (hm + hp));
                 vec3::add(vec3::scale(l, 0.5 * (lam + mu)), vec3::scale(diff, 0.5 * (mu - lam)))
             };
-            inc[k] = tangent(w_in);
-            out[k] = tangent(w_out);
-            continue;
+            return (tangent(w_in), tangent(w_out));
         }
         // Open ends: the chord rate of the end segment, weighted by the phantom-key rule.
         let first = k == 0;
         let seg = if first { 0 } else { n - 2 };
-        let chord = vec3::scale(log_canonical(q[seg + 1] * q[seg].conj()), 1.0 / h(seg));
+        let chord = vec3::scale(chord_log[seg], 1.0 / h(seg));
         let (w, phantom_weight) = if first { (w_out, w_out.1) } else { (w_in, w_in.0) };
         let f = match ends {
             TcbEnds::Reflect => 0.5 * (w.0 + w.1),
@@ -276,10 +275,9 @@ fn rates(
             TcbEnds::Rest | TcbEnds::Closed => 0.0,
         };
         let v = vec3::scale(chord, f);
-        inc[k] = v;
-        out[k] = v;
-    }
-    (inc, out)
+        (v, v)
+    });
+    (super::par_map(n, |k| both[k].0), super::par_map(n, |k| both[k].1))
 }
 
 impl Spline for KochanekBartels {

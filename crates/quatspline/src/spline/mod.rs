@@ -62,6 +62,7 @@ pub use keys::{
     canonicalize_chain, chain_logs, check_domain, check_increasing, check_shape, check_span, prepare_keys,
     prepare_times, MAX_TIME, MIN_RELATIVE_SPACING,
 };
+pub(crate) use keys::{par_copy, par_map};
 pub use kochanek_bartels::{alpha_times, KochanekBartels, Tcb, TcbEnds, CATMULL_ROM};
 pub use lin_euler::PiecewiseLinEuler;
 pub use lin_mat::PiecewiseLinMat;

@@ -391,7 +391,7 @@ impl NaturalSpline {
         let segs = kl.segments();
         let (base, rho) = bases_and_chords(&kl);
         let h: Vec<f64> = (0..segs).map(|i| kl.h(i)).collect();
-        let a: Vec<Matrix3<f64>> = rho.iter().map(|&r| rate_to_rotvec_dot(r)).collect();
+        let a: Vec<Matrix3<f64>> = super::par_map(rho.len(), |i| rate_to_rotvec_dot(rho[i]));
         let chord = |i: usize| vec3::scale(rho[i], 1.0 / h[i]);
         let mut rows: Vec<Row> = (0..n)
             .map(|k| {
@@ -472,7 +472,7 @@ impl NaturalSpline {
             })
             .collect();
         let singular = || Error::Internal("natural spline: singular tridiagonal block".into());
-        let ks: Vec<(f64, f64, f64)> = rho.iter().map(|&r| accel_coefficients(r)).collect();
+        let ks: Vec<(f64, f64, f64)> = super::par_map(rho.len(), |i| accel_coefficients(rho[i]));
         let sys =
             System { rows: &rows, l: &l, d: &d, u: &u, b0: &b0, a: &a, rho: &rho, ks: &ks, closed, segs };
         let newton = if solver == Solver::FixedPoint { None } else { sys.newton(&w) };

@@ -54,14 +54,13 @@ impl Squad {
         }
         let n = kl.keys.len();
         let segs = kl.segments();
-        let joint_keys: Vec<Quat> = (0..=segs).map(|j| kl.key_at_joint(j)).collect();
-        let raw: Vec<[f64; 3]> = joint_keys.windows(2).map(|w| (w[0].conj() * w[1]).log().vec()).collect();
+        let joint_keys: Vec<Quat> = super::par_map(segs + 1, |j| kl.key_at_joint(j));
+        let raw: Vec<[f64; 3]> =
+            super::par_map(segs, |i| (joint_keys[i].conj() * joint_keys[i + 1]).log().vec());
         let h: Vec<f64> = (0..segs).map(|i| kl.h(i)).collect();
         let hold = if holds { kl.hold_keys() } else { vec![false; n] };
-        // Per joint j: the key velocity (q' = q v) and the incoming/outgoing control points.
-        let mut s_out = joint_keys.clone();
-        let mut s_in = joint_keys.clone();
-        for j in 0..=segs {
+        // per joint j, (sⱼ⁺, sⱼ⁻): independent of every other joint's, computed in parallel
+        let s_pair = super::par_map(segs + 1, |j| {
             let k = kl.key_index(j);
             let left = if j > 0 {
                 Some(j - 1)
@@ -90,19 +89,23 @@ impl Squad {
                 _ if ends == KeyEnds::Rest => Some([0.0; 3]),
                 _ => None, // open ends: s₀⁺ = q₀, sₙ⁻ = qₙ
             };
-            let Some(v) = v else { continue };
+            let (mut so, mut si) = (joint_keys[j], joint_keys[j]);
+            let Some(v) = v else { return (so, si) };
             if let Some(r) = right {
                 let lo = vec3::scale(vec3::sub(vec3::scale(v, h[r]), raw[r]), 0.5);
-                s_out[j] = joint_keys[j] * Quat::pure(lo).exp();
+                so = joint_keys[j] * Quat::pure(lo).exp();
             }
             if let Some(l) = left {
                 let li = vec3::scale(vec3::sub(raw[l], vec3::scale(v, h[l])), 0.5);
-                s_in[j] = joint_keys[j] * Quat::pure(li).exp();
+                si = joint_keys[j] * Quat::pure(li).exp();
             }
-        }
+            (so, si)
+        });
+        let s_out: Vec<Quat> = super::par_map(segs + 1, |j| s_pair[j].0);
         let inner_logs: Vec<Axis> =
-            (0..segs).map(|i| Axis::from_log((s_out[i].conj() * s_in[i + 1]).log().vec())).collect();
-        let logs: Vec<Axis> = raw.iter().map(|&v| Axis::from_log(v)).collect();
+            super::par_map(segs, |i| Axis::from_log((s_out[i].conj() * s_pair[i + 1].1).log().vec()));
+        drop(s_pair);
+        let logs: Vec<Axis> = super::par_map(segs, |i| Axis::from_log(raw[i]));
         let batch = crate::simd::slerp::SlerpTable::squad(&kl.times, &joint_keys, &logs, &s_out, &inner_logs);
         Ok(Squad { keys: joint_keys, times: kl.times, logs, s_out, inner_logs, closed, batch })
     }
