@@ -11,10 +11,23 @@
 //!   2|q'| for a unit q), t = t₀ + φ(s)/c with c = L/(t₁ − t₀), so the domain is kept and the
 //!   angular speed is the constant c everywhere the inner curve moves. φ is tabulated with
 //!   adaptive Gauss–Legendre quadrature (8 nodes; a piece is split until one rule and its two
-//!   halves agree to 1e-13 of the estimated total length), and s(t) is found by safeguarded
-//!   Newton on φ(s) = c (t − t₀) inside the piece (φ' = |ω|). The derivatives of s come from
-//!   s' = c / v(s) solved in Taylor mode with the inner speed v as a jet in s, so the
-//!   composed derivatives are exact: s'' = −c² v'/v³, s''' = c³ (3v'² − v v'')/v⁵.
+//!   halves agree to 1e-13 of the estimated total length). The inverse s(φ) is tabulated too
+//!   ([`InversePiece`]): on each quadrature piece, split further where needed, the quintic
+//!   Hermite interpolant in φ of s with ds/dφ = 1/v and d²s/dφ² = −v'/v³ at both ends (v and
+//!   v' = dv/ds from the inner jet). A piece is kept when (i) its Bernstein coefficients
+//!   increase strictly, so s(φ) is strictly increasing on it (sufficient: the derivative's
+//!   Bernstein coefficients are 5× their differences), and (ii) at the three check points
+//!   s = lo + (hi − lo)·{¼, ½, ¾} (the Hermite error u³(1 − u)³ s⁽⁶⁾/6! peaks inside) the
+//!   table maps φ(s), integrated by 8-point Gauss–Legendre from lo, back to within
+//!   [`INVERSE_TOL`] of the segment's arc length: v(s)·|s_tab(φ(s)) − s| ≤ 1e-12 Lᵢ, with Lᵢ
+//!   the arc length of inner segment i. A piece whose own arc length Δφ is ≤ 1e-12 Lᵢ (next to
+//!   a point where the inner curve stops, where s(φ) has an infinite slope) is linear in φ:
+//!   monotone and within Δφ of the true inverse, so within the bound too. After 40 halvings
+//!   of a quadrature piece, or beyond 256 table pieces per segment on average, a piece is kept
+//!   without the check. Evaluating s(t) is then a binary search among the segment's pieces
+//!   and a polynomial of degree 5, clamped to the piece: no inner evaluation. The derivatives
+//!   of s come from s' = c / v(s) solved in Taylor mode with the inner speed v as a jet in s,
+//!   so the composed derivatives are exact: s'' = −c² v'/v³, s''' = c³ (3v'² − v v'')/v⁵.
 //!
 //! Continuity: the same order as the inner spline (v is C^(k−1) where q is C^k, so s is C^k).
 //! Holds — stretches where the inner curve does not move — take no time after arc-length
@@ -45,9 +58,143 @@ struct Piece {
     lo: f64,
     hi: f64,
     phi: f64,
-    /// Angular speed at `lo` and `hi` (for the Hermite first guess of the inverse).
-    v_lo: f64,
-    v_hi: f64,
+}
+
+/// Bound on the tabulated inverse, relative to the arc length Lᵢ of the inner segment:
+/// |φ(s_tab(φ)) − φ| ≤ `INVERSE_TOL`·Lᵢ at the check points of every piece (module doc).
+pub const INVERSE_TOL: f64 = 1e-12;
+
+/// Halvings of a quadrature piece before a table piece is kept unchecked.
+const INVERSE_MAX_DEPTH: u32 = 40;
+
+/// One piece of the tabulated inverse s(φ): for φ in [`phi`, φ of the next piece],
+/// s = c₀ + u (c₁ + u (c₂ + u (c₃ + u (c₄ + u c₅)))) with u = (φ − `phi`)·`inv_width`,
+/// clamped to [c₀, `hi`] (see the module doc).
+#[derive(Debug, Clone, Copy)]
+struct InversePiece {
+    phi: f64,
+    /// 1/Δφ (0 for a piece of zero arc length).
+    inv_width: f64,
+    c: [f64; 6],
+    /// s at the end of the piece.
+    hi: f64,
+}
+
+impl InversePiece {
+    #[inline(always)]
+    fn eval(&self, target: f64) -> f64 {
+        let u = (target - self.phi) * self.inv_width;
+        let c = &self.c;
+        if u >= 1.0 {
+            self.hi
+        } else if u > 0.0 {
+            let s = c[0] + u * (c[1] + u * (c[2] + u * (c[3] + u * (c[4] + u * c[5]))));
+            s.clamp(c[0], self.hi)
+        } else if u.is_nan() {
+            u
+        } else {
+            c[0]
+        }
+    }
+}
+
+/// Angular speed v = |ω| = 2|q'| and its derivative v' = dv/ds = 2⟨q', q''⟩/|q'| of segment
+/// `seg` at s (v' reported as 0 where q' = 0).
+#[inline]
+fn speed_and_slope(s: &dyn Spline, seg: usize, x: f64) -> (f64, f64) {
+    let j = s.segment_jet3(seg, x);
+    let (d1, d2) = (j.derivative(1), j.derivative(2));
+    let n = d1.norm();
+    let slope = if n > 0.0 { 2.0 * d1.dot(d2) / n } else { 0.0 };
+    (2.0 * n, slope)
+}
+
+/// The quintic Hermite piece of s(φ) on [x0, x1] with φ(x0) = φ0, φ(x1) = φ1 and end data
+/// (v, v'); `None` when it is not strictly increasing (Bernstein test, module doc).
+fn quintic_piece(
+    x0: f64,
+    x1: f64,
+    phi0: f64,
+    phi1: f64,
+    n0: (f64, f64),
+    n1: (f64, f64),
+) -> Option<InversePiece> {
+    let w = phi1 - phi0;
+    let (v0, v1) = (n0.0, n1.0);
+    if !(w > 0.0 && v0 > 0.0 && v1 > 0.0 && v0.is_finite() && v1.is_finite()) {
+        return None;
+    }
+    // derivatives in u = (φ − φ0)/w: ds/du = w/v, d²s/du² = −w² v'/v³
+    let (d0, d1) = (w / v0, w / v1);
+    let (e0, e1) = (-w * w * n0.1 / (v0 * v0 * v0), -w * w * n1.1 / (v1 * v1 * v1));
+    let dy = x1 - x0;
+    let b = [0.0, d0 / 5.0, 2.0 * d0 / 5.0 + e0 / 20.0, dy - 2.0 * d1 / 5.0 + e1 / 20.0, dy - d1 / 5.0, dy];
+    if !b.windows(2).all(|p| p[1] > p[0]) {
+        return None;
+    }
+    let c = [
+        x0,
+        d0,
+        0.5 * e0,
+        10.0 * dy - 6.0 * d0 - 4.0 * d1 - 1.5 * e0 + 0.5 * e1,
+        -15.0 * dy + 8.0 * d0 + 7.0 * d1 + 1.5 * e0 - e1,
+        6.0 * dy - 3.0 * d0 - 3.0 * d1 - 0.5 * e0 + 0.5 * e1,
+    ];
+    Some(InversePiece { phi: phi0, inv_width: 1.0 / w, c, hi: x1 })
+}
+
+/// The linear piece of s(φ) on [x0, x1] (monotone; used where Δφ is within the bound).
+fn linear_piece(x0: f64, x1: f64, phi0: f64, phi1: f64) -> InversePiece {
+    let w = phi1 - phi0;
+    let inv_width = if w > 0.0 { 1.0 / w } else { 0.0 };
+    InversePiece { phi: phi0, inv_width, c: [x0, x1 - x0, 0.0, 0.0, 0.0, 0.0], hi: x1 }
+}
+
+/// Appends the table pieces of quadrature piece [x0, x1] of segment `seg` (φ(x0) = φ0,
+/// φ(x1) = φ1) to `out`, left to right; `tol` is the absolute bound in φ.
+#[allow(clippy::too_many_arguments)]
+fn tabulate_inverse(
+    s: &dyn Spline,
+    seg: usize,
+    (x0, x1): (f64, f64),
+    (phi0, phi1): (f64, f64),
+    tol: f64,
+    cap: usize,
+    out: &mut Vec<InversePiece>,
+) {
+    type Job = ((f64, f64), (f64, f64), (f64, f64), (f64, f64), u32);
+    let n0 = speed_and_slope(s, seg, x0);
+    let n1 = speed_and_slope(s, seg, x1);
+    let mut stack: Vec<Job> = vec![((x0, x1), (phi0, phi1), n0, n1, 0)];
+    while let Some(((a, b), (pa, pb), na, nb, depth)) = stack.pop() {
+        if pb - pa <= tol {
+            out.push(linear_piece(a, b, pa, pb));
+            continue;
+        }
+        let m = 0.5 * (a + b);
+        let last_chance = depth >= INVERSE_MAX_DEPTH || out.len() + stack.len() >= cap || m <= a || m >= b;
+        let piece = quintic_piece(a, b, pa, pb, na, nb);
+        if last_chance {
+            out.push(piece.unwrap_or_else(|| linear_piece(a, b, pa, pb)));
+            continue;
+        }
+        // φ at the middle (needed to split, and one of the check points)
+        let pm = pa + gauss(s, seg, a, m);
+        if let Some(p) = piece {
+            let ok = [(0.25, f64::NAN), (0.5, pm), (0.75, f64::NAN)].iter().all(|&(f, pc)| {
+                let x = a + (b - a) * f;
+                let phi = if pc.is_nan() { pa + gauss(s, seg, a, x) } else { pc };
+                (p.eval(phi) - x).abs() * speed(s, seg, x) <= tol
+            });
+            if ok {
+                out.push(p);
+                continue;
+            }
+        }
+        let nm = speed_and_slope(s, seg, m);
+        stack.push(((m, b), (pm, pb), nm, nb, depth + 1));
+        stack.push(((a, m), (pa, pm), na, nm, depth + 1));
+    }
 }
 
 /// The clock of a reparameterised spline.
@@ -66,11 +213,10 @@ pub struct Reparameterized {
     joints: Vec<f64>,
     /// Inner segment of each outer segment.
     inner_seg: Vec<usize>,
-    /// Arc-length pieces (empty for `Scale`), sorted by φ; `ranges[i]` are the pieces of outer
-    /// segment i and `seg_end_phi[i]` is φ at its end.
-    pieces: Vec<Piece>,
+    /// The tabulated inverse s(φ) (empty for `Scale`), sorted by φ; `ranges[i]` are the
+    /// pieces of outer segment i.
+    table: Vec<InversePiece>,
     ranges: Vec<(usize, usize)>,
-    seg_end_phi: Vec<f64>,
     length: f64,
     name: &'static str,
 }
@@ -95,9 +241,8 @@ impl Reparameterized {
             map: TimeMap::Scale { t0: a, s0: a, factor },
             joints,
             inner_seg: (0..n).collect(),
-            pieces: Vec::new(),
+            table: Vec::new(),
             ranges: Vec::new(),
-            seg_end_phi: Vec::new(),
             length: f64::NAN,
             name: "retimed",
         })
@@ -160,14 +305,7 @@ impl Reparameterized {
                     || m <= x0
                     || m >= x1
                 {
-                    pieces.push(Piece {
-                        seg,
-                        lo: x0,
-                        hi: x1,
-                        phi,
-                        v_lo: speed(s, seg, x0),
-                        v_hi: speed(s, seg, x1),
-                    });
+                    pieces.push(Piece { seg, lo: x0, hi: x1, phi });
                     phi += halves;
                 } else {
                     stack.push((m, x1, depth + 1));
@@ -178,21 +316,31 @@ impl Reparameterized {
         }
         let length = phi;
         let c = length / (b - a);
+        // The inverse table, segment by segment (`table_start[seg]` = its first piece).
+        let mut table = Vec::with_capacity(pieces.len());
+        let mut table_start = vec![0];
+        for (k, p) in pieces.iter().enumerate() {
+            let end_phi = match pieces.get(k + 1) {
+                Some(q) if q.seg == p.seg => q.phi,
+                _ => seg_phi[p.seg + 1],
+            };
+            let tol = INVERSE_TOL * (seg_phi[p.seg + 1] - seg_phi[p.seg]);
+            tabulate_inverse(s, p.seg, (p.lo, p.hi), (p.phi, end_phi), tol, cap, &mut table);
+            if k + 1 == pieces.len() || pieces[k + 1].seg != p.seg {
+                table_start.push(table.len());
+            }
+        }
         // Outer joints: images of inner joints, dropping segments of (near) zero length.
         let mut joints = vec![a];
         let mut inner_seg = Vec::new();
         let mut ranges = Vec::new();
-        let mut seg_end_phi = Vec::new();
         for seg in 0..j.len() - 1 {
             let t1 = if seg == j.len() - 2 { b } else { a + seg_phi[seg + 1] / c };
             let t0 = *joints.last().unwrap_or(&a);
             if t1 - t0 > super::MIN_RELATIVE_SPACING * 1f64.max(t0.abs()).max(t1.abs()) * 16.0 {
                 joints.push(t1);
                 inner_seg.push(seg);
-                let start = pieces.partition_point(|p| p.seg < seg);
-                let end = pieces.partition_point(|p| p.seg <= seg);
-                ranges.push((start, end));
-                seg_end_phi.push(seg_phi[seg + 1]);
+                ranges.push((table_start[seg], table_start[seg + 1]));
             } else if seg == j.len() - 2 && !inner_seg.is_empty() {
                 // the last segment is too short: the previous outer segment ends at b
                 *joints.last_mut().unwrap() = b;
@@ -201,14 +349,14 @@ impl Reparameterized {
         if inner_seg.is_empty() {
             return Err(Error::invalid("spline", "the spline's rotation is too small to reparameterise"));
         }
+        table.shrink_to_fit();
         Ok(Reparameterized {
             inner,
             map: TimeMap::ArcLength { t0: a, c },
             joints,
             inner_seg,
-            pieces,
+            table,
             ranges,
-            seg_end_phi,
             length,
             name: "arc_length",
         })
@@ -232,78 +380,23 @@ impl Reparameterized {
         }
     }
 
-    /// s with φ(s) = target, within the pieces of outer segment i.
+    /// s with φ(s) = target, within the pieces of outer segment i: the tabulated inverse.
+    #[inline]
     fn invert(&self, i: usize, target: f64) -> f64 {
-        let s: &dyn Spline = &*self.inner;
         let (start, end) = self.ranges[i];
-        let ps = &self.pieces[start..end];
+        let ps = &self.table[start..end];
         let k = ps.partition_point(|p| p.phi <= target).saturating_sub(1);
-        let p = ps[k];
-        let next_phi = if k + 1 < ps.len() { ps[k + 1].phi } else { self.seg_end_phi[i] };
-        if target <= p.phi {
-            return p.lo;
-        }
-        if target >= next_phi {
-            return p.hi;
-        }
-        let (mut lo, mut hi) = (p.lo, p.hi);
-        // First guess: the cubic Hermite interpolant of s(φ) with ds/dφ = 1/v at the piece's
-        // ends (error O(width⁴)), so one Newton step usually reaches rounding level.
-        let dphi = next_phi - p.phi;
-        let u = (target - p.phi) / dphi;
-        let linear = lo + (hi - lo) * u;
-        let mut x = if p.v_lo > 0.0 && p.v_hi > 0.0 {
-            let (m0, m1) = (dphi / p.v_lo, dphi / p.v_hi);
-            let (u2, u3) = (u * u, u * u * u);
-            let g = (2.0 * u3 - 3.0 * u2 + 1.0) * lo
-                + (u3 - 2.0 * u2 + u) * m0
-                + (3.0 * u2 - 2.0 * u3) * hi
-                + (u3 - u2) * m1;
-            if g > lo && g < hi {
-                g
-            } else {
-                linear
-            }
-        } else {
-            linear
-        };
-        for _ in 0..60 {
-            let f = p.phi + gauss(s, p.seg, p.lo, x) - target;
-            if f == 0.0 {
-                return x;
-            }
-            if f > 0.0 {
-                hi = x;
-            } else {
-                lo = x;
-            }
-            let v = speed(s, p.seg, x);
-            let mut nx = if v > 0.0 { x - f / v } else { f64::NAN };
-            if !(nx > lo && nx < hi) {
-                nx = 0.5 * (lo + hi);
-            }
-            // Newton converges quadratically: after a step below 1e-12 of the piece the next
-            // one would change nothing (1e-8 was measurably too loose: 1.4e-9 rad off the path).
-            let tiny_step = (nx - x).abs() <= 1e-12 * (p.hi - p.lo) && v > 0.0;
-            if tiny_step
-                || (nx - x).abs() <= 2.0 * f64::EPSILON * x.abs().max(f64::MIN_POSITIVE)
-                || hi - lo <= 2.0 * f64::EPSILON * x.abs()
-            {
-                return nx;
-            }
-            x = nx;
-        }
-        x
+        ps[k].eval(target)
     }
 
     #[inline]
     fn segment<const N: usize>(&self, i: usize, t: f64) -> JQuat<N> {
         let seg = self.inner_seg[i];
         let s = self.inner_time(i, t);
-        let inner = self.inner.segment_jet4(seg, s);
         if N == 1 {
-            return compose_quat(&inner, Jet::<N>::constant(0.0));
+            return JQuat::constant(self.inner.segment_jet1(seg, s).value());
         }
+        let inner = self.inner.segment_jet4(seg, s);
         let sigma = match self.map {
             TimeMap::Scale { factor, .. } => Jet::<N>::variable(0.0, 1.0 / factor),
             TimeMap::ArcLength { c, .. } => {
@@ -431,4 +524,229 @@ pub fn max_rate(s: &dyn Spline, order: usize) -> Result<(f64, f64)> {
         }
     }
     Ok((best, arg))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::quat::Quat;
+    use crate::spline::*;
+    use crate::testing::XorShift64;
+
+    /// A random walk of `n` unit quaternions with steps of up to `step` rad.
+    fn walk(n: usize, step: f64, rng: &mut XorShift64) -> Vec<Quat> {
+        let mut q = vec![Quat::new(0.5, 0.5, -0.5, 0.5)];
+        for _ in 1..n {
+            let v = [rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5];
+            let r = crate::convert::from_rotvec(v.map(|x| x * step));
+            let last = q[q.len() - 1];
+            q.push(last * r);
+        }
+        q
+    }
+
+    fn times(n: usize, rng: &mut XorShift64) -> Vec<f64> {
+        let mut t = vec![0.0];
+        for _ in 1..n {
+            let last = t[t.len() - 1];
+            t.push(last + 0.3 + rng.uniform());
+        }
+        t
+    }
+
+    /// Random splines of every family (seeded).
+    fn families(seed: u64) -> Vec<(&'static str, Arc<dyn Spline>)> {
+        let mut rng = XorShift64::new(seed);
+        let q = walk(7, 1.2, &mut rng);
+        let t = times(7, &mut rng);
+        let w: Vec<[f64; 3]> = (0..7).map(|k| [(k as f64).sin(), 0.3, -(k as f64).cos()]).collect();
+        let knots: Vec<f64> = (0..11).map(|k| k as f64 + 0.2 * ((k * k) % 3) as f64).collect();
+        vec![
+            ("slerp", Arc::new(PiecewiseSlerp::new(&q, Some(&t), true).unwrap())),
+            ("squad", Arc::new(Squad::new(&q, Some(&t), true).unwrap())),
+            ("catmull_rom", Arc::new(CatmullRom::new(&q, Some(&t), CatmullRomEnds::Reflect, true).unwrap())),
+            (
+                "kochanek_bartels",
+                Arc::new(
+                    KochanekBartels::new(&q, Some(&t), None, CATMULL_ROM, TcbEnds::Duplicate, false, true)
+                        .unwrap(),
+                ),
+            ),
+            ("natural", Arc::new(NaturalSpline::new(&q, Some(&t), NaturalEnds::Natural, true).unwrap())),
+            ("c3", Arc::new(C3Spline::new(&q, Some(&t), &[0.3], &[0.1], C3Variant::Knot, true).unwrap())),
+            ("bspline", Arc::new(CumulativeBSpline::new(&q, 0.7, 0.0, 4, true).unwrap())),
+            ("nonuniform", Arc::new(NonUniformBSpline::new(&q, &knots, 4, true).unwrap())),
+            ("beta", Arc::new(BetaSpline::new(&q, &[1.5], &[2.0], Some(&t[..5]), true).unwrap())),
+            ("bezier", Arc::new(SphericalBezier::new(&q, (0.0, 2.0), true).unwrap())),
+            ("cumulative_bezier", Arc::new(CumulativeBezier::new(&q, (0.0, 2.0), true).unwrap())),
+            ("nlerp", Arc::new(PiecewiseNlerp::new(&q, Some(&t)).unwrap())),
+            ("lin_euler", Arc::new(PiecewiseLinEuler::new(&q, Some(&t), "xyz").unwrap())),
+            (
+                "hermite",
+                Arc::new(Hermite::new(&q, Some(&t), &w, None, Frame::World, KeyEnds::Open, true).unwrap()),
+            ),
+        ]
+    }
+
+    /// φ(x) − φ(start of segment `seg`), by composite 8-point Gauss–Legendre on 64 pieces.
+    fn phi_from_start(s: &dyn Spline, seg: usize, x: f64) -> f64 {
+        let a = s.joints()[seg];
+        (0..64)
+            .map(|k| gauss(s, seg, a + (x - a) * k as f64 / 64.0, a + (x - a) * (k + 1) as f64 / 64.0))
+            .sum()
+    }
+
+    /// The accurate inverse the table replaced: bisection-safeguarded Newton on
+    /// φ(x) = target within inner segment `seg` (φ' = v), to rounding.
+    fn newton_inverse(s: &dyn Spline, seg: usize, phi_start: f64, target: f64) -> f64 {
+        let (mut lo, mut hi) = (s.joints()[seg], s.joints()[seg + 1]);
+        let mut x = 0.5 * (lo + hi);
+        for _ in 0..200 {
+            let f = phi_start + phi_from_start(s, seg, x) - target;
+            if f > 0.0 {
+                hi = x;
+            } else {
+                lo = x;
+            }
+            let v = speed(s, seg, x);
+            let mut nx = x - f / v;
+            if !(nx > lo && nx < hi) {
+                nx = 0.5 * (lo + hi);
+            }
+            if (nx - x).abs() <= 4.0 * f64::EPSILON * x.abs().max(1.0) {
+                return nx;
+            }
+            x = nx;
+        }
+        x
+    }
+
+    #[test]
+    fn quintic_piece_reproduces_its_end_data() {
+        // s(φ) = φ² + 1 on φ ∈ [1, 2] written as data: v = ds/dφ⁻¹ = 1/(2φ), v' = dv/ds
+        let (phi0, phi1) = (1.0, 2.0);
+        let node = |phi: f64| {
+            let v = 1.0 / (2.0 * phi);
+            // dv/ds = dv/dφ · dφ/ds = (−1/(2φ²))·v
+            (v, -v / (2.0 * phi * phi))
+        };
+        let p = quintic_piece(2.0, 5.0, phi0, phi1, node(phi0), node(phi1)).unwrap();
+        for k in 0..=20 {
+            let phi = 1.0 + k as f64 / 20.0;
+            assert!((p.eval(phi) - (phi * phi + 1.0)).abs() < 1e-14, "{phi}");
+        }
+    }
+
+    #[test]
+    fn quintic_piece_refuses_a_non_monotone_interpolant() {
+        // slopes far larger than the secant: the quintic would overshoot (b₁ > b₅)
+        assert!(quintic_piece(0.0, 1.0, 0.0, 1.0, (0.01, 0.0), (0.01, 0.0)).is_none());
+        assert!(quintic_piece(0.0, 1.0, 0.0, 1.0, (0.0, 0.0), (1.0, 0.0)).is_none());
+        assert!(quintic_piece(0.0, 1.0, 0.0, 1.0, (1.0, 0.0), (1.0, 0.0)).is_some());
+    }
+
+    #[test]
+    fn tabulated_inverse_matches_newton_on_every_family() {
+        for seed in [3u64, 17] {
+            for (name, inner) in families(seed) {
+                let r = Reparameterized::arc_length(inner.clone()).unwrap();
+                let TimeMap::ArcLength { t0, c } = *r.map() else { unreachable!() };
+                let s: &dyn Spline = &*inner;
+                let mut rng = XorShift64::new(seed + 1);
+                let mut worst = 0.0f64;
+                for i in 0..r.joints().len() - 1 {
+                    let seg = r.inner_seg[i];
+                    // φ at the start of the inner segment: that of the outer segment's start
+                    let phi_start = c * (r.joints()[i] - t0);
+                    let lseg = c * (r.joints()[i + 1] - r.joints()[i]);
+                    for _ in 0..12 {
+                        let t = r.joints()[i] + (r.joints()[i + 1] - r.joints()[i]) * rng.uniform();
+                        let target = c * (t - t0);
+                        let got = r.invert(i, target);
+                        let want = newton_inverse(s, seg, phi_start, target);
+                        // in φ: the table's s reaches the same arc length
+                        let err = (phi_start + phi_from_start(s, seg, got) - target).abs();
+                        assert!(
+                            err <= 2e-12 * lseg + 1e-14 * r.length(),
+                            "{name} seed {seed}: φ error {err:e} (segment length {lseg:e})"
+                        );
+                        worst = worst.max((got - want).abs() * speed(s, seg, want) / lseg);
+                    }
+                }
+                assert!(worst <= 2e-12, "{name} seed {seed}: {worst:e}");
+            }
+        }
+    }
+
+    #[test]
+    fn tabulated_inverse_is_monotone_and_reaches_the_ends() {
+        for (name, inner) in families(5) {
+            let r = Reparameterized::arc_length(inner.clone()).unwrap();
+            let TimeMap::ArcLength { t0, c } = *r.map() else { unreachable!() };
+            for i in 0..r.joints().len() - 1 {
+                let (a, b) = (r.joints()[i], r.joints()[i + 1]);
+                let seg = r.inner_seg[i];
+                let (lo, hi) = (inner.joints()[seg], inner.joints()[seg + 1]);
+                let mut last = f64::NEG_INFINITY;
+                for k in 0..=20_000 {
+                    let x = r.invert(i, c * (a + (b - a) * k as f64 / 20_000.0 - t0));
+                    assert!(x >= last && (lo..=hi).contains(&x), "{name} segment {i} at {k}");
+                    last = x;
+                }
+                // the pieces join: every piece starts where the previous one ends
+                let (p0, p1) = r.ranges[i];
+                for w in r.table[p0..p1].windows(2) {
+                    assert_eq!(w[0].hi, w[1].c[0], "{name}");
+                    assert!(w[0].phi <= w[1].phi, "{name}");
+                }
+                assert_eq!(r.table[p0].c[0], lo);
+                assert_eq!(r.table[p1 - 1].hi, hi);
+            }
+        }
+    }
+
+    #[test]
+    fn table_checks_hold_at_points_it_did_not_check() {
+        // between the check points: 15 points per piece, φ by composite quadrature
+        for (name, inner) in families(23).into_iter().take(6) {
+            let r = Reparameterized::arc_length(inner.clone()).unwrap();
+            let TimeMap::ArcLength { t0, c } = *r.map() else { unreachable!() };
+            let s: &dyn Spline = &*inner;
+            for i in 0..r.joints().len() - 1 {
+                let seg = r.inner_seg[i];
+                let phi_start = c * (r.joints()[i] - t0);
+                let lseg = c * (r.joints()[i + 1] - r.joints()[i]);
+                let (p0, p1) = r.ranges[i];
+                for p in &r.table[p0..p1] {
+                    for k in 1..16 {
+                        let x = p.c[0] + (p.hi - p.c[0]) * k as f64 / 16.0;
+                        let phi = phi_start + phi_from_start(s, seg, x);
+                        let err = (r.invert(i, phi) - x).abs() * speed(s, seg, x);
+                        assert!(err <= 2e-12 * lseg, "{name}: {err:e} vs {lseg:e}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_stop_inside_a_segment_gets_linear_pieces_within_the_bound() {
+        // rest ends: the speed is zero at both ends of the spline (s(φ) has infinite slope)
+        let mut rng = XorShift64::new(8);
+        let q = walk(4, 1.0, &mut rng);
+        let inner: Arc<dyn Spline> =
+            Arc::new(Squad::with_keyframes(&q, None, KeyEnds::Rest, false, true).unwrap());
+        let r = Reparameterized::arc_length(inner.clone()).unwrap();
+        let TimeMap::ArcLength { t0, c } = *r.map() else { unreachable!() };
+        assert!(r.table.iter().any(|p| p.c[2..] == [0.0; 4]));
+        let s: &dyn Spline = &*inner;
+        let lseg = c * (r.joints()[1] - r.joints()[0]);
+        for k in 0..=200 {
+            let target = lseg * (k as f64 / 200.0).powi(4);
+            let x = r.invert(0, target);
+            let err = (phi_from_start(s, 0, x) - target).abs();
+            assert!(err <= 2e-12 * lseg, "{k}: {err:e}");
+        }
+        let _ = t0;
+    }
 }
