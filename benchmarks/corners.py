@@ -66,7 +66,7 @@ def corners(keys: int) -> list[tuple[str, qs.Spline]]:
         ("natural (holds)", qs.spline("natural", held, t)),
         ("c3 (closed)", qs.spline("c3", q, t, ends="closed")),
         ("c3 (holds)", qs.spline("c3", held, t, holds=True)),
-        ("hermite (closed)", qs.spline("hermite", q, t, ends="closed")),
+        ("hermite (bessel rates)", qs.spline("hermite", q, t)),
         ("bspline (order 12)", qs.CumulativeBSpline(q, order=12)),
         ("bspline (closed)", qs.CumulativeBSpline(q, ends="closed")),
         ("bspline (rest, holds)", qs.CumulativeBSpline(held, ends="rest", holds=True)),
