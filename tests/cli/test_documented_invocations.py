@@ -24,6 +24,7 @@ COMMANDS = (
     "plot",
     "export",
     "batch",
+    "imu",
     "view",
     "demo",
     "info",

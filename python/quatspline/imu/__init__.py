@@ -5,7 +5,9 @@ into a trajectory, and describe the sensor's mounting and noise.
   or through a :class:`SensorModel` (mounting, time offset, scale, misalignment, biases) and
   an :class:`~quatspline.io.ImuNoise` (Kalibr ``imu.yaml`` densities);
 - :func:`integrate` — fourth-order strapdown integration, the inverse;
-- :func:`allan_deviation` — the overlapping Allan deviation, to check or estimate densities.
+- :func:`allan_deviation` — the overlapping Allan deviation, to check or estimate densities;
+- :func:`calibrate` — a gyroscope's mounting rotation, bias, scale (and misalignment) and time
+  offset against a reference motion, with standard errors (:class:`Calibration`).
 
 The records :class:`quatspline.io.ImuData` (samples) and :class:`quatspline.io.ImuNoise`
 (noise densities) are importable from here as well.
@@ -21,6 +23,7 @@ from ..io.inertial import ImuData as ImuData
 from ..io.inertial import ImuNoise as ImuNoise
 from ._vectors import GRAVITY
 from .allan import allan_deviation
+from .calibration import Calibration, calibrate
 from .sensor import SensorModel
 from .simulation import simulate
 from .strapdown import integrate
@@ -29,8 +32,10 @@ from .strapdown import integrate
 # quatspline.io, where they live, below this package.
 __all__ = [
     "GRAVITY",
+    "Calibration",
     "SensorModel",
     "allan_deviation",
+    "calibrate",
     "integrate",
     "simulate",
 ]
