@@ -98,17 +98,30 @@ def arc_families(keys: int) -> list[tuple[str, qs.Spline]]:
     return [(name, s, qs.arc_length(s)) for name, s in inner]
 
 
+def build_us(s: qs.Spline, repeat: int) -> float:
+    """Best construction time of ``qs.arc_length(s)``, µs per segment of ``s``."""
+    best = float("inf")
+    for _ in range(repeat):
+        t0 = time.perf_counter_ns()
+        qs.arc_length(s)
+        best = min(best, time.perf_counter_ns() - t0)
+    return best / 1e3 / (len(s.joints) - 1)
+
+
 def arc_table(rows, n: int, repeat: int) -> None:
     """Arc-length splines against their floor: the original spline evaluated per sample on
     the jet path (forced ``reference`` kernels), which the composition does once per sample
-    (values of the original's value, ω from its jet of order 4)."""
+    (values of the original's value, ω from its jet of order 4); and the construction of the
+    arc-length spline, µs per segment."""
     mode = qs.simd_status()[0]
     print(
-        "| spline | values | original, jet path | ω | original's ω, jet path | values, 2 threads |"
+        "| spline | values | original, jet path | ω | original's ω, jet path | values, 2 threads "
+        "| construction (µs/segment) |"
     )
-    print("|---|---:|---:|---:|---:|---:|")
+    print("|---|---:|---:|---:|---:|---:|---:|")
     for name, s, r in rows:
         ts = np.linspace(*s.domain, n)
+        build = build_us(s, repeat)
         qs.set_num_threads(1)
         val = best_ns(lambda r=r, ts=ts: r(ts), n, repeat)
         om = best_ns(lambda r=r, ts=ts: r.angular_velocity(ts), n, repeat)
@@ -120,7 +133,7 @@ def arc_table(rows, n: int, repeat: int) -> None:
         two = best_ns(lambda r=r, ts=ts: r(ts), n, repeat)
         print(
             f"| arc_length({name}) | {val:,.1f} | {ref_val:,.1f} | {om:,.1f} | {ref_om:,.1f} "
-            f"| {two:,.1f} |",
+            f"| {two:,.1f} | {build:,.1f} |",
             flush=True,
         )
 
@@ -128,6 +141,7 @@ def arc_table(rows, n: int, repeat: int) -> None:
 def table(rows: list[tuple[str, qs.Spline]], n: int, repeat: int) -> None:
     print("| spline | values, 1 thread | values, 2 threads | ω, 1 thread | ω, 2 threads |")
     print("|---|---:|---:|---:|---:|")
+    floors = []
     for name, s in rows:
         ts = np.linspace(*s.domain, n)
         cells = []
@@ -137,6 +151,13 @@ def table(rows: list[tuple[str, qs.Spline]], n: int, repeat: int) -> None:
                 cells.append(best_ns(fn, n, repeat))
         qs.set_num_threads(0)
         print(f"| {name} | " + " | ".join(f"{c:,.1f}" for c in cells) + " |", flush=True)
+        if name.startswith("bezier"):
+            # the floor of de Casteljau: n(n − 1)/2 slerps per sample for n points
+            points = int(name.split("(")[1].split()[0])
+            slerps = points * (points - 1) // 2
+            floors.append(f"{name}: {slerps:,} slerps per sample, {cells[0] / slerps:.2f} ns each")
+    for line in floors:
+        print(f"- {line}")
 
 
 def main() -> None:

@@ -64,13 +64,14 @@ fn main() {
         };
         println!(
             "arc_length({}): value {:.1} ns (original {:.1}), first derivative {:.1} ns (original {:.1}); \
-             build {:.1} µs/segment",
+             build {:.1} µs/segment, {:.1} table pieces/segment",
             s.name(),
             run(&r, 1),
             run(&*s, 1),
             run(&r, 2),
             run(&*s, 2),
-            build
+            build,
+            r.table_pieces() as f64 / s.segments() as f64
         );
     }
 }

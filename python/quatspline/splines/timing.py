@@ -3,7 +3,7 @@
 - :func:`arc_length` (also ``reparameterize(s, "arc_length")``): any spline traced at
   constant angular speed over the same domain. The arc-length map ``φ(s) = ∫|ω|`` is tabulated
   by adaptive Gauss–Legendre quadrature and its inverse ``s(φ)`` by strictly increasing
-  quintic Hermite pieces (slopes 1/|ω| and their derivatives at both ends), refined until
+  degree-7 Hermite pieces (slopes 1/|ω| and their first two derivatives at both ends), halved until
   ``|φ(s_tab(φ)) − φ|`` is within 1e-12 of the segment's arc length at three check points of
   every piece, so a sample costs one evaluation of the original spline; the derivatives
   of the composed curve q(s(t)) follow from the chain rule with s' = c/|ω(s)| solved in Taylor

@@ -12,20 +12,24 @@
 //!   angular speed is the constant c everywhere the inner curve moves. φ is tabulated with
 //!   adaptive Gauss–Legendre quadrature (8 nodes; a piece is split until one rule and its two
 //!   halves agree to 1e-13 of the estimated total length). The inverse s(φ) is tabulated too
-//!   ([`InversePiece`]): on each quadrature piece, split further where needed, the quintic
-//!   Hermite interpolant in φ of s with ds/dφ = 1/v and d²s/dφ² = −v'/v³ at both ends (v and
-//!   v' = dv/ds from the inner jet). A piece is kept when (i) its Bernstein coefficients
-//!   increase strictly, so s(φ) is strictly increasing on it (sufficient: the derivative's
-//!   Bernstein coefficients are 5× their differences), and (ii) at the three check points
-//!   s = lo + (hi − lo)·{¼, ½, ¾} (the Hermite error u³(1 − u)³ s⁽⁶⁾/6! peaks inside) the
-//!   table maps φ(s), integrated by 8-point Gauss–Legendre from lo, back to within
-//!   [`INVERSE_TOL`] of the segment's arc length: v(s)·|s_tab(φ(s)) − s| ≤ 1e-12 Lᵢ, with Lᵢ
-//!   the arc length of inner segment i. A piece whose own arc length Δφ is ≤ 1e-12 Lᵢ (next to
-//!   a point where the inner curve stops, where s(φ) has an infinite slope) is linear in φ:
-//!   monotone and within Δφ of the true inverse, so within the bound too. After 40 halvings
-//!   of a quadrature piece, or beyond 256 table pieces per segment on average, a piece is kept
-//!   without the check. Evaluating s(t) is then a binary search among the segment's pieces
-//!   and a polynomial of degree 5, clamped to the piece: no inner evaluation. The derivatives
+//!   ([`InversePiece`]): on each quadrature piece, halved where needed, the septic Hermite
+//!   interpolant in φ of s with s and its first three φ-derivatives at both ends
+//!   (ds/dφ = 1/v, d²s/dφ² = −v'/v³, d³s/dφ³ = (3v'² − v v'')/v⁵; v, v', v'' from the inner
+//!   jet of order 4). A piece is kept when (i) its Bernstein coefficients increase strictly,
+//!   so s(φ) is strictly increasing on it (sufficient: the derivative's Bernstein
+//!   coefficients are 7× their differences), and (ii) at the three check points
+//!   s = lo + (hi − lo)·{¼, ½, ¾} (the Hermite error u⁴(1 − u)⁴ w⁸ s⁽⁸⁾/8! peaks inside) the
+//!   table maps φ(s), integrated by 8-point Gauss–Legendre, back to within [`INVERSE_TOL`] of
+//!   the segment's arc length: v(s)·|s_tab(φ(s)) − s| ≤ 1e-12 Lᵢ, with Lᵢ the arc length of
+//!   inner segment i. φ at the middle comes from the quadrature (or the parent's check), so a
+//!   check costs two 8-point rules and three speeds; a piece that fails is halved, its check
+//!   values at ¼ and ¾ becoming the halves' middles. A piece whose own arc length Δφ is
+//!   ≤ 1e-12 Lᵢ (next to a point where the inner curve stops, where s(φ) has an infinite
+//!   slope) is linear in φ: monotone and within Δφ of the true inverse, so within the bound
+//!   too. After 40 halvings of a quadrature piece, or beyond 256 table pieces per segment on
+//!   average, a piece is kept without the check. Evaluating s(t) is then a binary search
+//!   among the segment's pieces (a few for smooth curves) and a polynomial of degree 7,
+//!   clamped to the piece: no inner evaluation. The derivatives
 //!   of s come from s' = c / v(s) solved in Taylor mode with the inner speed v as a jet in s,
 //!   so the composed derivatives are exact: s'' = −c² v'/v³, s''' = c³ (3v'² − v v'')/v⁵.
 //!
@@ -51,31 +55,36 @@ fn gauss(s: &dyn Spline, seg: usize, a: f64, b: f64) -> f64 {
     GL8_X.iter().zip(GL8_W).map(|(&x, w)| w * speed(s, seg, m + h * x)).sum::<f64>() * h
 }
 
-/// One tabulated piece of φ(s): [lo, hi] in inner segment `seg`, φ(lo) = `phi`.
+/// One quadrature piece of φ(s): [lo, hi] in inner segment `seg`, φ(lo) = `phi`, and
+/// φ at the middle `mid_phi` (the left half's integral, computed by the quadrature's check).
 #[derive(Debug, Clone, Copy)]
 struct Piece {
     seg: usize,
     lo: f64,
     hi: f64,
     phi: f64,
+    mid_phi: f64,
 }
 
 /// Bound on the tabulated inverse, relative to the arc length Lᵢ of the inner segment:
-/// |φ(s_tab(φ)) − φ| ≤ `INVERSE_TOL`·Lᵢ at the check points of every piece (module doc).
+/// v(s)·|s_tab(φ(s)) − s| ≤ `INVERSE_TOL`·Lᵢ at the check points of every piece (module doc).
 pub const INVERSE_TOL: f64 = 1e-12;
 
 /// Halvings of a quadrature piece before a table piece is kept unchecked.
 const INVERSE_MAX_DEPTH: u32 = 40;
 
+/// Degree of the table's pieces (Hermite data: s and its first three derivatives at both ends).
+const DEG: usize = 7;
+
 /// One piece of the tabulated inverse s(φ): for φ in [`phi`, φ of the next piece],
-/// s = c₀ + u (c₁ + u (c₂ + u (c₃ + u (c₄ + u c₅)))) with u = (φ − `phi`)·`inv_width`,
-/// clamped to [c₀, `hi`] (see the module doc).
+/// s = c₀ + u (c₁ + u (c₂ + ⋯ + u c₇)) with u = (φ − `phi`)·`inv_width`, clamped to
+/// [c₀, `hi`] (see the module doc).
 #[derive(Debug, Clone, Copy)]
 struct InversePiece {
     phi: f64,
     /// 1/Δφ (0 for a piece of zero arc length).
     inv_width: f64,
-    c: [f64; 6],
+    c: [f64; DEG + 1],
     /// s at the end of the piece.
     hi: f64,
 }
@@ -88,8 +97,8 @@ impl InversePiece {
         if u >= 1.0 {
             self.hi
         } else if u > 0.0 {
-            let s = c[0] + u * (c[1] + u * (c[2] + u * (c[3] + u * (c[4] + u * c[5]))));
-            s.clamp(c[0], self.hi)
+            let p = c[1] + u * (c[2] + u * (c[3] + u * (c[4] + u * (c[5] + u * (c[6] + u * c[7])))));
+            (c[0] + u * p).clamp(c[0], self.hi)
         } else if u.is_nan() {
             u
         } else {
@@ -98,102 +107,136 @@ impl InversePiece {
     }
 }
 
-/// Angular speed v = |ω| = 2|q'| and its derivative v' = dv/ds = 2⟨q', q''⟩/|q'| of segment
-/// `seg` at s (v' reported as 0 where q' = 0).
-#[inline]
-fn speed_and_slope(s: &dyn Spline, seg: usize, x: f64) -> (f64, f64) {
-    let j = s.segment_jet3(seg, x);
-    let (d1, d2) = (j.derivative(1), j.derivative(2));
-    let n = d1.norm();
-    let slope = if n > 0.0 { 2.0 * d1.dot(d2) / n } else { 0.0 };
-    (2.0 * n, slope)
+/// The inverse map's local data at s = `x`: the angular speed v = 2|q'| and the Taylor
+/// coefficients [s', s''/2, s'''/6] of s(φ) in φ (`None` where the curve stops or the data
+/// are not finite).
+#[derive(Debug, Clone, Copy)]
+struct Node {
+    x: f64,
+    taylor: Option<[f64; 3]>,
 }
 
-/// The quintic Hermite piece of s(φ) on [x0, x1] with φ(x0) = φ0, φ(x1) = φ1 and end data
-/// (v, v'); `None` when it is not strictly increasing (Bernstein test, module doc).
-fn quintic_piece(
-    x0: f64,
-    x1: f64,
-    phi0: f64,
-    phi1: f64,
-    n0: (f64, f64),
-    n1: (f64, f64),
-) -> Option<InversePiece> {
+/// [`Node`] at s = `x` of segment `seg`: ds/dφ = 1/v(s) solved in Taylor mode with v a jet in
+/// s from the inner jet of order 4 (s' = 1/v, s'' = −v'/v³, s''' = (3v'² − v v'')/v⁵).
+fn node(s: &dyn Spline, seg: usize, x: f64) -> Node {
+    let j = s.segment_jet4(seg, x);
+    let qs = [j.w, j.x, j.y, j.z].map(|c| Jet::<3>([c.0[1], 2.0 * c.0[2], 3.0 * c.0[3]]));
+    let vv = (qs[0] * qs[0] + qs[1] * qs[1] + qs[2] * qs[2] + qs[3] * qs[3]).sqrt() * 2.0;
+    let v = vv.0[0];
+    if !(v > 1e-300 && v.is_finite()) {
+        return Node { x, taylor: None };
+    }
+    let f = vv.recip();
+    let mut sigma = Jet::<4>::constant(0.0);
+    for _ in 1..4 {
+        let fs = compose_scalar(&f.0, sigma);
+        let mut next = Jet::<4>::constant(0.0);
+        for k in 0..3 {
+            next.0[k + 1] = fs.0[k] / (k + 1) as f64;
+        }
+        sigma = next;
+    }
+    let t = [sigma.0[1], sigma.0[2], sigma.0[3]];
+    Node { x, taylor: t.iter().all(|c| c.is_finite()).then_some(t) }
+}
+
+/// C(7, k).
+const BINOM7: [f64; DEG + 1] = [1.0, 7.0, 21.0, 35.0, 35.0, 21.0, 7.0, 1.0];
+
+/// The septic Hermite piece of s(φ) between nodes `n0` and `n1` with φ(n0.x) = φ0,
+/// φ(n1.x) = φ1; `None` when data are missing or the piece is not strictly increasing.
+///
+/// In u = (φ − φ0)/w, w = φ1 − φ0, with Taylor coefficients Aₖ = aₖ wᵏ at u = 0 and Bₖ at
+/// u = 1, the Bernstein coefficients relative to s₀ are b₀ = 0, b₁ = A₁/7,
+/// b₂ = 2A₁/7 + A₂/21, b₃ = 3A₁/7 + 3A₂/21 + A₃/35 and, with Δ = s₁ − s₀, b₇ = Δ,
+/// b₆ = Δ − B₁/7, b₅ = Δ − 2B₁/7 + B₂/21, b₄ = Δ − 3B₁/7 + 3B₂/21 − B₃/35 (the end
+/// derivatives of a Bézier curve by its differences). Strictly increasing Bernstein
+/// coefficients make the derivative's (7× their differences) positive: s(φ) strictly
+/// increases on the piece.
+fn septic_piece(n0: &Node, n1: &Node, phi0: f64, phi1: f64) -> Option<InversePiece> {
     let w = phi1 - phi0;
-    let (v0, v1) = (n0.0, n1.0);
-    if !(w > 0.0 && v0 > 0.0 && v1 > 0.0 && v0.is_finite() && v1.is_finite()) {
+    let (a, b) = (n0.taylor?, n1.taylor?);
+    if !(w > 0.0 && w.is_finite()) {
         return None;
     }
-    // derivatives in u = (φ − φ0)/w: ds/du = w/v, d²s/du² = −w² v'/v³
-    let (d0, d1) = (w / v0, w / v1);
-    let (e0, e1) = (-w * w * n0.1 / (v0 * v0 * v0), -w * w * n1.1 / (v1 * v1 * v1));
-    let dy = x1 - x0;
-    let b = [0.0, d0 / 5.0, 2.0 * d0 / 5.0 + e0 / 20.0, dy - 2.0 * d1 / 5.0 + e1 / 20.0, dy - d1 / 5.0, dy];
-    if !b.windows(2).all(|p| p[1] > p[0]) {
-        return None;
-    }
-    let c = [
-        x0,
-        d0,
-        0.5 * e0,
-        10.0 * dy - 6.0 * d0 - 4.0 * d1 - 1.5 * e0 + 0.5 * e1,
-        -15.0 * dy + 8.0 * d0 + 7.0 * d1 + 1.5 * e0 - e1,
-        6.0 * dy - 3.0 * d0 - 3.0 * d1 - 0.5 * e0 + 0.5 * e1,
+    let (a1, a2, a3) = (a[0] * w, a[1] * w * w, a[2] * w * w * w);
+    let (b1, b2, b3) = (b[0] * w, b[1] * w * w, b[2] * w * w * w);
+    let dy = n1.x - n0.x;
+    let bz = [
+        0.0,
+        a1 / 7.0,
+        2.0 * a1 / 7.0 + a2 / 21.0,
+        3.0 * a1 / 7.0 + 3.0 * a2 / 21.0 + a3 / 35.0,
+        dy - 3.0 * b1 / 7.0 + 3.0 * b2 / 21.0 - b3 / 35.0,
+        dy - 2.0 * b1 / 7.0 + b2 / 21.0,
+        dy - b1 / 7.0,
+        dy,
     ];
-    Some(InversePiece { phi: phi0, inv_width: 1.0 / w, c, hi: x1 })
+    if !bz.windows(2).all(|p| p[1] > p[0]) {
+        return None;
+    }
+    // power basis: c_k = C(7, k) Σᵢ (−1)^(k−i) C(k, i) bᵢ
+    let mut c = [0.0; DEG + 1];
+    for (k, ck) in c.iter_mut().enumerate().skip(1) {
+        let mut acc = 0.0;
+        let mut binom = 1.0; // C(k, i)
+        for (i, bi) in bz.iter().enumerate().take(k + 1) {
+            let sign = if (k - i) % 2 == 0 { 1.0 } else { -1.0 };
+            acc += sign * binom * bi;
+            binom = binom * (k - i) as f64 / (i + 1) as f64;
+        }
+        *ck = BINOM7[k] * acc;
+    }
+    c[0] = n0.x;
+    Some(InversePiece { phi: phi0, inv_width: 1.0 / w, c, hi: n1.x })
 }
 
 /// The linear piece of s(φ) on [x0, x1] (monotone; used where Δφ is within the bound).
 fn linear_piece(x0: f64, x1: f64, phi0: f64, phi1: f64) -> InversePiece {
     let w = phi1 - phi0;
     let inv_width = if w > 0.0 { 1.0 / w } else { 0.0 };
-    InversePiece { phi: phi0, inv_width, c: [x0, x1 - x0, 0.0, 0.0, 0.0, 0.0], hi: x1 }
+    let mut c = [0.0; DEG + 1];
+    (c[0], c[1]) = (x0, x1 - x0);
+    InversePiece { phi: phi0, inv_width, c, hi: x1 }
 }
 
-/// Appends the table pieces of quadrature piece [x0, x1] of segment `seg` (φ(x0) = φ0,
-/// φ(x1) = φ1) to `out`, left to right; `tol` is the absolute bound in φ.
-#[allow(clippy::too_many_arguments)]
-fn tabulate_inverse(
-    s: &dyn Spline,
-    seg: usize,
-    (x0, x1): (f64, f64),
-    (phi0, phi1): (f64, f64),
-    tol: f64,
-    cap: usize,
-    out: &mut Vec<InversePiece>,
-) {
-    type Job = ((f64, f64), (f64, f64), (f64, f64), (f64, f64), u32);
-    let n0 = speed_and_slope(s, seg, x0);
-    let n1 = speed_and_slope(s, seg, x1);
-    let mut stack: Vec<Job> = vec![((x0, x1), (phi0, phi1), n0, n1, 0)];
-    while let Some(((a, b), (pa, pb), na, nb, depth)) = stack.pop() {
+/// Appends the table pieces of quadrature piece `p` (φ at its end `phi1`) to `out`, left to
+/// right; `tol` is the absolute bound in φ. A piece [a, b] with φ known at a, m = (a + b)/2
+/// and b is checked at ¼, ½ and ¾ (φ at ¼ and ¾ by 8-point Gauss–Legendre from a and from
+/// m); when it fails it is halved, and those two values are the halves' φ at their middles.
+fn tabulate_inverse(s: &dyn Spline, p: &Piece, phi1: f64, tol: f64, cap: usize, out: &mut Vec<InversePiece>) {
+    let seg = p.seg;
+    // (left node, right node, φ at a, φ at m, φ at b, depth)
+    type Job = (Node, Node, f64, f64, f64, u32);
+    let mut stack: Vec<Job> = vec![(node(s, seg, p.lo), node(s, seg, p.hi), p.phi, p.mid_phi, phi1, 0)];
+    while let Some((na, nb, pa, pm, pb, depth)) = stack.pop() {
+        let (a, b) = (na.x, nb.x);
         if pb - pa <= tol {
             out.push(linear_piece(a, b, pa, pb));
             continue;
         }
         let m = 0.5 * (a + b);
         let last_chance = depth >= INVERSE_MAX_DEPTH || out.len() + stack.len() >= cap || m <= a || m >= b;
-        let piece = quintic_piece(a, b, pa, pb, na, nb);
+        let piece = septic_piece(&na, &nb, pa, pb);
         if last_chance {
             out.push(piece.unwrap_or_else(|| linear_piece(a, b, pa, pb)));
             continue;
         }
-        // φ at the middle (needed to split, and one of the check points)
-        let pm = pa + gauss(s, seg, a, m);
-        if let Some(p) = piece {
-            let ok = [(0.25, f64::NAN), (0.5, pm), (0.75, f64::NAN)].iter().all(|&(f, pc)| {
-                let x = a + (b - a) * f;
-                let phi = if pc.is_nan() { pa + gauss(s, seg, a, x) } else { pc };
-                (p.eval(phi) - x).abs() * speed(s, seg, x) <= tol
-            });
+        let (q1, q3) = (0.5 * (a + m), 0.5 * (m + b));
+        let p1 = pa + gauss(s, seg, a, q1);
+        let p3 = pm + gauss(s, seg, m, q3);
+        if let Some(piece) = piece {
+            let ok = [(q1, p1), (m, pm), (q3, p3)]
+                .iter()
+                .all(|&(x, phi)| (piece.eval(phi) - x).abs() * speed(s, seg, x) <= tol);
             if ok {
-                out.push(p);
+                out.push(piece);
                 continue;
             }
         }
-        let nm = speed_and_slope(s, seg, m);
-        stack.push(((m, b), (pm, pb), nm, nb, depth + 1));
-        stack.push(((a, m), (pa, pm), na, nm, depth + 1));
+        let nm = node(s, seg, m);
+        stack.push((nm, nb, pm, p3, pb, depth + 1));
+        stack.push((na, nm, pa, p1, pm, depth + 1));
     }
 }
 
@@ -296,7 +339,8 @@ impl Reparameterized {
             while let Some((x0, x1, depth)) = stack.pop() {
                 let whole = gauss(s, seg, x0, x1);
                 let m = 0.5 * (x0 + x1);
-                let halves = gauss(s, seg, x0, m) + gauss(s, seg, m, x1);
+                let left = gauss(s, seg, x0, m);
+                let halves = left + gauss(s, seg, m, x1);
                 let width_share = (x1 - x0) / (b - a);
                 let budget_spent = pieces.len() + stack.len() >= cap;
                 if (whole - halves).abs() <= tol * width_share.max(1e-6)
@@ -305,7 +349,7 @@ impl Reparameterized {
                     || m <= x0
                     || m >= x1
                 {
-                    pieces.push(Piece { seg, lo: x0, hi: x1, phi });
+                    pieces.push(Piece { seg, lo: x0, hi: x1, phi, mid_phi: phi + left });
                     phi += halves;
                 } else {
                     stack.push((m, x1, depth + 1));
@@ -325,7 +369,7 @@ impl Reparameterized {
                 _ => seg_phi[p.seg + 1],
             };
             let tol = INVERSE_TOL * (seg_phi[p.seg + 1] - seg_phi[p.seg]);
-            tabulate_inverse(s, p.seg, (p.lo, p.hi), (p.phi, end_phi), tol, cap, &mut table);
+            tabulate_inverse(s, p, end_phi, tol, cap, &mut table);
             if k + 1 == pieces.len() || pieces[k + 1].seg != p.seg {
                 table_start.push(table.len());
             }
@@ -365,6 +409,12 @@ impl Reparameterized {
     /// The total rotation angle ∫|ω| (arc length map only; NaN for a time stretch).
     pub fn length(&self) -> f64 {
         self.length
+    }
+
+    /// Pieces of the tabulated inverse of the arc-length map (0 for a time stretch); each
+    /// takes 88 bytes.
+    pub fn table_pieces(&self) -> usize {
+        self.table.len()
     }
 
     /// The time map.
@@ -621,28 +671,51 @@ mod tests {
         x
     }
 
-    #[test]
-    fn quintic_piece_reproduces_its_end_data() {
-        // s(φ) = φ² + 1 on φ ∈ [1, 2] written as data: v = ds/dφ⁻¹ = 1/(2φ), v' = dv/ds
-        let (phi0, phi1) = (1.0, 2.0);
-        let node = |phi: f64| {
-            let v = 1.0 / (2.0 * phi);
-            // dv/ds = dv/dφ · dφ/ds = (−1/(2φ²))·v
-            (v, -v / (2.0 * phi * phi))
+    /// A node of the known map s(φ) = p(φ) (value and Taylor coefficients from `p`'s
+    /// coefficients `c`, lowest first).
+    fn poly_node(c: &[f64], phi: f64) -> Node {
+        let at = |d: usize| -> f64 {
+            // p⁽ᵈ⁾(φ)/d!
+            let mut acc = 0.0;
+            for k in (d..c.len()).rev() {
+                let mut b = 1.0;
+                for i in 0..d {
+                    b *= (k - i) as f64 / (i + 1) as f64;
+                }
+                acc = acc * phi + b * c[k];
+            }
+            acc
         };
-        let p = quintic_piece(2.0, 5.0, phi0, phi1, node(phi0), node(phi1)).unwrap();
-        for k in 0..=20 {
-            let phi = 1.0 + k as f64 / 20.0;
-            assert!((p.eval(phi) - (phi * phi + 1.0)).abs() < 1e-14, "{phi}");
-        }
+        Node { x: at(0), taylor: Some([at(1), at(2), at(3)]) }
     }
 
     #[test]
-    fn quintic_piece_refuses_a_non_monotone_interpolant() {
-        // slopes far larger than the secant: the quintic would overshoot (b₁ > b₅)
-        assert!(quintic_piece(0.0, 1.0, 0.0, 1.0, (0.01, 0.0), (0.01, 0.0)).is_none());
-        assert!(quintic_piece(0.0, 1.0, 0.0, 1.0, (0.0, 0.0), (1.0, 0.0)).is_none());
-        assert!(quintic_piece(0.0, 1.0, 0.0, 1.0, (1.0, 0.0), (1.0, 0.0)).is_some());
+    fn septic_piece_reproduces_a_septic() {
+        // an increasing degree-7 map on φ ∈ [0.5, 2]: reproduced from its end data alone
+        let c = [1.0, 2.0, 0.3, -0.1, 0.05, 0.01, -0.002, 0.0005];
+        let (phi0, phi1) = (0.5, 2.0);
+        let p = septic_piece(&poly_node(&c, phi0), &poly_node(&c, phi1), phi0, phi1).unwrap();
+        for k in 0..=30 {
+            let phi = phi0 + (phi1 - phi0) * k as f64 / 30.0;
+            let want = poly_node(&c, phi).x;
+            assert!((p.eval(phi) - want).abs() < 1e-13, "{phi}: {} vs {want}", p.eval(phi));
+        }
+        // and a quintic's data (s''' included) are not enough: a degree-6 term is seen
+        let c6 = [1.0, 2.0, 0.3, -0.1, 0.05, 0.01, -0.002];
+        let p6 = septic_piece(&poly_node(&c6, phi0), &poly_node(&c6, phi1), phi0, phi1).unwrap();
+        assert!((p6.eval(1.2) - poly_node(&c6, 1.2).x).abs() < 1e-13);
+    }
+
+    #[test]
+    fn septic_piece_refuses_a_non_monotone_interpolant() {
+        let n = |x: f64, slope: f64| Node { x, taylor: Some([slope, 0.0, 0.0]) };
+        // end slopes far larger than the secant: the septic would overshoot (b₁ > b₆)
+        assert!(septic_piece(&n(0.0, 100.0), &n(1.0, 100.0), 0.0, 1.0).is_none());
+        // a stop at one end (no data) is refused; a line is kept
+        assert!(septic_piece(&Node { x: 0.0, taylor: None }, &n(1.0, 1.0), 0.0, 1.0).is_none());
+        assert!(septic_piece(&n(0.0, 1.0), &n(1.0, 1.0), 0.0, 1.0).is_some());
+        // zero slope at an end is not strictly increasing (b₀ = b₁)
+        assert!(septic_piece(&n(0.0, 0.0), &n(1.0, 1.0), 0.0, 1.0).is_none());
     }
 
     #[test]
@@ -738,7 +811,7 @@ mod tests {
             Arc::new(Squad::with_keyframes(&q, None, KeyEnds::Rest, false, true).unwrap());
         let r = Reparameterized::arc_length(inner.clone()).unwrap();
         let TimeMap::ArcLength { t0, c } = *r.map() else { unreachable!() };
-        assert!(r.table.iter().any(|p| p.c[2..] == [0.0; 4]));
+        assert!(r.table.iter().any(|p| p.c[2..] == [0.0; DEG - 1]));
         let s: &dyn Spline = &*inner;
         let lseg = c * (r.joints()[1] - r.joints()[0]);
         for k in 0..=200 {
