@@ -382,7 +382,10 @@ def _hermite(q, times, p):
     r = p["rates"]
     if isinstance(r, str):
         q = np.asarray(q, dtype=float)
-        r = bessel_rates(q, times) if r == "bessel" else np.zeros((len(q), 3))
+        if r == "bessel":
+            r = bessel_rates(q, times, closed=p["ends"] == "closed")
+        else:
+            r = np.zeros((len(q), 3))
         frame = "body"
     else:
         frame = p["frame"]

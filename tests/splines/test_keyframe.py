@@ -484,3 +484,34 @@ def test_c3_alpha_bad_values():
         qs.spline("c3", q, alpha="fast")
     with pytest.raises(ValueError, match=r"^alpha: non-finite value .* element 2"):
         qs.C3Spline(q, alpha=[0.3, 0.3, np.nan, 0.3])
+
+
+def test_registry_closed_hermite_takes_loop_bessel_rates():
+    """``ends="closed"`` with the default rates: Bessel's rule around the loop (the closing
+    chord runs from the last key back to the first). A constant-speed great circle is exact:
+    keys at angles 0 … 5 about z, the closing chord 2π − 5, times equal to the angles."""
+    ang = np.arange(6.0)
+    q = qs.from_rotvec(np.c_[0 * ang, 0 * ang, ang])
+    t = np.r_[ang, 2 * np.pi]
+    tt = np.linspace(0, 2 * np.pi, 97)
+    for keys, times in ((q, t), (np.vstack([q, q[:1]]), t)):  # closing time, closing key
+        s = qs.spline("hermite", keys, times, ends="closed")
+        assert s.closed and s.domain == (0.0, 2 * np.pi)
+        assert np.abs(s.angular_velocity(tt) - [0, 0, 1]).max() < 1e-13
+    # N keys at N times: the registry closes the loop after the mean spacing
+    s = qs.spline("hermite", q, ang, ends="closed")
+    loop = np.r_[ang, 6.0]
+    w = kf.bessel_rates(q, loop, closed=True)
+    assert np.allclose(s.angular_velocity(loop[:-1], "body"), w, atol=1e-12)
+    # every key is interior: the first key's rate averages the closing chord and the first
+    closing = 2 * np.pi - 5.0  # the rotation from key 5 on to key 0, in one time unit
+    assert np.allclose(w[0], [0, 0, (1.0 + closing) / 2], atol=1e-12)
+    assert np.allclose(w[-1], [0, 0, (1.0 + closing) / 2], atol=1e-12)
+
+
+def test_closed_bessel_rates_check_the_loop_times():
+    q = random_walk(5, 3)
+    with pytest.raises(ValueError, match=r"times: expected shape \(6,\)"):
+        kf.bessel_rates(q, np.arange(5.0), closed=True)
+    with pytest.raises(ValueError, match=r"times: expected shape \(5,\)"):
+        kf.bessel_rates(q, np.arange(6.0))

@@ -95,6 +95,40 @@ def test_arc_length_traces_the_same_path(name):
         assert _angle(r(tj), s(sj)) < 1e-9
 
 
+@pytest.mark.parametrize("name", list(SPLINES))
+def test_arc_length_reaches_the_arc_length_of_its_clock(name):
+    # the tabulated inverse of the arc-length map: at t, the original's arc length up to the
+    # traced point (scipy's adaptive quadrature from the start) is c·(t − a), within 1e-12 of
+    # the segment's arc length (the stated bound) plus the quadrature's own tolerance
+    s = SPLINES[name]
+    r = qs.arc_length(s)
+    c, a = r.length / r.duration, r.domain[0]
+    j = s.joints
+
+    def speed(x):
+        return np.linalg.norm(s.angular_velocity(x))
+
+    seg_len = [quad(speed, lo, hi, epsabs=1e-14, limit=200)[0] for lo, hi in zip(j[:-1], j[1:])]
+    rng = np.random.default_rng(5)
+    for t in rng.uniform(*r.domain, 12):
+        i = min(int(np.searchsorted(r.joints, t, side="right")) - 1, len(r.joints) - 2)
+        d = r.segment_derivatives(i, t)
+        # the inner parameter: Newton on ⟨s(x) − q, s'(x)⟩ = 0 from the inner segment whose
+        # arc length reaches c·(t − a)
+        phi = c * (t - a)
+        k = min(int(np.searchsorted(np.cumsum(seg_len), phi)), len(j) - 2)
+        base = sum(seg_len[:k])
+        x = j[k] + (j[k + 1] - j[k]) * (phi - base) / seg_len[k]
+        q = d[0]
+        for _ in range(30):
+            e = s.segment_derivatives(k, x)
+            q = q * (1.0 if np.dot(e[0], q) >= 0 else -1.0)
+            g, h = np.dot(e[0] - q, e[1]), np.dot(e[1], e[1]) + np.dot(e[0] - q, e[2])
+            x = float(np.clip(x - g / h, j[k], j[k + 1]))
+        got = base + quad(speed, j[k], x, epsabs=1e-14, limit=200)[0]
+        assert abs(got - phi) <= 1e-12 * seg_len[k] + 1e-11 * r.length, (t, got - phi)
+
+
 @pytest.mark.parametrize("name", ["squad", "natural", "c3", "nonuniform", "beta"])
 def test_arc_length_derivatives_match_finite_differences(name):
     r = qs.arc_length(SPLINES[name])

@@ -65,20 +65,25 @@ def _per(v, name: str) -> np.ndarray:
     return np.ascontiguousarray(a)
 
 
-def bessel_rates(quats, times=None) -> np.ndarray:
+def bessel_rates(quats, times=None, closed: bool = False) -> np.ndarray:
     """Body angular velocities at keys estimated from the keys alone (Bessel's rule).
 
     At an interior key the time-weighted average (hᵢ mᵢ₋₁ + hᵢ₋₁ mᵢ)/(hᵢ₋₁ + hᵢ) of the
     neighbouring chord rates mₖ = rotvec(qₖ* qₖ₊₁)/hₖ (each is the same vector in the body
-    frames of both its keys); at the ends the end chord rate. Exact for a constant-speed
-    great circle. The registry's default rates for ``hermite``.
+    frames of both its keys); at the ends of an open curve the end chord rate; on a closed
+    loop every key is interior (the closing chord runs from the last key back to the first).
+    Exact for a constant-speed great circle. The registry's default rates for ``hermite``.
 
     Parameters
     ----------
     quats : array_like, shape (N, 4)
         Keys, N ≥ 2.
-    times : array_like, shape (N,), optional
-        Key times (default 0, 1, …).
+    times : array_like, shape (N,) or (N + 1,) when ``closed``, optional
+        Key times (default 0, 1, …); a closed loop takes one more time, closing the loop,
+        unless the last key equals the first (then it is the closing key, as for
+        ``ends="closed"``, and its row repeats the first).
+    closed : bool
+        Rates for the closed loop through the keys (``ends="closed"``).
 
     Returns
     -------
@@ -92,17 +97,30 @@ def bessel_rates(quats, times=None) -> np.ndarray:
     >>> q = qs.from_rotvec([[0, 0, 0], [0, 0, 0.2], [0, 0, 0.4]])
     >>> bool(np.allclose(splines.bessel_rates(q, [0, 1, 2]), [0, 0, 0.2]))
     True
+    >>> w = splines.bessel_rates(q, [0, 1, 2, 3], closed=True)
+    >>> bool(np.allclose(w[0], [0, 0, (0.2 - 0.4) / 2]))
+    True
     """
     q = canonicalize(normalize(_keys(quats, "quats")))
     n = len(q)
     if n < 2:
         raise ValueError(f"quats: needs at least 2 keys, got {n}")
-    t = np.arange(n, dtype=float) if times is None else as_real(times, "times")
-    if t.shape != (n,):
-        raise ValueError(f"times: expected shape ({n},), got {t.shape}")
+    dropped = bool(closed) and bool(_same_rotations(q[:1], q[-1:])[0])
+    loop = n - 1 if dropped else n  # distinct keys of a closed loop
+    expected = (loop + 1,) if closed else (n,)
+    t = np.arange(expected[0], dtype=float) if times is None else as_real(times, "times")
+    if t.shape != expected:
+        what = "one more than the distinct keys, closing the loop" if closed else "one per key"
+        raise ValueError(f"times: expected shape {expected} ({what}), got {t.shape}")
     h = np.diff(t)
     if not np.all(h > 0):
         raise ValueError("times: not strictly increasing")
+    if closed:
+        k = q[:loop]
+        m = as_rotvec(multiply(conjugate(k), np.roll(k, -1, axis=0))) / h[:, None]
+        hp, mp = np.roll(h, 1), np.roll(m, 1, axis=0)  # the chord before each key
+        w = (h[:, None] * mp + hp[:, None] * m) / (hp + h)[:, None]
+        return np.vstack([w, w[:1]]) if dropped else w
     m = as_rotvec(multiply(conjugate(q[:-1]), q[1:])) / h[:, None]
     w = np.empty((n, 3))
     w[0], w[-1] = m[0], m[-1]

@@ -11,10 +11,27 @@
 //!   2|q'| for a unit q), t = t₀ + φ(s)/c with c = L/(t₁ − t₀), so the domain is kept and the
 //!   angular speed is the constant c everywhere the inner curve moves. φ is tabulated with
 //!   adaptive Gauss–Legendre quadrature (8 nodes; a piece is split until one rule and its two
-//!   halves agree to 1e-13 of the estimated total length), and s(t) is found by safeguarded
-//!   Newton on φ(s) = c (t − t₀) inside the piece (φ' = |ω|). The derivatives of s come from
-//!   s' = c / v(s) solved in Taylor mode with the inner speed v as a jet in s, so the
-//!   composed derivatives are exact: s'' = −c² v'/v³, s''' = c³ (3v'² − v v'')/v⁵.
+//!   halves agree to 1e-13 of the estimated total length). The inverse s(φ) is tabulated too
+//!   ([`InversePiece`]): on each quadrature piece, halved where needed, the septic Hermite
+//!   interpolant in φ of s with s and its first three φ-derivatives at both ends
+//!   (ds/dφ = 1/v, d²s/dφ² = −v'/v³, d³s/dφ³ = (3v'² − v v'')/v⁵; v, v', v'' from the inner
+//!   jet of order 4). A piece is kept when (i) its Bernstein coefficients increase strictly,
+//!   so s(φ) is strictly increasing on it (sufficient: the derivative's Bernstein
+//!   coefficients are 7× their differences), and (ii) at the three check points
+//!   s = lo + (hi − lo)·{¼, ½, ¾} (the Hermite error u⁴(1 − u)⁴ w⁸ s⁽⁸⁾/8! peaks inside) the
+//!   table maps φ(s), integrated by 8-point Gauss–Legendre, back to within [`INVERSE_TOL`] of
+//!   the segment's arc length: v(s)·|s_tab(φ(s)) − s| ≤ 1e-12 Lᵢ, with Lᵢ the arc length of
+//!   inner segment i. φ at the middle comes from the quadrature (or the parent's check), so a
+//!   check costs two 8-point rules and three speeds; a piece that fails is halved, its check
+//!   values at ¼ and ¾ becoming the halves' middles. A piece whose own arc length Δφ is
+//!   ≤ 1e-12 Lᵢ (next to a point where the inner curve stops, where s(φ) has an infinite
+//!   slope) is linear in φ: monotone and within Δφ of the true inverse, so within the bound
+//!   too. After 40 halvings of a quadrature piece, or beyond 256 table pieces per segment on
+//!   average, a piece is kept without the check. Evaluating s(t) is then a binary search
+//!   among the segment's pieces (a few for smooth curves) and a polynomial of degree 7,
+//!   clamped to the piece: no inner evaluation. The derivatives
+//!   of s come from s' = c / v(s) solved in Taylor mode with the inner speed v as a jet in s,
+//!   so the composed derivatives are exact: s'' = −c² v'/v³, s''' = c³ (3v'² − v v'')/v⁵.
 //!
 //! Continuity: the same order as the inner spline (v is C^(k−1) where q is C^k, so s is C^k).
 //! Holds — stretches where the inner curve does not move — take no time after arc-length
@@ -38,16 +55,189 @@ fn gauss(s: &dyn Spline, seg: usize, a: f64, b: f64) -> f64 {
     GL8_X.iter().zip(GL8_W).map(|(&x, w)| w * speed(s, seg, m + h * x)).sum::<f64>() * h
 }
 
-/// One tabulated piece of φ(s): [lo, hi] in inner segment `seg`, φ(lo) = `phi`.
+/// One quadrature piece of φ(s): [lo, hi] in inner segment `seg`, φ(lo) = `phi`, and
+/// φ at the middle `mid_phi` (the left half's integral, computed by the quadrature's check).
 #[derive(Debug, Clone, Copy)]
 struct Piece {
     seg: usize,
     lo: f64,
     hi: f64,
     phi: f64,
-    /// Angular speed at `lo` and `hi` (for the Hermite first guess of the inverse).
-    v_lo: f64,
-    v_hi: f64,
+    mid_phi: f64,
+}
+
+/// Bound on the tabulated inverse, relative to the arc length Lᵢ of the inner segment:
+/// v(s)·|s_tab(φ(s)) − s| ≤ `INVERSE_TOL`·Lᵢ at the check points of every piece (module doc).
+pub const INVERSE_TOL: f64 = 1e-12;
+
+/// Halvings of a quadrature piece before a table piece is kept unchecked.
+const INVERSE_MAX_DEPTH: u32 = 40;
+
+/// Degree of the table's pieces (Hermite data: s and its first three derivatives at both ends).
+const DEG: usize = 7;
+
+/// One piece of the tabulated inverse s(φ): for φ in [`phi`, φ of the next piece],
+/// s = c₀ + u (c₁ + u (c₂ + ⋯ + u c₇)) with u = (φ − `phi`)·`inv_width`, clamped to
+/// [c₀, `hi`] (see the module doc).
+#[derive(Debug, Clone, Copy)]
+struct InversePiece {
+    phi: f64,
+    /// 1/Δφ (0 for a piece of zero arc length).
+    inv_width: f64,
+    c: [f64; DEG + 1],
+    /// s at the end of the piece.
+    hi: f64,
+}
+
+impl InversePiece {
+    #[inline(always)]
+    fn eval(&self, target: f64) -> f64 {
+        let u = (target - self.phi) * self.inv_width;
+        let c = &self.c;
+        if u >= 1.0 {
+            self.hi
+        } else if u > 0.0 {
+            let p = c[1] + u * (c[2] + u * (c[3] + u * (c[4] + u * (c[5] + u * (c[6] + u * c[7])))));
+            (c[0] + u * p).clamp(c[0], self.hi)
+        } else if u.is_nan() {
+            u
+        } else {
+            c[0]
+        }
+    }
+}
+
+/// The inverse map's local data at s = `x`: the angular speed v = 2|q'| and the Taylor
+/// coefficients [s', s''/2, s'''/6] of s(φ) in φ (`None` where the curve stops or the data
+/// are not finite).
+#[derive(Debug, Clone, Copy)]
+struct Node {
+    x: f64,
+    taylor: Option<[f64; 3]>,
+}
+
+/// [`Node`] at s = `x` of segment `seg`: ds/dφ = 1/v(s) solved in Taylor mode with v a jet in
+/// s from the inner jet of order 4 (s' = 1/v, s'' = −v'/v³, s''' = (3v'² − v v'')/v⁵).
+fn node(s: &dyn Spline, seg: usize, x: f64) -> Node {
+    let j = s.segment_jet4(seg, x);
+    let qs = [j.w, j.x, j.y, j.z].map(|c| Jet::<3>([c.0[1], 2.0 * c.0[2], 3.0 * c.0[3]]));
+    let vv = (qs[0] * qs[0] + qs[1] * qs[1] + qs[2] * qs[2] + qs[3] * qs[3]).sqrt() * 2.0;
+    let v = vv.0[0];
+    if !(v > 1e-300 && v.is_finite()) {
+        return Node { x, taylor: None };
+    }
+    let f = vv.recip();
+    let mut sigma = Jet::<4>::constant(0.0);
+    for _ in 1..4 {
+        let fs = compose_scalar(&f.0, sigma);
+        let mut next = Jet::<4>::constant(0.0);
+        for k in 0..3 {
+            next.0[k + 1] = fs.0[k] / (k + 1) as f64;
+        }
+        sigma = next;
+    }
+    let t = [sigma.0[1], sigma.0[2], sigma.0[3]];
+    Node { x, taylor: t.iter().all(|c| c.is_finite()).then_some(t) }
+}
+
+/// C(7, k).
+const BINOM7: [f64; DEG + 1] = [1.0, 7.0, 21.0, 35.0, 35.0, 21.0, 7.0, 1.0];
+
+/// The septic Hermite piece of s(φ) between nodes `n0` and `n1` with φ(n0.x) = φ0,
+/// φ(n1.x) = φ1; `None` when data are missing or the piece is not strictly increasing.
+///
+/// In u = (φ − φ0)/w, w = φ1 − φ0, with Taylor coefficients Aₖ = aₖ wᵏ at u = 0 and Bₖ at
+/// u = 1, the Bernstein coefficients relative to s₀ are b₀ = 0, b₁ = A₁/7,
+/// b₂ = 2A₁/7 + A₂/21, b₃ = 3A₁/7 + 3A₂/21 + A₃/35 and, with Δ = s₁ − s₀, b₇ = Δ,
+/// b₆ = Δ − B₁/7, b₅ = Δ − 2B₁/7 + B₂/21, b₄ = Δ − 3B₁/7 + 3B₂/21 − B₃/35 (the end
+/// derivatives of a Bézier curve by its differences). Strictly increasing Bernstein
+/// coefficients make the derivative's (7× their differences) positive: s(φ) strictly
+/// increases on the piece.
+fn septic_piece(n0: &Node, n1: &Node, phi0: f64, phi1: f64) -> Option<InversePiece> {
+    let w = phi1 - phi0;
+    let (a, b) = (n0.taylor?, n1.taylor?);
+    if !(w > 0.0 && w.is_finite()) {
+        return None;
+    }
+    let (a1, a2, a3) = (a[0] * w, a[1] * w * w, a[2] * w * w * w);
+    let (b1, b2, b3) = (b[0] * w, b[1] * w * w, b[2] * w * w * w);
+    let dy = n1.x - n0.x;
+    let bz = [
+        0.0,
+        a1 / 7.0,
+        2.0 * a1 / 7.0 + a2 / 21.0,
+        3.0 * a1 / 7.0 + 3.0 * a2 / 21.0 + a3 / 35.0,
+        dy - 3.0 * b1 / 7.0 + 3.0 * b2 / 21.0 - b3 / 35.0,
+        dy - 2.0 * b1 / 7.0 + b2 / 21.0,
+        dy - b1 / 7.0,
+        dy,
+    ];
+    if !bz.windows(2).all(|p| p[1] > p[0]) {
+        return None;
+    }
+    // power basis: c_k = C(7, k) Σᵢ (−1)^(k−i) C(k, i) bᵢ
+    let mut c = [0.0; DEG + 1];
+    for (k, ck) in c.iter_mut().enumerate().skip(1) {
+        let mut acc = 0.0;
+        let mut binom = 1.0; // C(k, i)
+        for (i, bi) in bz.iter().enumerate().take(k + 1) {
+            let sign = if (k - i) % 2 == 0 { 1.0 } else { -1.0 };
+            acc += sign * binom * bi;
+            binom = binom * (k - i) as f64 / (i + 1) as f64;
+        }
+        *ck = BINOM7[k] * acc;
+    }
+    c[0] = n0.x;
+    Some(InversePiece { phi: phi0, inv_width: 1.0 / w, c, hi: n1.x })
+}
+
+/// The linear piece of s(φ) on [x0, x1] (monotone; used where Δφ is within the bound).
+fn linear_piece(x0: f64, x1: f64, phi0: f64, phi1: f64) -> InversePiece {
+    let w = phi1 - phi0;
+    let inv_width = if w > 0.0 { 1.0 / w } else { 0.0 };
+    let mut c = [0.0; DEG + 1];
+    (c[0], c[1]) = (x0, x1 - x0);
+    InversePiece { phi: phi0, inv_width, c, hi: x1 }
+}
+
+/// Appends the table pieces of quadrature piece `p` (φ at its end `phi1`) to `out`, left to
+/// right; `tol` is the absolute bound in φ. A piece [a, b] with φ known at a, m = (a + b)/2
+/// and b is checked at ¼, ½ and ¾ (φ at ¼ and ¾ by 8-point Gauss–Legendre from a and from
+/// m); when it fails it is halved, and those two values are the halves' φ at their middles.
+fn tabulate_inverse(s: &dyn Spline, p: &Piece, phi1: f64, tol: f64, cap: usize, out: &mut Vec<InversePiece>) {
+    let seg = p.seg;
+    // (left node, right node, φ at a, φ at m, φ at b, depth)
+    type Job = (Node, Node, f64, f64, f64, u32);
+    let mut stack: Vec<Job> = vec![(node(s, seg, p.lo), node(s, seg, p.hi), p.phi, p.mid_phi, phi1, 0)];
+    while let Some((na, nb, pa, pm, pb, depth)) = stack.pop() {
+        let (a, b) = (na.x, nb.x);
+        if pb - pa <= tol {
+            out.push(linear_piece(a, b, pa, pb));
+            continue;
+        }
+        let m = 0.5 * (a + b);
+        let last_chance = depth >= INVERSE_MAX_DEPTH || out.len() + stack.len() >= cap || m <= a || m >= b;
+        let piece = septic_piece(&na, &nb, pa, pb);
+        if last_chance {
+            out.push(piece.unwrap_or_else(|| linear_piece(a, b, pa, pb)));
+            continue;
+        }
+        let (q1, q3) = (0.5 * (a + m), 0.5 * (m + b));
+        let p1 = pa + gauss(s, seg, a, q1);
+        let p3 = pm + gauss(s, seg, m, q3);
+        if let Some(piece) = piece {
+            let ok = [(q1, p1), (m, pm), (q3, p3)]
+                .iter()
+                .all(|&(x, phi)| (piece.eval(phi) - x).abs() * speed(s, seg, x) <= tol);
+            if ok {
+                out.push(piece);
+                continue;
+            }
+        }
+        let nm = node(s, seg, m);
+        stack.push((nm, nb, pm, p3, pb, depth + 1));
+        stack.push((na, nm, pa, p1, pm, depth + 1));
+    }
 }
 
 /// The clock of a reparameterised spline.
@@ -66,11 +256,10 @@ pub struct Reparameterized {
     joints: Vec<f64>,
     /// Inner segment of each outer segment.
     inner_seg: Vec<usize>,
-    /// Arc-length pieces (empty for `Scale`), sorted by φ; `ranges[i]` are the pieces of outer
-    /// segment i and `seg_end_phi[i]` is φ at its end.
-    pieces: Vec<Piece>,
+    /// The tabulated inverse s(φ) (empty for `Scale`), sorted by φ; `ranges[i]` are the
+    /// pieces of outer segment i.
+    table: Vec<InversePiece>,
     ranges: Vec<(usize, usize)>,
-    seg_end_phi: Vec<f64>,
     length: f64,
     name: &'static str,
 }
@@ -95,9 +284,8 @@ impl Reparameterized {
             map: TimeMap::Scale { t0: a, s0: a, factor },
             joints,
             inner_seg: (0..n).collect(),
-            pieces: Vec::new(),
+            table: Vec::new(),
             ranges: Vec::new(),
-            seg_end_phi: Vec::new(),
             length: f64::NAN,
             name: "retimed",
         })
@@ -151,7 +339,8 @@ impl Reparameterized {
             while let Some((x0, x1, depth)) = stack.pop() {
                 let whole = gauss(s, seg, x0, x1);
                 let m = 0.5 * (x0 + x1);
-                let halves = gauss(s, seg, x0, m) + gauss(s, seg, m, x1);
+                let left = gauss(s, seg, x0, m);
+                let halves = left + gauss(s, seg, m, x1);
                 let width_share = (x1 - x0) / (b - a);
                 let budget_spent = pieces.len() + stack.len() >= cap;
                 if (whole - halves).abs() <= tol * width_share.max(1e-6)
@@ -160,14 +349,7 @@ impl Reparameterized {
                     || m <= x0
                     || m >= x1
                 {
-                    pieces.push(Piece {
-                        seg,
-                        lo: x0,
-                        hi: x1,
-                        phi,
-                        v_lo: speed(s, seg, x0),
-                        v_hi: speed(s, seg, x1),
-                    });
+                    pieces.push(Piece { seg, lo: x0, hi: x1, phi, mid_phi: phi + left });
                     phi += halves;
                 } else {
                     stack.push((m, x1, depth + 1));
@@ -178,21 +360,31 @@ impl Reparameterized {
         }
         let length = phi;
         let c = length / (b - a);
+        // The inverse table, segment by segment (`table_start[seg]` = its first piece).
+        let mut table = Vec::with_capacity(pieces.len());
+        let mut table_start = vec![0];
+        for (k, p) in pieces.iter().enumerate() {
+            let end_phi = match pieces.get(k + 1) {
+                Some(q) if q.seg == p.seg => q.phi,
+                _ => seg_phi[p.seg + 1],
+            };
+            let tol = INVERSE_TOL * (seg_phi[p.seg + 1] - seg_phi[p.seg]);
+            tabulate_inverse(s, p, end_phi, tol, cap, &mut table);
+            if k + 1 == pieces.len() || pieces[k + 1].seg != p.seg {
+                table_start.push(table.len());
+            }
+        }
         // Outer joints: images of inner joints, dropping segments of (near) zero length.
         let mut joints = vec![a];
         let mut inner_seg = Vec::new();
         let mut ranges = Vec::new();
-        let mut seg_end_phi = Vec::new();
         for seg in 0..j.len() - 1 {
             let t1 = if seg == j.len() - 2 { b } else { a + seg_phi[seg + 1] / c };
             let t0 = *joints.last().unwrap_or(&a);
             if t1 - t0 > super::MIN_RELATIVE_SPACING * 1f64.max(t0.abs()).max(t1.abs()) * 16.0 {
                 joints.push(t1);
                 inner_seg.push(seg);
-                let start = pieces.partition_point(|p| p.seg < seg);
-                let end = pieces.partition_point(|p| p.seg <= seg);
-                ranges.push((start, end));
-                seg_end_phi.push(seg_phi[seg + 1]);
+                ranges.push((table_start[seg], table_start[seg + 1]));
             } else if seg == j.len() - 2 && !inner_seg.is_empty() {
                 // the last segment is too short: the previous outer segment ends at b
                 *joints.last_mut().unwrap() = b;
@@ -201,14 +393,14 @@ impl Reparameterized {
         if inner_seg.is_empty() {
             return Err(Error::invalid("spline", "the spline's rotation is too small to reparameterise"));
         }
+        table.shrink_to_fit();
         Ok(Reparameterized {
             inner,
             map: TimeMap::ArcLength { t0: a, c },
             joints,
             inner_seg,
-            pieces,
+            table,
             ranges,
-            seg_end_phi,
             length,
             name: "arc_length",
         })
@@ -217,6 +409,12 @@ impl Reparameterized {
     /// The total rotation angle ∫|ω| (arc length map only; NaN for a time stretch).
     pub fn length(&self) -> f64 {
         self.length
+    }
+
+    /// Pieces of the tabulated inverse of the arc-length map (0 for a time stretch); each
+    /// takes 88 bytes.
+    pub fn table_pieces(&self) -> usize {
+        self.table.len()
     }
 
     /// The time map.
@@ -232,78 +430,23 @@ impl Reparameterized {
         }
     }
 
-    /// s with φ(s) = target, within the pieces of outer segment i.
+    /// s with φ(s) = target, within the pieces of outer segment i: the tabulated inverse.
+    #[inline]
     fn invert(&self, i: usize, target: f64) -> f64 {
-        let s: &dyn Spline = &*self.inner;
         let (start, end) = self.ranges[i];
-        let ps = &self.pieces[start..end];
+        let ps = &self.table[start..end];
         let k = ps.partition_point(|p| p.phi <= target).saturating_sub(1);
-        let p = ps[k];
-        let next_phi = if k + 1 < ps.len() { ps[k + 1].phi } else { self.seg_end_phi[i] };
-        if target <= p.phi {
-            return p.lo;
-        }
-        if target >= next_phi {
-            return p.hi;
-        }
-        let (mut lo, mut hi) = (p.lo, p.hi);
-        // First guess: the cubic Hermite interpolant of s(φ) with ds/dφ = 1/v at the piece's
-        // ends (error O(width⁴)), so one Newton step usually reaches rounding level.
-        let dphi = next_phi - p.phi;
-        let u = (target - p.phi) / dphi;
-        let linear = lo + (hi - lo) * u;
-        let mut x = if p.v_lo > 0.0 && p.v_hi > 0.0 {
-            let (m0, m1) = (dphi / p.v_lo, dphi / p.v_hi);
-            let (u2, u3) = (u * u, u * u * u);
-            let g = (2.0 * u3 - 3.0 * u2 + 1.0) * lo
-                + (u3 - 2.0 * u2 + u) * m0
-                + (3.0 * u2 - 2.0 * u3) * hi
-                + (u3 - u2) * m1;
-            if g > lo && g < hi {
-                g
-            } else {
-                linear
-            }
-        } else {
-            linear
-        };
-        for _ in 0..60 {
-            let f = p.phi + gauss(s, p.seg, p.lo, x) - target;
-            if f == 0.0 {
-                return x;
-            }
-            if f > 0.0 {
-                hi = x;
-            } else {
-                lo = x;
-            }
-            let v = speed(s, p.seg, x);
-            let mut nx = if v > 0.0 { x - f / v } else { f64::NAN };
-            if !(nx > lo && nx < hi) {
-                nx = 0.5 * (lo + hi);
-            }
-            // Newton converges quadratically: after a step below 1e-12 of the piece the next
-            // one would change nothing (1e-8 was measurably too loose: 1.4e-9 rad off the path).
-            let tiny_step = (nx - x).abs() <= 1e-12 * (p.hi - p.lo) && v > 0.0;
-            if tiny_step
-                || (nx - x).abs() <= 2.0 * f64::EPSILON * x.abs().max(f64::MIN_POSITIVE)
-                || hi - lo <= 2.0 * f64::EPSILON * x.abs()
-            {
-                return nx;
-            }
-            x = nx;
-        }
-        x
+        ps[k].eval(target)
     }
 
     #[inline]
     fn segment<const N: usize>(&self, i: usize, t: f64) -> JQuat<N> {
         let seg = self.inner_seg[i];
         let s = self.inner_time(i, t);
-        let inner = self.inner.segment_jet4(seg, s);
         if N == 1 {
-            return compose_quat(&inner, Jet::<N>::constant(0.0));
+            return JQuat::constant(self.inner.segment_jet1(seg, s).value());
         }
+        let inner = self.inner.segment_jet4(seg, s);
         let sigma = match self.map {
             TimeMap::Scale { factor, .. } => Jet::<N>::variable(0.0, 1.0 / factor),
             TimeMap::ArcLength { c, .. } => {
@@ -431,4 +574,252 @@ pub fn max_rate(s: &dyn Spline, order: usize) -> Result<(f64, f64)> {
         }
     }
     Ok((best, arg))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::quat::Quat;
+    use crate::spline::*;
+    use crate::testing::XorShift64;
+
+    /// A random walk of `n` unit quaternions with steps of up to `step` rad.
+    fn walk(n: usize, step: f64, rng: &mut XorShift64) -> Vec<Quat> {
+        let mut q = vec![Quat::new(0.5, 0.5, -0.5, 0.5)];
+        for _ in 1..n {
+            let v = [rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5];
+            let r = crate::convert::from_rotvec(v.map(|x| x * step));
+            let last = q[q.len() - 1];
+            q.push(last * r);
+        }
+        q
+    }
+
+    fn times(n: usize, rng: &mut XorShift64) -> Vec<f64> {
+        let mut t = vec![0.0];
+        for _ in 1..n {
+            let last = t[t.len() - 1];
+            t.push(last + 0.3 + rng.uniform());
+        }
+        t
+    }
+
+    /// Random splines of every family (seeded).
+    fn families(seed: u64) -> Vec<(&'static str, Arc<dyn Spline>)> {
+        let mut rng = XorShift64::new(seed);
+        let q = walk(7, 1.2, &mut rng);
+        let t = times(7, &mut rng);
+        let w: Vec<[f64; 3]> = (0..7).map(|k| [(k as f64).sin(), 0.3, -(k as f64).cos()]).collect();
+        let knots: Vec<f64> = (0..11).map(|k| k as f64 + 0.2 * ((k * k) % 3) as f64).collect();
+        vec![
+            ("slerp", Arc::new(PiecewiseSlerp::new(&q, Some(&t), true).unwrap())),
+            ("squad", Arc::new(Squad::new(&q, Some(&t), true).unwrap())),
+            ("catmull_rom", Arc::new(CatmullRom::new(&q, Some(&t), CatmullRomEnds::Reflect, true).unwrap())),
+            (
+                "kochanek_bartels",
+                Arc::new(
+                    KochanekBartels::new(&q, Some(&t), None, CATMULL_ROM, TcbEnds::Duplicate, false, true)
+                        .unwrap(),
+                ),
+            ),
+            ("natural", Arc::new(NaturalSpline::new(&q, Some(&t), NaturalEnds::Natural, true).unwrap())),
+            ("c3", Arc::new(C3Spline::new(&q, Some(&t), &[0.3], &[0.1], C3Variant::Knot, true).unwrap())),
+            ("bspline", Arc::new(CumulativeBSpline::new(&q, 0.7, 0.0, 4, true).unwrap())),
+            ("nonuniform", Arc::new(NonUniformBSpline::new(&q, &knots, 4, true).unwrap())),
+            ("beta", Arc::new(BetaSpline::new(&q, &[1.5], &[2.0], Some(&t[..5]), true).unwrap())),
+            ("bezier", Arc::new(SphericalBezier::new(&q, (0.0, 2.0), true).unwrap())),
+            ("cumulative_bezier", Arc::new(CumulativeBezier::new(&q, (0.0, 2.0), true).unwrap())),
+            ("nlerp", Arc::new(PiecewiseNlerp::new(&q, Some(&t)).unwrap())),
+            ("lin_euler", Arc::new(PiecewiseLinEuler::new(&q, Some(&t), "xyz").unwrap())),
+            (
+                "hermite",
+                Arc::new(Hermite::new(&q, Some(&t), &w, None, Frame::World, KeyEnds::Open, true).unwrap()),
+            ),
+        ]
+    }
+
+    /// φ(x) − φ(start of segment `seg`), by composite 8-point Gauss–Legendre on 64 pieces.
+    fn phi_from_start(s: &dyn Spline, seg: usize, x: f64) -> f64 {
+        let a = s.joints()[seg];
+        (0..64)
+            .map(|k| gauss(s, seg, a + (x - a) * k as f64 / 64.0, a + (x - a) * (k + 1) as f64 / 64.0))
+            .sum()
+    }
+
+    /// The accurate inverse the table replaced: bisection-safeguarded Newton on
+    /// φ(x) = target within inner segment `seg` (φ' = v), to rounding.
+    fn newton_inverse(s: &dyn Spline, seg: usize, phi_start: f64, target: f64) -> f64 {
+        let (mut lo, mut hi) = (s.joints()[seg], s.joints()[seg + 1]);
+        let mut x = 0.5 * (lo + hi);
+        for _ in 0..200 {
+            let f = phi_start + phi_from_start(s, seg, x) - target;
+            if f > 0.0 {
+                hi = x;
+            } else {
+                lo = x;
+            }
+            let v = speed(s, seg, x);
+            let mut nx = x - f / v;
+            if !(nx > lo && nx < hi) {
+                nx = 0.5 * (lo + hi);
+            }
+            if (nx - x).abs() <= 4.0 * f64::EPSILON * x.abs().max(1.0) {
+                return nx;
+            }
+            x = nx;
+        }
+        x
+    }
+
+    /// A node of the known map s(φ) = p(φ) (value and Taylor coefficients from `p`'s
+    /// coefficients `c`, lowest first).
+    fn poly_node(c: &[f64], phi: f64) -> Node {
+        let at = |d: usize| -> f64 {
+            // p⁽ᵈ⁾(φ)/d!
+            let mut acc = 0.0;
+            for k in (d..c.len()).rev() {
+                let mut b = 1.0;
+                for i in 0..d {
+                    b *= (k - i) as f64 / (i + 1) as f64;
+                }
+                acc = acc * phi + b * c[k];
+            }
+            acc
+        };
+        Node { x: at(0), taylor: Some([at(1), at(2), at(3)]) }
+    }
+
+    #[test]
+    fn septic_piece_reproduces_a_septic() {
+        // an increasing degree-7 map on φ ∈ [0.5, 2]: reproduced from its end data alone
+        let c = [1.0, 2.0, 0.3, -0.1, 0.05, 0.01, -0.002, 0.0005];
+        let (phi0, phi1) = (0.5, 2.0);
+        let p = septic_piece(&poly_node(&c, phi0), &poly_node(&c, phi1), phi0, phi1).unwrap();
+        for k in 0..=30 {
+            let phi = phi0 + (phi1 - phi0) * k as f64 / 30.0;
+            let want = poly_node(&c, phi).x;
+            assert!((p.eval(phi) - want).abs() < 1e-13, "{phi}: {} vs {want}", p.eval(phi));
+        }
+        // and a quintic's data (s''' included) are not enough: a degree-6 term is seen
+        let c6 = [1.0, 2.0, 0.3, -0.1, 0.05, 0.01, -0.002];
+        let p6 = septic_piece(&poly_node(&c6, phi0), &poly_node(&c6, phi1), phi0, phi1).unwrap();
+        assert!((p6.eval(1.2) - poly_node(&c6, 1.2).x).abs() < 1e-13);
+    }
+
+    #[test]
+    fn septic_piece_refuses_a_non_monotone_interpolant() {
+        let n = |x: f64, slope: f64| Node { x, taylor: Some([slope, 0.0, 0.0]) };
+        // end slopes far larger than the secant: the septic would overshoot (b₁ > b₆)
+        assert!(septic_piece(&n(0.0, 100.0), &n(1.0, 100.0), 0.0, 1.0).is_none());
+        // a stop at one end (no data) is refused; a line is kept
+        assert!(septic_piece(&Node { x: 0.0, taylor: None }, &n(1.0, 1.0), 0.0, 1.0).is_none());
+        assert!(septic_piece(&n(0.0, 1.0), &n(1.0, 1.0), 0.0, 1.0).is_some());
+        // zero slope at an end is not strictly increasing (b₀ = b₁)
+        assert!(septic_piece(&n(0.0, 0.0), &n(1.0, 1.0), 0.0, 1.0).is_none());
+    }
+
+    #[test]
+    fn tabulated_inverse_matches_newton_on_every_family() {
+        for seed in [3u64, 17] {
+            for (name, inner) in families(seed) {
+                let r = Reparameterized::arc_length(inner.clone()).unwrap();
+                let TimeMap::ArcLength { t0, c } = *r.map() else { unreachable!() };
+                let s: &dyn Spline = &*inner;
+                let mut rng = XorShift64::new(seed + 1);
+                let mut worst = 0.0f64;
+                for i in 0..r.joints().len() - 1 {
+                    let seg = r.inner_seg[i];
+                    // φ at the start of the inner segment: that of the outer segment's start
+                    let phi_start = c * (r.joints()[i] - t0);
+                    let lseg = c * (r.joints()[i + 1] - r.joints()[i]);
+                    for _ in 0..12 {
+                        let t = r.joints()[i] + (r.joints()[i + 1] - r.joints()[i]) * rng.uniform();
+                        let target = c * (t - t0);
+                        let got = r.invert(i, target);
+                        let want = newton_inverse(s, seg, phi_start, target);
+                        // in φ: the table's s reaches the same arc length
+                        let err = (phi_start + phi_from_start(s, seg, got) - target).abs();
+                        assert!(
+                            err <= 2e-12 * lseg + 1e-14 * r.length(),
+                            "{name} seed {seed}: φ error {err:e} (segment length {lseg:e})"
+                        );
+                        worst = worst.max((got - want).abs() * speed(s, seg, want) / lseg);
+                    }
+                }
+                assert!(worst <= 2e-12, "{name} seed {seed}: {worst:e}");
+            }
+        }
+    }
+
+    #[test]
+    fn tabulated_inverse_is_monotone_and_reaches_the_ends() {
+        for (name, inner) in families(5) {
+            let r = Reparameterized::arc_length(inner.clone()).unwrap();
+            let TimeMap::ArcLength { t0, c } = *r.map() else { unreachable!() };
+            for i in 0..r.joints().len() - 1 {
+                let (a, b) = (r.joints()[i], r.joints()[i + 1]);
+                let seg = r.inner_seg[i];
+                let (lo, hi) = (inner.joints()[seg], inner.joints()[seg + 1]);
+                let mut last = f64::NEG_INFINITY;
+                for k in 0..=20_000 {
+                    let x = r.invert(i, c * (a + (b - a) * k as f64 / 20_000.0 - t0));
+                    assert!(x >= last && (lo..=hi).contains(&x), "{name} segment {i} at {k}");
+                    last = x;
+                }
+                // the pieces join: every piece starts where the previous one ends
+                let (p0, p1) = r.ranges[i];
+                for w in r.table[p0..p1].windows(2) {
+                    assert_eq!(w[0].hi, w[1].c[0], "{name}");
+                    assert!(w[0].phi <= w[1].phi, "{name}");
+                }
+                assert_eq!(r.table[p0].c[0], lo);
+                assert_eq!(r.table[p1 - 1].hi, hi);
+            }
+        }
+    }
+
+    #[test]
+    fn table_checks_hold_at_points_it_did_not_check() {
+        // between the check points: 15 points per piece, φ by composite quadrature
+        for (name, inner) in families(23).into_iter().take(6) {
+            let r = Reparameterized::arc_length(inner.clone()).unwrap();
+            let TimeMap::ArcLength { t0, c } = *r.map() else { unreachable!() };
+            let s: &dyn Spline = &*inner;
+            for i in 0..r.joints().len() - 1 {
+                let seg = r.inner_seg[i];
+                let phi_start = c * (r.joints()[i] - t0);
+                let lseg = c * (r.joints()[i + 1] - r.joints()[i]);
+                let (p0, p1) = r.ranges[i];
+                for p in &r.table[p0..p1] {
+                    for k in 1..16 {
+                        let x = p.c[0] + (p.hi - p.c[0]) * k as f64 / 16.0;
+                        let phi = phi_start + phi_from_start(s, seg, x);
+                        let err = (r.invert(i, phi) - x).abs() * speed(s, seg, x);
+                        assert!(err <= 2e-12 * lseg, "{name}: {err:e} vs {lseg:e}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_stop_inside_a_segment_gets_linear_pieces_within_the_bound() {
+        // rest ends: the speed is zero at both ends of the spline (s(φ) has infinite slope)
+        let mut rng = XorShift64::new(8);
+        let q = walk(4, 1.0, &mut rng);
+        let inner: Arc<dyn Spline> =
+            Arc::new(Squad::with_keyframes(&q, None, KeyEnds::Rest, false, true).unwrap());
+        let r = Reparameterized::arc_length(inner.clone()).unwrap();
+        let TimeMap::ArcLength { t0, c } = *r.map() else { unreachable!() };
+        assert!(r.table.iter().any(|p| p.c[2..] == [0.0; DEG - 1]));
+        let s: &dyn Spline = &*inner;
+        let lseg = c * (r.joints()[1] - r.joints()[0]);
+        for k in 0..=200 {
+            let target = lseg * (k as f64 / 200.0).powi(4);
+            let x = r.invert(0, target);
+            let err = (phi_from_start(s, 0, x) - target).abs();
+            assert!(err <= 2e-12 * lseg, "{k}: {err:e}");
+        }
+        let _ = t0;
+    }
 }
