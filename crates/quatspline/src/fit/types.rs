@@ -62,6 +62,21 @@ impl Robust {
             Robust::Cauchy => 2.385,
         }
     }
+    /// The tuning constant for residuals on SO(3) — three-dimensional rotation vectors — in
+    /// units of the per-axis noise σ: the one-dimensional constants 1.345 (Huber) and 2.385
+    /// (Cauchy) applied to 1.4826 · median |r| = 2.2805 σ at Gaussian noise, as before the
+    /// robust scale was per axis: c = 3.067 σ and 5.439 σ. For ψ(r) = u(|r|) r in ℝ³ with
+    /// r ~ N(0, σ²I) the efficiency is A²/B with A = E[u + |r|u′/3], B = E[u²|r|²]/3 (Huber
+    /// 1981, §4.6, for p = 3): 99.85 % and 99.30 % (checked by quadrature in the tests). The
+    /// ℝ³ constants for 95 % (Huber 1.628, Cauchy 2.666) halve a far glitch's pull but
+    /// downweight half of the good samples.
+    pub(crate) fn tuning_so3(self) -> f64 {
+        match self {
+            Robust::None => f64::INFINITY,
+            Robust::Huber => 3.067,
+            Robust::Cauchy => 5.439,
+        }
+    }
     pub(crate) fn weight(self, r: f64, c: f64) -> f64 {
         match self {
             Robust::None => 1.0,
