@@ -100,6 +100,8 @@ bench: build
 	$(VPY) -m maturin develop --release --quiet --extras plot,bench
 	$(VPY) benchmarks/bench.py
 	$(VPY) benchmarks/fit.py --scale 1000000
+	$(VPY) benchmarks/imu.py
+	$(VPY) benchmarks/imu_calibration.py
 	$(VPY) benchmarks/readers.py
 	$(VPY) benchmarks/batch.py --files 100
 	cargo bench -p quatspline --bench core -- --warm-up-time 0.5 --measurement-time 2

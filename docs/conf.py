@@ -26,16 +26,23 @@ extensions = [
     "numpydoc",
     "sphinx_gallery.gen_gallery",
     "matplotlib.sphinxext.plot_directive",
+    "myst_parser",
 ]
+source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
+myst_heading_anchors = 3
+myst_enable_extensions = ["dollarmath"]
 
 templates_path = ["_templates"]
 exclude_patterns = ["_build", "**.ipynb_checkpoints", "auto_examples/*.py", "**/*.md5"]
-html_theme = "alabaster"
+html_theme = "pydata_sphinx_theme"  # the theme of numpy and scipy's documentation
 html_static_path = ["_static"]
+html_css_files = ["wrap.css"]
 html_theme_options = {
-    "description": "Keyframe orientations and poses in, smooth rigid-body motion out.",
-    "fixed_sidebar": True,
-    "show_relbars": True,
+    "navbar_align": "left",
+    "show_toc_level": 2,
+    "navigation_with_keys": False,
+    "footer_start": ["copyright"],
+    "footer_end": [],
 }
 html_title = f"quatspline {release}"
 default_role = "code"

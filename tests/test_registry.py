@@ -88,7 +88,11 @@ BAD_PARAMETERS = [
     ("bspline", {"ends": "natural"}, r'^ends: bspline does not support "natural"'),
     ("beta", {"beta1": 0.0}, r"^beta1: beta1\[0\] = 0 must be > 0"),
     ("fit", {"smoothing": -1}, r"^smoothing: expected 'auto' or a finite λ ≥ 0, got -1"),
-    ("fit", {"smoothing": "lots"}, r"^smoothing: expected 'auto' or a number ≥ 0, got 'lots'"),
+    (
+        "fit",
+        {"smoothing": "lots"},
+        r"^smoothing: expected 'auto', 'gcv', 'adaptive' or a number ≥ 0, got 'lots'",
+    ),
     ("fit", {"knots": 0}, r"^knots: expected a finite positive spacing, got 0"),
     ("fit", {"knots": 10.0}, r"^knots: spacing 10 exceeds the data's time span 3.1"),
     ("fit", {"penalty": "snap"}, r'^penalty: fit does not support "snap"'),

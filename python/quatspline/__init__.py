@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import importlib
 
-from . import examples, io, ops
+from . import examples, imu, io, ops
 from ._core import __version__
 from ._util import moved as _moved
 from ._util.simd import set_simd, simd_status
@@ -140,6 +140,7 @@ __all__ = [
     "dq_to_pose",
     "dq_transform_point",
     "examples",
+    "imu",
     "io",
     "exp",
     "from_axis_angle",

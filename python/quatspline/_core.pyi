@@ -176,6 +176,7 @@ def fit_rotations(
     max_iter: int,
     tol: float,
     progress: object = None,
+    adaptivity: str = "gcv",
 ) -> dict: ...
 def fit_positions(
     times: _A,
@@ -201,4 +202,51 @@ def min_energy_spline(
     resolution: int,
     progress: object = None,
 ) -> tuple[Spline, dict]: ...
+def riemannian_cubic_spline(
+    quats: _A,
+    times: _A | None,
+    ends: str,
+    start_rate: list[float] | None,
+    end_rate: list[float] | None,
+    progress: object = None,
+) -> tuple[Spline, dict]: ...
 def position_bspline_eval(ctrl: _A, dt: float, t0: float, order: int, t: _A) -> _A: ...
+
+class FitPosterior:
+    sigma2: float
+    effective_dof: float
+    observations: float
+    def covariance(self, t: _A, quantity: str, frame: str) -> _A: ...
+
+class PositionPosterior:
+    sigma2: float
+    effective_dof: float
+    def variances(self, t: _A, derivative: int) -> _A: ...
+
+def fit_posterior(
+    times: _A,
+    quats: _A,
+    weights: _A | None,
+    robust_weights: _A | None,
+    ctrl: _A,
+    dt: float,
+    t0: float,
+    order: int,
+    breaks: _A | None,
+    penalty: str,
+    smoothing: float,
+    penalty_weights: _A | None = None,
+) -> FitPosterior: ...
+def position_posterior(
+    times: _A,
+    positions: _A,
+    weights: _A | None,
+    robust_weights: _A | None,
+    ctrl: _A,
+    dt: float,
+    t0: float,
+    order: int,
+    breaks: _A | None,
+    penalty: str,
+    smoothing: float,
+) -> PositionPosterior: ...

@@ -10,10 +10,14 @@ single-file command over many files. The groups, and what translates each:
 - method: ``--method --param`` (:func:`method_options`);
 - sampling: ``--rate | --count | --at``, ``--derivatives --max-samples --extrapolate``
   (:func:`sampling_options`);
-- fit: ``--smoothing --penalty --robust --knots`` (:func:`fit_options`);
+- fit: ``--smoothing --penalty --robust --knots --uncertainty`` (:func:`fit_options`);
 - compare: ``--methods --holdout`` (:func:`compare_options`);
 - export: ``--node --max-error --max-position-error --interpolation --empty --fps``
-  (:func:`export_options`).
+  (:func:`export_options`);
+- IMU simulation: ``--rate --noise --seed --fit`` with the method and fit groups
+  (:func:`imu_simulate_options`);
+- IMU calibration: ``--estimate --max-offset --robust --smoothing --imu-format``
+  (:func:`imu_calibrate_options`).
 
 Every string → value conversion is one of :mod:`quatspline._util.options`; a bad value is a
 :class:`~quatspline._util.errors.ParameterError` naming the option (exit code 2).
@@ -29,17 +33,21 @@ from . import io as qio
 from . import ops
 from ._util.errors import ParameterError
 from ._util.options import (
+    DEFAULT_METHOD,
     parse_angle,
+    parse_choice,
     parse_length,
     parse_list,
     parse_pairs,
     parse_smoothing,
     parse_spacing_or_file,
 )
+from .imu.calibration import DEFAULT_ESTIMATE, ESTIMATES
 from .io.kitti import read_times
 from .registry import METHODS
 
 __all__ = [
+    "EXAMPLES",
     "EXTRAPOLATE",
     "INTERPOLATIONS",
     "PENALTIES",
@@ -47,14 +55,19 @@ __all__ = [
     "add_compare_options",
     "add_export_options",
     "add_fit_options",
+    "add_imu_calibrate_options",
+    "add_imu_simulate_options",
     "add_input_options",
     "add_method_options",
     "add_sampling_options",
     "at_times",
     "checked_params",
     "compare_options",
+    "examples",
     "export_options",
     "fit_options",
+    "imu_calibrate_options",
+    "imu_simulate_options",
     "knots_of",
     "method_options",
     "read_input",
@@ -73,6 +86,90 @@ INTERPOLATIONS = ("linear", "cubicspline")
 
 
 # ---- the groups -------------------------------------------------------------------------------
+
+#: Two or three examples per command, shown at the end of its ``--help`` (bundled data paths
+#: work from a source checkout).
+EXAMPLES = {
+    "quatspline": [
+        "quatspline fit recording.tum -o smooth.csv --rate 200 --derivatives",
+        "quatspline sample keys.csv -o motion.csv --method c3 --rate 100",
+        "quatspline export smooth.csv -o motion.glb --max-error 0.05deg",
+    ],
+    "sample": [
+        "quatspline sample keys.csv -o motion.csv --method c3 --rate 100",
+        "quatspline sample gt.tum -o est_on_gt.tum --at est.tum --method natural",
+        "quatspline sample keys.json -o - --count 5 --method kochanek_bartels "
+        "--param tension=0.3 --derivatives",
+    ],
+    "fit": [
+        "quatspline fit recording.tum -o smooth.csv --rate 200",
+        "quatspline fit mocap.bvh --joint LeftElbow -o elbow.csv --rate 120 --penalty jerk",
+        "quatspline fit glitchy.csv -o clean.csv --count 1000 --robust huber --smoothing 1e-4",
+    ],
+    "compare": [
+        "quatspline compare recording.tum --holdout 10",
+        "quatspline compare keys.csv --methods slerp,natural,c3 --json",
+    ],
+    "plot": [
+        "quatspline plot keys.csv -o sphere.png --kind sphere --method c3",
+        "quatspline plot recording.tum -o rates.pdf --kind rates --show omega,alpha,jerk",
+        "quatspline plot keys.csv -o family.png --kind family --method c3 --family alpha=0,0.3,0.5",
+    ],
+    "export": [
+        "quatspline export smooth.csv -o motion.glb --max-error 0.05deg",
+        "quatspline export run.bag --topic /pose -o motion.gltf --interpolation cubicspline",
+        "quatspline export mocap.bvh --joint Hips -o hips.bvh --fps 60",
+    ],
+    "demo": ["quatspline demo", "quatspline demo -o /tmp/demo --recording recording.tum"],
+    "batch": [
+        "quatspline batch sample 'mocap/**/*.bvh' -o out/resampled --method natural --rate 120",
+        "quatspline batch fit recordings/ -o out/fit --rate 200 --scheduler tcp://10.0.0.5:8786",
+    ],
+    "batch sample": [
+        "quatspline batch sample 'mocap/**/*.bvh' -o out/resampled --method natural --rate 120",
+        "quatspline batch sample data/ -o out/c3 --rate 100 --to tum --workers 2",
+    ],
+    "batch fit": [
+        "quatspline batch fit recordings/ -o out/fit --rate 200",
+        "quatspline batch fit recordings/ -o out/fit --rate 200 --scheduler scheduler.json",
+    ],
+    "batch compare": [
+        "quatspline batch compare data/ -o out/cmp --methods slerp,natural,c3 --holdout 10",
+    ],
+    "batch export": [
+        "quatspline batch export takes/ -o out/glb --max-error 0.05deg",
+        "quatspline batch export takes/ -o out/glb --interpolation cubicspline --workers 2",
+    ],
+    "batch imu-simulate": [
+        "quatspline batch imu-simulate recordings/ -o imu/ --rate 200",
+        "quatspline batch imu-simulate 'mocap/**/*.csv' -o imu/ --rate 200 --fit --noise imu.yaml",
+    ],
+    "imu": [
+        "quatspline imu simulate poses.csv -o imu.csv --rate 200",
+        "quatspline imu calibrate vicon.csv imu0/data.csv --figure residuals.png",
+    ],
+    "imu simulate": [
+        "quatspline imu simulate poses.csv -o imu.csv --rate 200",
+        "quatspline imu simulate mocap.csv -o imu.csv --rate 200 --fit --noise imu.yaml --seed 1",
+        "quatspline imu simulate keys.json -o imu.mcap --rate 100 --method squad",
+    ],
+    "imu calibrate": [
+        "quatspline imu calibrate vicon.csv imu0/data.csv",
+        "quatspline imu calibrate data/repoimu/repoIMU_first30s.csv "
+        "data/repoimu/repoIMU_first30s.csv --figure residuals.png --json cal.json",
+        "quatspline imu calibrate mocap.csv imu.bag --estimate rotation,bias,time_offset "
+        "--robust huber",
+    ],
+    "view": ["quatspline view", "quatspline view keys.json --no-browser --port 8765"],
+}
+
+
+def examples(command: str) -> str:
+    """The ``--help`` epilog of ``command`` (a key of :data:`EXAMPLES`): its examples, one
+    per line."""
+    return "examples:\n" + "\n".join("  " + line for line in EXAMPLES[command])
+
+
 def add_input_options(p, *, many: bool = False) -> None:
     """The input file (``many``: files, directories and patterns) and how to read it."""
     if many:
@@ -98,8 +195,9 @@ def add_input_options(p, *, many: bool = False) -> None:
 
 
 def add_method_options(p, *, what: str = "interpolation method") -> None:
-    """``--method`` (default c3) and its ``--param NAME=VALUE`` pairs."""
-    p.add_argument("--method", default="c3", help=f"{what} (default: c3)")
+    """``--method`` (default :data:`~quatspline._util.options.DEFAULT_METHOD`) and its
+    ``--param NAME=VALUE`` pairs."""
+    p.add_argument("--method", default=DEFAULT_METHOD, help=f"{what} (default: {DEFAULT_METHOD})")
     p.add_argument("--param", action="append", metavar="NAME=VALUE", help="method parameter")
 
 
@@ -138,9 +236,15 @@ def add_sampling_options(p, *, extrapolate: tuple[str, ...] = EXTRAPOLATE) -> No
     )
 
 
-def add_fit_options(p) -> None:
-    """λ, the penalty, a robust loss and the knots of a smoothing fit."""
-    p.add_argument("--smoothing", default="auto", help="λ: auto (GCV, default) or a number ≥ 0")
+def add_fit_options(p, *, uncertainty: bool = True) -> None:
+    """λ, the penalty, a robust loss and the knots of a smoothing fit (and ``--uncertainty``
+    where the output can hold the standard deviations)."""
+    p.add_argument(
+        "--smoothing",
+        default="auto",
+        help="λ: auto (from the data, locally adaptive where it helps; default), gcv (one "
+        "global λ by GCV), adaptive, or a number ≥ 0",
+    )
     p.add_argument("--penalty", choices=PENALTIES, default="acceleration")
     p.add_argument("--robust", choices=ROBUST_LOSSES, help="robust loss against glitches")
     p.add_argument(
@@ -148,6 +252,15 @@ def add_fit_options(p) -> None:
         metavar="SPACING|FILE",
         help="knot spacing, or a file of knot times (one per line, the recording's clock, from "
         "its first to its last time; uneven spacing allowed); default: one per sample interval",
+    )
+    if not uncertainty:
+        return
+    p.add_argument(
+        "--uncertainty",
+        action="store_true",
+        help="add the fit's posterior standard deviations per sample: orientation_std (radians, "
+        "body axes), position_std (with positions), omega_std (rad/s, world axes, with "
+        "--derivatives); needs a format with extra columns (csv, json, npz)",
     )
 
 
@@ -168,6 +281,58 @@ def add_export_options(p) -> None:
     p.add_argument("--interpolation", choices=INTERPOLATIONS, default="linear")
     p.add_argument("--empty", action="store_true", help="an empty node instead of an axes mesh")
     p.add_argument("--fps", type=float, help="BVH: frame rate (default: from the key spacing)")
+
+
+def add_imu_simulate_options(p) -> None:
+    """The IMU's rate, noise and seed, and the motion: the method group (the spline through
+    the keys) or ``--fit`` with the fit group."""
+    p.add_argument("--rate", type=float, required=True, help="IMU sample rate, Hz")
+    p.add_argument(
+        "--noise",
+        metavar="IMU.YAML",
+        help="Kalibr imu.yaml noise densities (default: noise-free, exact rates)",
+    )
+    p.add_argument("--seed", type=int, help="random seed of the noise (default: fresh)")
+    p.add_argument(
+        "--max-samples",
+        type=int,
+        default=ops.DEFAULT_MAX_SAMPLES,
+        metavar="N",
+        help=f"refuse to simulate more than N samples (default: {ops.DEFAULT_MAX_SAMPLES:,})",
+    )
+    p.add_argument(
+        "--fit",
+        action="store_true",
+        help="the motion is a smoothing fit of the keys (--smoothing, --penalty, …) instead "
+        "of the --method spline through them (for noisy motion capture)",
+    )
+    add_method_options(p, what="spline through the keys, the motion")
+    add_fit_options(p, uncertainty=False)
+
+
+def add_imu_calibrate_options(p) -> None:
+    """What to estimate, the offset searched, a robust loss, the reference's smoothing and
+    the IMU file's format."""
+    p.add_argument(
+        "--estimate",
+        default=",".join(DEFAULT_ESTIMATE),
+        metavar="LIST",
+        help=f"comma-separated, some of {', '.join(ESTIMATES)} (default: "
+        f"{','.join(DEFAULT_ESTIMATE)})",
+    )
+    p.add_argument(
+        "--max-offset",
+        default="1",
+        metavar="SECONDS",
+        help="largest time offset searched (default: 1)",
+    )
+    p.add_argument("--robust", choices=ROBUST_LOSSES, help="robust loss against glitches")
+    p.add_argument(
+        "--smoothing", default="auto", help="λ of the reference's fit: auto (GCV) or a number ≥ 0"
+    )
+    p.add_argument(
+        "--imu-format", choices=sorted(qio.IMU_FORMATS), help="IMU file format (default: guessed)"
+    )
 
 
 # ---- the translation: parsed arguments → the library's keyword arguments -----------------------
@@ -224,6 +389,11 @@ def checked_params(pairs, method, option: str = "--param") -> dict:
             if k not in known:
                 valid = ", ".join(known) or "none"
                 raise ParameterError(f"{option} {k}: not a parameter of {method}; valid: {valid}")
+            # the row's own converter (idempotent on converted values), so that a bad value is
+            # named as the user spelled it: "--param alpha: expected a number or 'auto', …"
+            out[k] = known[k].convert(f"{option} {k}", out[k])
+            if known[k].check is None:  # choices only; a check may read other parameters
+                known[k].validate(f"{option} {k}", method, out[k], out)
     return out
 
 
@@ -274,14 +444,17 @@ def sampling_options(args) -> dict:
 
 
 def fit_options(args) -> dict:
-    """``smoothing`` ("auto" or λ), ``penalty``, ``robust`` and ``knots`` (a spacing or the
-    times of the ``--knots`` file)."""
-    return {
+    """``smoothing`` ("auto" or λ), ``penalty``, ``robust``, ``knots`` (a spacing or the
+    times of the ``--knots`` file) and ``uncertainty`` (where the command has it)."""
+    out = {
         "smoothing": parse_smoothing(args.smoothing, "--smoothing"),
         "penalty": args.penalty,
         "robust": args.robust,
         "knots": None if args.knots is None else knots_of(args.knots),
     }
+    if hasattr(args, "uncertainty"):
+        out["uncertainty"] = bool(args.uncertainty)
+    return out
 
 
 def compare_options(args) -> dict:
@@ -304,4 +477,43 @@ def export_options(args) -> dict:
         "node": args.node,
         "mesh": None if args.empty else "axes",
         "fps": args.fps,
+    }
+
+
+def imu_simulate_options(args) -> dict:
+    """The keyword arguments of :func:`quatspline.ops.simulate_imu`: ``rate``, ``method``,
+    ``params``, ``fit`` (the fit group's options with ``--fit``, else None), ``noise`` (the
+    imu.yaml path), ``seed`` and ``max_samples``."""
+    out = {
+        "rate": args.rate,
+        **method_options(args),
+        "fit": fit_options(args) if args.fit else None,
+        "noise": args.noise,
+        "seed": args.seed,
+        "max_samples": args.max_samples,
+    }
+    return out
+
+
+def imu_calibrate_options(args) -> dict:
+    """The keyword arguments of :func:`quatspline.ops.calibrate_imu`: ``estimate`` (each one
+    of :data:`quatspline.imu.calibration.ESTIMATES`), ``max_offset`` (seconds ≥ 0),
+    ``robust``, ``smoothing`` and ``imu_format``."""
+    estimate = tuple(
+        parse_choice(e, "--estimate", ESTIMATES) for e in parse_list(args.estimate, "--estimate")
+    )
+    try:
+        max_offset = float(str(args.max_offset).strip())
+    except ValueError:
+        raise ParameterError(
+            f"--max-offset: expected a number of seconds ≥ 0, got {args.max_offset!r}"
+        ) from None
+    if not (np.isfinite(max_offset) and max_offset >= 0):
+        raise ParameterError(f"--max-offset: expected a finite number ≥ 0, got {max_offset:g}")
+    return {
+        "estimate": estimate,
+        "max_offset": max_offset,
+        "robust": args.robust,
+        "smoothing": parse_smoothing(args.smoothing, "--smoothing"),
+        "imu_format": args.imu_format,
     }

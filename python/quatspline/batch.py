@@ -42,6 +42,7 @@ Dask is an optional dependency: ``pip install "quatspline[dask]"``.
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import fnmatch
 import glob
@@ -70,12 +71,15 @@ from .arguments import (
     add_compare_options,
     add_export_options,
     add_fit_options,
+    add_imu_simulate_options,
     add_input_options,
     add_method_options,
     add_sampling_options,
     compare_options,
+    examples,
     export_options,
     fit_options,
+    imu_simulate_options,
     method_options,
     read_input,
     read_options,
@@ -86,7 +90,7 @@ from .io._common import open_regular
 __all__ = ["OPERATIONS", "expand_inputs", "local_cluster", "plan", "run", "summarize"]
 
 #: The operations ``run`` knows, with the extension of their per-file output.
-OPERATIONS = ("sample", "fit", "compare", "export")
+OPERATIONS = ("sample", "fit", "compare", "export", "imu-simulate")
 
 _STATE_DIR = ".quatspline-batch"
 _DEFAULT_MAX_FILE_BYTES = 1 << 30
@@ -370,6 +374,8 @@ def _output_ext(operation: str, options: dict) -> str:
         return OUTPUT_FORMATS[to][0]
     if operation == "compare":
         return ".compare.json"
+    if operation == "imu-simulate":
+        return ".csv"
     return ".glb"
 
 
@@ -389,7 +395,7 @@ def plan(operation: str, inputs: list[Path], out_dir, options: dict | None = Non
 
     Parameters
     ----------
-    operation : {"sample", "fit", "compare", "export"}
+    operation : {"sample", "fit", "compare", "export", "imu-simulate"}
     inputs : list of pathlib.Path
         The files (from :func:`expand_inputs`).
     out_dir : str or pathlib.Path
@@ -643,11 +649,13 @@ FIT_OPTIONS = (
     "penalty",
     "robust",
     "knots",
+    "uncertainty",
     "derivatives",
     "max_samples",
     "extrapolate",
 )
 COMPARE_OPTIONS = ("methods", "holdout")
+IMU_SIMULATE_OPTIONS = ("rate", "method", "params", "fit", "noise", "seed", "max_samples")
 EXPORT_OPTIONS = (
     "max_error",
     "max_position_error",
@@ -722,7 +730,7 @@ def _op_compare(task: Task, options: dict) -> dict:
     figures: dict = {"samples": len(traj)}
     for r in rows:
         for k in ("holdout_median_deg", "holdout_p95_deg", "holdout_max_deg", "rms_jerk"):
-            if k in r:
+            if r.get(k) is not None:
                 figures[f"{k}[{r['method']}]"] = r[k]
     return figures
 
@@ -744,11 +752,21 @@ def _op_export(task: Task, options: dict) -> dict:
     }
 
 
+def _op_imu_simulate(task: Task, options: dict) -> dict:
+    """``quatspline imu simulate IN -o OUT.csv``: the same read, ``ops.simulate_imu`` and
+    ``ops.write_simulated`` (EuRoC ``imu0/data.csv``)."""
+    traj = _read(task, options)
+    data = ops.simulate_imu(traj, **_given(options, IMU_SIMULATE_OPTIONS))
+    ops.write_simulated(task.output, data, format="euroc")
+    return {"samples": len(data), "keys": len(traj), "accelerometer": data.accel is not None}
+
+
 _OPERATION_FUNCS = {
     "sample": _op_sample,
     "fit": _op_fit,
     "compare": _op_compare,
     "export": _op_export,
+    "imu-simulate": _op_imu_simulate,
 }
 
 
@@ -876,10 +894,10 @@ def run(
 
     Parameters
     ----------
-    operation : {"sample", "fit", "compare", "export"}
+    operation : {"sample", "fit", "compare", "export", "imu-simulate"}
         The single-file operation: ``sample`` (resample through a method), ``fit`` (a
         smoothing fit, then sampled), ``compare`` (held-out comparison of methods), ``export``
-        (glTF).
+        (glTF), ``imu-simulate`` (the IMU samples of the motion, EuRoC ``.csv``).
     paths : str, path or sequence of them
         Files, directories (recursive) and glob patterns; see :func:`expand_inputs`.
     out_dir : str or pathlib.Path
@@ -905,7 +923,9 @@ def run(
         (:data:`SAMPLE_OPTIONS`); fit — those of :func:`quatspline.fit_trajectory`
         (:data:`FIT_OPTIONS`); compare — ``methods``, ``holdout`` (default: none, as
         ``quatspline compare``); export — those of :func:`quatspline.ops.export` and the
-        method's ``params`` (:data:`EXPORT_OPTIONS`; ``fps`` is for BVH, unused in glTF). An
+        method's ``params`` (:data:`EXPORT_OPTIONS`; ``fps`` is for BVH, unused in glTF);
+        imu-simulate — those of :func:`quatspline.ops.simulate_imu`
+        (:data:`IMU_SIMULATE_OPTIONS`; ``noise`` an imu.yaml path is read once). An
         option not given takes the library's default, which is the command's. Also the
         reading options of
         :func:`quatspline.arguments.read_input` (``format``, ``euler``, ``degrees``,
@@ -968,6 +988,15 @@ def run(
         and options.get("times") is None
     ):
         raise ValueError(f"{operation}: give rate= (samples per time unit), count= or times=")
+    if operation == "imu-simulate":
+        if options.get("rate") is None:
+            raise ValueError("imu-simulate: give rate= (IMU samples per second)")
+        if isinstance(options.get("noise"), (str, os.PathLike)):
+            # read once, before the batch: every task gets the densities, and a changed
+            # file changes the options' key (so outputs made with the old one are redone)
+            options["noise"] = qio.ImuNoise.from_dict(qio.read_imu_noise(options["noise"]))
+        if isinstance(options.get("noise"), qio.ImuNoise):
+            options["noise"] = options["noise"].as_dict()
     _check_workers(workers)
     inputs, problems = _expand(paths, out_dir=out)
     if not inputs:
@@ -1240,9 +1269,17 @@ def add_arguments(p, parser_class=None) -> None:
         "fit": "fit a smooth spline to each file and sample it (as quatspline fit)",
         "compare": "compare methods on each file (as quatspline compare --json)",
         "export": "export each file to glTF (as quatspline export -o FILE.glb)",
+        "imu-simulate": "simulate the IMU of each file's motion, EuRoC csv (as quatspline imu "
+        "simulate -o FILE.csv; --seed gives every file the same seed, as that command would)",
     }
     for op in OPERATIONS:
-        o = sub.add_parser(op, help=helps[op], description=helps[op])
+        o = sub.add_parser(
+            op,
+            help=helps[op],
+            description=helps[op],
+            epilog=examples(f"batch {op}"),
+            formatter_class=argparse.RawDescriptionHelpFormatter,
+        )
         add_input_options(o, many=True)
         o.add_argument("-o", "--output", required=True, help="output directory")
         where = o.add_mutually_exclusive_group()
@@ -1266,6 +1303,8 @@ def add_arguments(p, parser_class=None) -> None:
             add_fit_options(o)
         elif op == "compare":
             add_compare_options(o)
+        elif op == "imu-simulate":
+            add_imu_simulate_options(o)
         else:
             add_export_options(o)
             add_method_options(o, what="spline through the keys")
@@ -1285,6 +1324,8 @@ def cli_options(args) -> dict:
         opts.update(sampling_options(args), **fit_options(args), to=args.to)
     elif op == "compare":
         opts.update(compare_options(args))
+    elif op == "imu-simulate":
+        opts.update(imu_simulate_options(args))
     else:
         opts.update(export_options(args), **method_options(args))
     return {k: v for k, v in opts.items() if v is not None or k == "mesh"}

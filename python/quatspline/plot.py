@@ -233,15 +233,27 @@ def rates(
     t0: float = 0.0,
     fig=None,
     ax=None,
+    band: bool = False,
 ):
     """Angular speed |ω|, acceleration |α| and jerk |dα/dt| (any of ``show``) versus time,
     one panel each; keys as thin vertical lines and markers (at most 40). ``ax`` may be one
-    Axes (with one quantity) or a sequence with one Axes per quantity."""
+    Axes (with one quantity) or a sequence with one Axes per quantity.
+
+    ``band=True`` (a fit with a posterior, :func:`quatspline.fit` with λ > 0) shades
+    |ω| ± 2σ on the angular-speed panel: σ² = ûᵀ Cov(ω) û, û = ω/|ω|, the first-order
+    variance of |ω| from :meth:`quatspline.FittedSpline.angular_velocity_covariance`
+    (reliable where |ω| is well above σ; the band is clipped at 0)."""
     _, Figure, Line2D = _mpl()
     show = tuple(show)
     bad = [s for s in show if s not in _RATES]
     if bad or not show:
         raise ValueError(f"show: expected some of {', '.join(_RATES)}, got {show!r}")
+    if not isinstance(band, (bool, np.bool_)):
+        raise TypeError(f"band: expected a bool, got {type(band).__name__}")
+    if band and not hasattr(spline, "angular_velocity_covariance"):
+        raise TypeError(
+            f"band: needs a fitted spline (quatspline.fit), got {type(spline).__name__}"
+        )
     if ax is not None:
         axes = list(np.atleast_1d(ax))
         if len(axes) != len(show):
@@ -259,9 +271,16 @@ def rates(
     for a, what in zip(axes, show):
         fn, sym, unit, colour = _RATES[what]
         f = getattr(spline, fn)
-        y = np.linalg.norm(f(t), axis=1)
+        v = f(t)
+        y = np.linalg.norm(v, axis=1)
         a.plot(t + t0, y, color=colour, lw=1.5, label=sym)
         handles = [Line2D([], [], color=colour, lw=1.5, label=f"{sym} of the spline")]
+        if band and what == "omega":
+            patch = need("matplotlib.patches", extra="plot", what="plots").Patch
+            u = v / np.maximum(y, 1e-300)[:, None]
+            sd = np.sqrt(np.einsum("ni,nij,nj->n", u, spline.angular_velocity_covariance(t), u))
+            a.fill_between(t + t0, np.maximum(y - 2 * sd, 0), y + 2 * sd, color=colour, alpha=0.25)
+            handles.append(patch(color=colour, alpha=0.25, label="± 2σ (posterior)"))
         if kt is not None:
             for k in kt:
                 a.axvline(k + t0, color="0.85", lw=0.6, zorder=0)

@@ -220,7 +220,7 @@ def _bspline_order(name, v, p) -> None:
 
 
 def _smoothing(name, v, p) -> None:
-    if v != "auto" and not (math.isfinite(v) and v >= 0):
+    if not isinstance(v, str) and not (math.isfinite(v) and v >= 0):
         raise ParameterError(f"{name}: expected 'auto' or a finite λ ≥ 0, got {v:.6g}")
 
 
@@ -492,7 +492,9 @@ def _fit(q, times, p):
 
 def _min_energy(q, times, p):
     t = _times_or_default(times, len(q))
-    return MinimumEnergySpline(q, t, penalty=p["penalty"], resolution=p["resolution"])
+    return MinimumEnergySpline(
+        q, t, penalty=p["penalty"], resolution=p["resolution"], mode=p["mode"]
+    )
 
 
 _HOLDS = Param(flag, True, "equal consecutive keys hold still")
@@ -680,7 +682,10 @@ METHODS: dict[str, Method] = {
             "C2 (C4 with penalty=jerk)",
             {
                 "smoothing": Param(
-                    smoothing_spec, "auto", "λ: auto (GCV) | a number ≥ 0", check=_smoothing
+                    smoothing_spec,
+                    "auto",
+                    "λ: auto | gcv | adaptive | a number ≥ 0",
+                    check=_smoothing,
                 ),
                 "penalty": Param(
                     str,
@@ -715,6 +720,12 @@ METHODS: dict[str, Method] = {
                     "bubble polynomials (acceleration, default 4) or knot intervals (jerk, "
                     "default 8) per key interval",
                     check=_resolution,
+                ),
+                "mode": Param(
+                    str,
+                    "discrete",
+                    "discrete (over `resolution` bubbles) | exact (the Riemannian cubic)",
+                    ("discrete", "exact"),
                 ),
             },
             _min_energy,

@@ -45,7 +45,7 @@ def library(command, traj, times, derivatives, max_samples, extrapolate):
     if max_samples is not None:
         kw["max_samples"] = max_samples
     if command == "sample":
-        return ops.sample(traj, "c3", **kw)
+        return ops.sample(traj, **kw)  # the command's default method
     return ops.fit_trajectory(traj, smoothing=1e-4, **kw)[0]
 
 
@@ -81,7 +81,9 @@ def test_at_crossed_with_derivatives_max_samples_extrapolate_writes_the_library_
         code = main(argv)
         err = capsys.readouterr().err
         assert code == (2 if isinstance(e, ops.ParameterError) else 1)
-        assert err == f"quatspline: error: --at{str(e)[len('times') :]}\n"
+        # the library's message in the options' spelling (max_samples → --max-samples)
+        lib = str(e)[len("times") :].replace("max_samples", "--max-samples")
+        assert err == f"quatspline: error: --at{lib}\n"
         assert not out.exists()
         assert (max_samples == 3) or (outside and extrapolate == "raise")
         return
@@ -120,7 +122,7 @@ def test_at_honours_max_samples_in_one_wording(tmp_path, capsys, command):
     out = tmp_path / "o.csv"
     assert main([command, str(src), "-o", str(out), "--at", str(at), "--max-samples", "3"]) == 2
     err = capsys.readouterr().err
-    assert err == "quatspline: error: --at: 17 samples is more than max_samples = 3\n"
+    assert err == "quatspline: error: --at: 17 samples is more than --max-samples = 3\n"
     assert not out.exists()
 
 

@@ -14,7 +14,9 @@ import numpy as np
 import pytest
 import quatspline as qs
 import quatspline.io as qio
+from quatspline._util.options import DEFAULT_METHOD
 from quatspline.cli import main
+from quatspline.registry import METHODS
 
 DATA = Path(__file__).resolve().parents[2] / "data"
 TUM = DATA / "tum_rgbd_fr1_xyz" / "freiburg1_xyz-groundtruth.txt"
@@ -154,6 +156,15 @@ def curve_pixels(path):
     return img.shape, int(coloured.sum())
 
 
+def test_plot_family_of_a_method_without_shape_parameters_says_what_to_give(tmp_path, capsys):
+    src = tmp_path / "keys.csv"
+    qio.write(src, qio.Trajectory(np.arange(5.0), qs.from_rotvec(np.eye(3)[[0, 1, 2, 0, 1]])))
+    out = tmp_path / "family.png"
+    assert main(["plot", str(src), "-o", str(out), "--kind", "family", "--method", "natural"]) == 2
+    err = capsys.readouterr().err
+    assert "--family PARAM=V1,V2" in err and "--method c3" in err and not out.exists()
+
+
 @pytest.mark.parametrize("kind", ["sphere", "body", "rates", "family"])
 def test_plot_kinds_draw_curves(tmp_path, kind):
     from ..splinekit import random_walk
@@ -162,7 +173,8 @@ def test_plot_kinds_draw_curves(tmp_path, kind):
     q = random_walk(12, 3, step=0.6)
     qio.write(src, qio.Trajectory(np.arange(12.0), q, np.cumsum(np.ones((12, 3)), axis=0)))
     out = tmp_path / f"{kind}.png"
-    assert main(["plot", str(src), "-o", str(out), "--kind", kind]) == 0
+    shaped = ["--method", "c3"] if kind == "family" else []  # a method with α to sweep
+    assert main(["plot", str(src), "-o", str(out), "--kind", kind, *shaped]) == 0
     shape, n = curve_pixels(out)
     assert shape[0] > 300 and shape[1] > 300
     assert n > 500, n
@@ -302,7 +314,8 @@ def test_param_that_is_not_a_parameter_of_the_method_is_a_one_line_usage_error(
     code = main([command, str(src), "-o", str(out), "--param", f"{name}=x", *extra])
     err = capsys.readouterr().err
     assert code == 2 and len(err.strip().splitlines()) == 1, err
-    assert f"--param {name}" in err and "valid: alpha, beta" in err
+    valid = ", ".join(METHODS[DEFAULT_METHOD].params)  # the default method's parameters
+    assert f"--param {name}" in err and f"valid: {valid}" in err
     assert not out.exists()
 
 

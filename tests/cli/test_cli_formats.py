@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import quatspline.io as qio
+from quatspline._util.options import DEFAULT_METHOD
 from quatspline.cli import main
 
 from ..ops.test_gltf import measured_errors, validate
@@ -32,7 +33,9 @@ def test_export_glb_within_bound_and_valid(tmp_path, capsys):
     assert validate(out)[0]["numErrors"] == 0
     import quatspline as qs
 
-    ps = qs.PoseSpline(tr.quats, tr.times - T0, tr.positions, rotation="c3")
+    ps = qs.PoseSpline(
+        tr.quats, tr.times - T0, tr.positions, rotation=DEFAULT_METHOD
+    )  # the export default
     e_rot, e_pos, _ = measured_errors(out, ps, 0.0)
     assert np.degrees(e_rot.max()) <= 0.02 * (1 + 1e-3)
     assert e_pos.max() <= 1e-4 * (1 + 1e-3)

@@ -70,7 +70,7 @@ def test_unknown_output_extension_is_refused_listing_the_formats(tmp_path, keys_
     [
         ("--rate", "1e12", "--rate: 1e+12 samples per unit over [0, 3.9] gives 3.9e+12 samples"),
         ("--rate", "4e8", "--rate: 4e+08 samples per unit over [0, 3.9] gives 1.56e+09 samples"),
-        ("--count", "1000000000000", "--count: 1000000000000 samples is more than max_samples"),
+        ("--count", "1000000000000", "--count: 1000000000000 samples is more than --max-samples"),
         ("--rate", "nan", "--rate: expected a positive finite rate, got nan"),
         ("--rate", "-1", "--rate: expected a positive finite rate, got -1"),
         ("--count", "0", "--count: expected an integer ≥ 1, got 0"),
@@ -90,7 +90,7 @@ def test_max_samples_option_is_honoured(tmp_path, keys_csv, capsys):
     out = tmp_path / "out.csv"
     args = ["sample", str(keys_csv), "-o", str(out), "--count", "100", "--max-samples", "99"]
     assert main(args) == 2
-    assert "--count: 100 samples is more than max_samples = 99" in capsys.readouterr().err
+    assert "--count: 100 samples is more than --max-samples = 99" in capsys.readouterr().err
     assert main([*args[:-1], "100"]) == 0
     assert len(qio.read(out)) == 100
 

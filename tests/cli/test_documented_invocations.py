@@ -14,6 +14,7 @@ ROOT = Path(__file__).resolve().parents[2]
 SOURCES = [
     ROOT / "README.md",
     *sorted((ROOT / "docs").glob("*.rst")),
+    *sorted((ROOT / "docs").glob("*.md")),
     *sorted((ROOT / "docs").glob("*/*.rst")),
 ]
 COMMANDS = (
@@ -23,6 +24,7 @@ COMMANDS = (
     "plot",
     "export",
     "batch",
+    "imu",
     "view",
     "demo",
     "info",

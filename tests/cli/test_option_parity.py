@@ -20,17 +20,28 @@ ROOT = Path(__file__).resolve().parents[2]
 TUM = ROOT / "data" / "tum_rgbd_fr1_xyz" / "freiburg1_xyz-groundtruth.txt"
 
 #: Options only the single-file commands have (one output file, the JSON switch of compare).
-SINGLE_ONLY = {"command", "func", "debug", "input", "output", "format", "force", "json"}
+SINGLE_ONLY = {
+    "command", "func", "debug", "input", "output", "format", "force", "json", "imu_command"
+}  # fmt: skip
 #: Options only the batch has (many inputs, an output directory, Dask, resuming).
 BATCH_ONLY = {"command", "func", "debug", "operation", "inputs", "output", "scheduler",
               "workers", "force", "max_file_size", "to"}  # fmt: skip
 #: The least each operation needs on the command line.
-REQUIRED = {"sample": ["--count", "5"], "fit": ["--count", "5"], "compare": [], "export": []}
+REQUIRED = {
+    "sample": ["--count", "5"],
+    "fit": ["--count", "5"],
+    "compare": [],
+    "export": [],
+    "imu-simulate": ["--rate", "100"],
+}
+#: The single-file command of each batch operation (the operation's name unless listed).
+SINGLE_COMMAND = {"imu-simulate": ["imu", "simulate"]}
 
 
 def _single(op: str, extra=()) -> dict:
     output = [] if op == "compare" else ["-o", "out.x"]  # compare prints
-    return vars(build_parser().parse_args([op, "in.txt", *output, *REQUIRED[op], *extra]))
+    cmd = SINGLE_COMMAND.get(op, [op])
+    return vars(build_parser().parse_args([*cmd, "in.txt", *output, *REQUIRED[op], *extra]))
 
 
 def _batch(op: str, extra=()) -> dict:

@@ -557,7 +557,7 @@ GOOD_Q = smooth_motion(GOOD_T)
         (dict(smoothing=-1.0), ValueError, "smoothing"),
         (dict(smoothing=np.inf), ValueError, "smoothing"),
         (dict(smoothing=np.nan), ValueError, "smoothing"),
-        (dict(smoothing="gcv"), ValueError, "smoothing"),
+        (dict(smoothing="gvc"), ValueError, "smoothing"),
         (dict(smoothing=[1.0]), TypeError, "smoothing"),
         (dict(penalty="snap"), ValueError, "penalty: unknown"),
         (dict(penalty=2), TypeError, "penalty"),
@@ -610,7 +610,8 @@ def test_unconverged_fit_raises_with_iterations_and_step():
 def test_progress_callback_and_cancel():
     calls = []
     f = qs.fit(T, noisy(T, 1.0), smoothing=1e-3, progress=lambda *a: calls.append(a))
-    assert len(calls) == f.iterations and calls[0][0] == "fit"
+    # one report per iteration and a last one with done == total
+    assert len(calls) == f.iterations + 1 and calls[0][0] == "fit"
 
     def stop(*a):
         raise KeyboardInterrupt
@@ -665,7 +666,7 @@ def test_fitted_and_pose_splines_have_informative_reprs():
     assert r.startswith("FittedPose(segments=20, domain=[0, 2], smoothing=0.001")
     assert "position_smoothing=" in r
     assert repr(qs.PoseSpline(q, t, p, translation="linear")) == (
-        "PoseSpline(segments=20, domain=[0, 2], rotation=C3Spline, translation=linear)"
+        "PoseSpline(segments=20, domain=[0, 2], rotation=NaturalSpline, translation=linear)"
     )
 
 

@@ -23,8 +23,8 @@ def sources(tmp_path_factory):
     tr = qio.Trajectory(np.arange(5.0) + 1, q, np.eye(5)[:, :3])
     from quatspline.ops._export import to_gltf
 
-    to_gltf(tr, d / "m.glb", max_error=1, progress=False)
-    to_gltf(tr, d / "m.gltf", max_error=1, progress=False)
+    to_gltf(tr, d / "m.glb", max_error=1, progress=False, method="c3")  # ≥ 5 keys
+    to_gltf(tr, d / "m.gltf", max_error=1, progress=False, method="c3")
     qio.write(d / "m.bag", tr, format="rosbag")
     qio.write(d / "m.mcap", tr, format="rosbag")
     qio.write(d / "k.txt", qio.Trajectory(np.arange(5.0), q, np.eye(5)[:, :3]), format="kitti")

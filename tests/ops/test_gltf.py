@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 import quatspline as qs
 import quatspline.io as qio
+from quatspline._util.options import DEFAULT_METHOD
 from quatspline.ops._export import parse_angle, parse_length, to_gltf
 
 from ..splinekit import random_walk
@@ -154,7 +155,9 @@ def test_real_recording_export(tmp_path):
     rep = to_gltf(traj, path, max_error="0.05deg", max_position_error="1mm")
     (v,) = validate(path)
     assert v["numErrors"] == 0, v["messages"]
-    ps = qs.PoseSpline(traj.quats, traj.times, traj.positions, rotation="c3")
+    ps = qs.PoseSpline(
+        traj.quats, traj.times, traj.positions, rotation=DEFAULT_METHOD
+    )  # the export default
     e_rot, e_pos, _ = measured_errors(path, ps, traj.times[0])
     assert e_rot.max() <= rep.rotation_bound * (1 + 1e-3)
     assert e_pos.max() <= rep.translation_bound * (1 + 1e-3)

@@ -14,7 +14,7 @@ import quatspline.ops._fit
 import quatspline.ops._ops
 import quatspline.ops._resample
 import quatspline.ops._sample
-from quatspline.ops import ParameterError, compare, format_table, sample_trajectory
+from quatspline.ops import IMPULSES, ParameterError, compare, format_table, sample_trajectory
 
 from ..conftest import random_quats
 
@@ -50,7 +50,8 @@ def test_compare_returns_plain_numbers():
     assert [r["method"] for r in rows] == ["slerp", "natural"]
     for r in rows:
         for k, v in r.items():
-            assert type(v) in (str, float, int), (k, type(v))
+            # None only where no finite RMS exists (an impulse at a C⁰/C¹ joint)
+            assert type(v) in (str, float, int) or (v is None and k.startswith("rms_")), (k, v)
 
 
 def test_compare_holdout_zero_is_an_error_not_no_holdout():
@@ -419,3 +420,24 @@ def test_compare_is_the_route_of_the_cli(tmp_path, capsys, monkeypatch):
     monkeypatch.setattr(ops, "compare", lambda *a, **k: seen.append((a, k)) or [])
     assert main(["compare", str(p), "--json"]) == 0
     assert seen and seen[0][1]["methods"] is None  # no --methods: the library's default list
+
+
+def test_compare_gives_no_rms_for_an_impulse_and_the_table_names_units():
+    """A C⁰ method's α is an impulse at every joint (ω jumps): no finite RMS exists, so
+    ``compare`` reports None and the table says "impulses" rather than "rms α 0"; a C¹
+    method has no finite RMS jerk. Headers carry units."""
+    t = np.linspace(0.0, 3.0, 13)
+    rv = np.stack([np.sin(t), 0.3 * t**2, np.cos(2 * t)], axis=1)
+    rows = compare(qio.Trajectory(t, quatspline.from_rotvec(rv)), ["slerp", "squad", "natural"])
+    by = {r["method"]: r for r in rows}
+    assert by["slerp"]["continuity_order"] == 0
+    assert by["slerp"]["rms_acceleration"] is None and by["slerp"]["rms_jerk"] is None
+    assert by["squad"]["continuity_order"] == 1
+    assert by["squad"]["rms_acceleration"] > 0 and by["squad"]["rms_jerk"] is None
+    assert by["natural"]["rms_acceleration"] > 0 and by["natural"]["rms_jerk"] > 0
+    table = format_table(rows)
+    head, _, slerp_line, squad_line, _ = table.splitlines()
+    for unit in ("(rad/s)", "(rad/s²)", "(rad/s³)", "(rad)"):
+        assert unit in head
+    assert slerp_line.count(IMPULSES) == 2
+    assert squad_line.count(IMPULSES) == 1

@@ -94,7 +94,7 @@ KEYS3 = [[1, 0, 0, 0], [0, 0, 0, 1], [0, 1, 0, 0]]
         ("min_energy", {"resolution": 4.5}, TypeError, "params.resolution: expected an integer"),
         ("min_energy", {"resolution": 1e308}, TypeError, "params.resolution: expected an int"),
         ("min_energy", {"resolution": 2**70}, ValueError, "params.resolution: expected an int"),
-        ("fit", {"smoothing": "x"}, ValueError, "params.smoothing: expected 'auto' or a num"),
+        ("fit", {"smoothing": "x"}, ValueError, "params.smoothing: expected 'auto', 'gcv', 'adap"),
         ("fit", {"smoothing": True}, TypeError, "params.smoothing: expected a number or 'auto'"),
         ("fit", {"robust": 5}, TypeError, "params.robust: expected a string"),
         ("hermite", {"rates": [0, 0, 0]}, ValueError, r"params.rates: expected an \(N, 3\)"),

@@ -35,7 +35,7 @@ fn reporter(cb: Option<Py<PyAny>>) -> impl FnMut(&str, usize, f64) -> bool + Sen
 /// Orientation fit; returns a dict of the result fields.
 #[pyfunction]
 #[pyo3(signature = (times, quats, weights, penalty, order, smoothing, knots_spacing, knots_array,
-                    robust, robust_scale, max_iter, tol, progress=None))]
+                    robust, robust_scale, max_iter, tol, progress=None, adaptivity="gcv"))]
 #[allow(clippy::too_many_arguments)]
 fn fit_rotations<'py>(
     py: Python<'py>,
@@ -52,7 +52,9 @@ fn fit_rotations<'py>(
     max_iter: usize,
     tol: f64,
     progress: Option<Py<PyAny>>,
+    adaptivity: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let mode = adaptivity.parse::<fit::Adaptivity>().map_err(to_py)?;
     let t = vec_of(&times);
     let q = quats_of(&quats, "quats")?;
     let w = weights.as_ref().map(vec_of);
@@ -67,7 +69,7 @@ fn fit_rotations<'py>(
         tol,
     };
     let mut rep = reporter(progress);
-    let r = guarded(py, "fit", move || fit::fit(&t, &q, w.as_deref(), &opts, &mut rep))?;
+    let r = guarded(py, "fit", move || fit::fit_adaptive(&t, &q, w.as_deref(), &opts, mode, &mut rep))?;
     let d = PyDict::new(py);
     let ctrl: Vec<f64> = r.ctrl.iter().flat_map(|q| q.to_wxyz()).collect();
     d.set_item("ctrl", ctrl.into_pyarray(py).reshape([r.ctrl.len(), 4])?)?;
@@ -76,6 +78,7 @@ fn fit_rotations<'py>(
     d.set_item("order", r.order)?;
     let full = r.breaks.as_ref().map(|b| fit::layout::full_knots(b, r.order).into_pyarray(py));
     d.set_item("knots_full", full)?;
+    d.set_item("breaks", r.breaks.as_ref().map(|b| b.clone().into_pyarray(py)))?;
     d.set_item("residuals", r.residuals.into_pyarray(py))?;
     d.set_item("robust_weights", r.robust_weights.into_pyarray(py))?;
     d.set_item("robust_scale", r.robust_scale)?;
@@ -86,6 +89,7 @@ fn fit_rotations<'py>(
     d.set_item("iterations", r.iterations)?;
     d.set_item("final_step", r.final_step)?;
     d.set_item("converged", r.converged)?;
+    d.set_item("penalty_weights", r.penalty_weights.map(|v| v.into_pyarray(py)))?;
     Ok(d)
 }
 
@@ -150,6 +154,35 @@ fn min_energy_spline<'py>(
     d.set_item("iterations", s.iterations)?;
     d.set_item("converged", s.converged)?;
     d.set_item("gradient_norm", s.gradient_norm)?;
+    Ok((crate::spline::wrap(Ok(s))?, d))
+}
+
+/// The exact minimum-∫|ω̇|² interpolant, the Riemannian cubic spline
+/// (`fit/riemannian_cubic.rs`); returns (spline, {energy, energy_natural, iterations, residual}).
+#[pyfunction]
+#[pyo3(signature = (quats, times, ends, start_rate, end_rate, progress=None))]
+fn riemannian_cubic_spline<'py>(
+    py: Python<'py>,
+    quats: PyReadonlyArray2<'py, f64>,
+    times: Option<PyReadonlyArray1<'py, f64>>,
+    ends: &str,
+    start_rate: Option<[f64; 3]>,
+    end_rate: Option<[f64; 3]>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<(crate::spline::PySpline, Bound<'py, PyDict>)> {
+    let q = quats_of(&quats, "quats")?;
+    let t = times_of(&times);
+    let ends =
+        NaturalEnds::for_method(ends, "the minimum-energy spline", start_rate, end_rate).map_err(to_py)?;
+    let mut rep = reporter(progress);
+    let s = guarded(py, "MinimumEnergySpline", move || {
+        fit::riemannian_cubic::RiemannianCubic::new(&q, t.as_deref(), ends, &mut rep)
+    })?;
+    let d = PyDict::new(py);
+    d.set_item("energy", s.energy)?;
+    d.set_item("energy_natural", s.energy_natural)?;
+    d.set_item("iterations", s.iterations)?;
+    d.set_item("residual", s.residual)?;
     Ok((crate::spline::wrap(Ok(s))?, d))
 }
 
@@ -230,11 +263,159 @@ fn position_bspline_eval<'py>(
     out.into_pyarray(py).reshape([m, 12])
 }
 
+// ---- posterior covariance ------------------------------------------------------------------
+
+/// The posterior of an orientation fit (`quatspline::fit::Posterior`): the band of H⁻¹ and σ̂²,
+/// built once, evaluated at any times.
+#[pyclass(name = "FitPosterior", module = "quatspline._core", frozen)]
+pub struct PyFitPosterior {
+    inner: std::sync::Arc<fit::Posterior>,
+}
+
+#[pymethods]
+impl PyFitPosterior {
+    /// (M, 3, 3): the covariance of `quantity` ("orientation" or "angular_velocity") in
+    /// `frame` ("body" or "world") at each t (inside the domain).
+    fn covariance<'py>(
+        &self,
+        py: Python<'py>,
+        t: PyReadonlyArray1<'py, f64>,
+        quantity: &str,
+        frame: &str,
+    ) -> PyResult<Bound<'py, numpy::PyArray3<f64>>> {
+        let what: fit::Quantity = quantity.parse().map_err(to_py)?;
+        let fr: quatspline::Frame = frame.parse().map_err(to_py)?;
+        let tv = vec_of(&t);
+        let m = tv.len();
+        let post = self.inner.clone();
+        let out = guarded(py, "covariance", move || post.covariances(&tv, what, fr))?;
+        out.into_pyarray(py).reshape([m, 3, 3])
+    }
+    #[getter]
+    fn sigma2(&self) -> f64 {
+        self.inner.sigma2
+    }
+    #[getter]
+    fn effective_dof(&self) -> f64 {
+        self.inner.edf
+    }
+    #[getter]
+    fn observations(&self) -> f64 {
+        self.inner.nobs
+    }
+}
+
+/// The posterior of an orientation fit to `quats` at `times` (the fit's own data, weights and
+/// final IRLS weights; its controls, layout, penalty and λ).
+#[pyfunction]
+#[pyo3(signature = (times, quats, weights, robust_weights, ctrl, dt, t0, order, breaks, penalty, smoothing, penalty_weights=None))]
+#[allow(clippy::too_many_arguments)]
+fn fit_posterior<'py>(
+    py: Python<'py>,
+    times: PyReadonlyArray1<'py, f64>,
+    quats: PyReadonlyArray2<'py, f64>,
+    weights: Option<PyReadonlyArray1<'py, f64>>,
+    robust_weights: Option<PyReadonlyArray1<'py, f64>>,
+    ctrl: PyReadonlyArray2<'py, f64>,
+    dt: f64,
+    t0: f64,
+    order: crate::arrays::Count,
+    breaks: Option<PyReadonlyArray1<'py, f64>>,
+    penalty: &str,
+    smoothing: f64,
+    penalty_weights: Option<PyReadonlyArray1<'py, f64>>,
+) -> PyResult<PyFitPosterior> {
+    let t = vec_of(&times);
+    let q = quats_of(&quats, "quats")?;
+    let w = weights.as_ref().map(vec_of);
+    let rw = robust_weights.as_ref().map(vec_of);
+    let c = quats_of(&ctrl, "ctrl")?;
+    let br = breaks.as_ref().map(vec_of);
+    let pw = penalty_weights.as_ref().map(vec_of);
+    let pen = penalty.parse::<Penalty>().map_err(to_py)?;
+    let order = order.0;
+    let post = guarded(py, "covariance", move || {
+        let lay = fit::fitted_layout(c.len(), dt, t0, order, br.as_deref())?;
+        fit::Posterior::new(&t, &q, w.as_deref(), rw.as_deref(), c, lay, pen, smoothing, pw.as_deref())
+    })?;
+    Ok(PyFitPosterior { inner: std::sync::Arc::new(post) })
+}
+
+/// The posterior of a position fit (`quatspline::fit::position::PositionPosterior`).
+#[pyclass(name = "PositionPosterior", module = "quatspline._core", frozen)]
+pub struct PyPositionPosterior {
+    inner: std::sync::Arc<position::PositionPosterior>,
+}
+
+#[pymethods]
+impl PyPositionPosterior {
+    /// (M,): the variance of each coordinate of p(t) (derivative 0) or p'(t) (1) at each t.
+    fn variances<'py>(
+        &self,
+        py: Python<'py>,
+        t: PyReadonlyArray1<'py, f64>,
+        derivative: crate::arrays::Count,
+    ) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+        let tv = vec_of(&t);
+        let post = self.inner.clone();
+        let d = derivative.0;
+        let out = guarded(py, "position_covariance", move || post.variances(&tv, d))?;
+        Ok(out.into_pyarray(py))
+    }
+    #[getter]
+    fn sigma2(&self) -> f64 {
+        self.inner.sigma2
+    }
+    #[getter]
+    fn effective_dof(&self) -> f64 {
+        self.inner.edf
+    }
+}
+
+/// The posterior of a position fit (the fit's data, weights, IRLS weights, controls, layout,
+/// penalty and λ).
+#[pyfunction]
+#[pyo3(signature = (times, positions, weights, robust_weights, ctrl, dt, t0, order, breaks, penalty, smoothing))]
+#[allow(clippy::too_many_arguments)]
+fn position_posterior<'py>(
+    py: Python<'py>,
+    times: PyReadonlyArray1<'py, f64>,
+    positions: PyReadonlyArray2<'py, f64>,
+    weights: Option<PyReadonlyArray1<'py, f64>>,
+    robust_weights: Option<PyReadonlyArray1<'py, f64>>,
+    ctrl: PyReadonlyArray2<'py, f64>,
+    dt: f64,
+    t0: f64,
+    order: crate::arrays::Count,
+    breaks: Option<PyReadonlyArray1<'py, f64>>,
+    penalty: &str,
+    smoothing: f64,
+) -> PyResult<PyPositionPosterior> {
+    let t = vec_of(&times);
+    let x = rows_of::<3>(&positions, "positions")?;
+    let w = weights.as_ref().map(vec_of);
+    let rw = robust_weights.as_ref().map(vec_of);
+    let c = rows_of::<3>(&ctrl, "ctrl")?;
+    let br = breaks.as_ref().map(vec_of);
+    let pen = penalty.parse::<Penalty>().map_err(to_py)?;
+    let order = order.0;
+    let post = guarded(py, "position_covariance", move || {
+        let lay = fit::fitted_layout(c.len(), dt, t0, order, br.as_deref())?;
+        position::PositionPosterior::new(&t, &x, w.as_deref(), rw.as_deref(), &c, lay, pen, smoothing)
+    })?;
+    Ok(PyPositionPosterior { inner: std::sync::Arc::new(post) })
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyFitPosterior>()?;
+    m.add_class::<PyPositionPosterior>()?;
+    m.add_function(wrap_pyfunction!(fit_posterior, m)?)?;
+    m.add_function(wrap_pyfunction!(position_posterior, m)?)?;
     m.add_function(wrap_pyfunction!(fit_rotations, m)?)?;
     m.add_function(wrap_pyfunction!(fit_positions, m)?)?;
     m.add_function(wrap_pyfunction!(min_energy, m)?)?;
     m.add_function(wrap_pyfunction!(min_energy_spline, m)?)?;
+    m.add_function(wrap_pyfunction!(riemannian_cubic_spline, m)?)?;
     m.add_function(wrap_pyfunction!(position_bspline_eval, m)?)?;
     Ok(())
 }

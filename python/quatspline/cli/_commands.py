@@ -1,4 +1,4 @@
-"""The ``quatspline`` command line: sample, compare, plot, demo.
+"""The ``quatspline`` command line: sample, fit, compare, plot, export, imu, demo, batch, view.
 
 Exit codes: 0 success, 1 bad data (a file or its content), 2 bad usage (unknown options,
 methods or parameters). Outputs are written atomically and never over an input file unless
@@ -9,7 +9,9 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
+import re
 import shutil
 import sys
 import tempfile
@@ -21,7 +23,7 @@ from .. import arguments as options
 from .. import batch, demo, ops, plot, viewer
 from .. import io as qio
 from .._core import __version__
-from .._util.atomic import resolve_output
+from .._util.atomic import atomic_write, resolve_output
 from ..poses.pose_spline import PoseSpline
 from ..registry import METHODS
 
@@ -81,7 +83,9 @@ def _input_files(args) -> list[tuple[str, Path]]:
     """Every file the command reads, with the argument that names it: the input and the
     auxiliary files (a KITTI ``--times`` file, ``--at`` times, ``--knots`` FILE)."""
     files = [("the input file", Path(args.input))]
-    for opt in ("times", "at", "knots"):
+    if getattr(args, "imu", None) is not None:
+        files.append(("the IMU file", Path(args.imu)))
+    for opt in ("times", "at", "knots", "noise"):
         value = getattr(args, opt, None)
         if value is None or (opt == "knots" and _is_number(value)):
             continue
@@ -128,11 +132,29 @@ def cmd_sample(args) -> int:
 
 
 # ---- fit ------------------------------------------------------------------------------------
+#: The output formats with columns for extra per-sample data.
+EXTRA_COLUMN_FORMATS = ("csv", "json", "npz")
+
+
+def _check_extra_columns(args, option: str) -> None:
+    """Refuses, before any work, an output format that cannot hold extra columns."""
+    fmt = args.format or (
+        "csv" if args.output == "-" else qio.detect_format_for_writing(args.output)
+    )
+    if fmt not in EXTRA_COLUMN_FORMATS:
+        raise UsageError(
+            f"{option}: the {fmt} format has no columns for per-sample standard deviations; "
+            f"write {', '.join(EXTRA_COLUMN_FORMATS)}"
+        )
+
+
 def cmd_fit(args) -> int:
     """``quatspline fit``: least-squares fitting spline through noisy measurements (thin: the
     work is :func:`quatspline.ops.fit_trajectory`)."""
     _check_output(args)
     _guard_output(Path(args.output), args)
+    if args.uncertainty:
+        _check_extra_columns(args, "--uncertainty")
     traj = _read(args)
     out, f = ops.fit_trajectory(
         traj,
@@ -145,7 +167,8 @@ def cmd_fit(args) -> int:
     print(
         f"wrote {'standard output' if args.output == '-' else args.output}: {len(out)} samples "
         f"of a fit to {len(traj)} measurements (λ = {f.smoothing:.4g}, effective dof "
-        f"{f.effective_dof:.1f}, RMS residual {rms:.3f}°, {f.iterations} iterations)",
+        f"{f.effective_dof:.1f}, RMS residual {rms:.3f}°, {f.iterations} iterations"
+        + (f", noise σ̂ {math.degrees(f.noise_std):.3f}° per axis)" if args.uncertainty else ")"),
         file=sys.stderr if args.output == "-" else sys.stdout,
     )
     return 0
@@ -164,6 +187,12 @@ def cmd_compare(args) -> int:
 
 # ---- plot -----------------------------------------------------------------------------------
 def _family(args, traj):
+    row = METHODS.get(args.method)
+    if args.family is None and row is not None and "alpha" not in row.params:
+        raise UsageError(
+            f"--kind family: {args.method} has no alpha to sweep by default; give "
+            "--family PARAM=V1,V2,… or a method with shape parameters (--method c3)"
+        )
     name, _, values = (args.family or "alpha=0,0.3125,0.6").partition("=")
     vals = [v for v in values.split(",") if v]
     if not vals:
@@ -222,6 +251,57 @@ def cmd_export(args) -> int:
     return 0
 
 
+# ---- imu ------------------------------------------------------------------------------------
+def cmd_imu_simulate(args) -> int:
+    """``quatspline imu simulate``: the IMU a recording's motion would produce (thin: the
+    work is :func:`quatspline.ops.simulate_imu`, the file
+    :func:`quatspline.ops.write_simulated`)."""
+    ext = Path(args.output).suffix.lower()
+    if ext not in qio.IMU_WRITE_EXTENSIONS:
+        raise UsageError(
+            f"{args.output}: expected an IMU output file: .csv (EuRoC imu0/data.csv), .bag or .mcap"
+        )
+    resolve_output(args.output)
+    _guard_output(Path(args.output), args)
+    traj = _read(args)
+    data = ops.simulate_imu(traj, **options.imu_simulate_options(args))
+    ops.write_simulated(args.output, data)
+    what = "gyroscope and accelerometer" if data.accel is not None else "gyroscope only"
+    motion = "a smoothing fit" if args.fit else f"{args.method} through the keys"
+    print(
+        f"wrote {args.output}: {len(data)} IMU samples at {args.rate:g} Hz ({what}) of "
+        f"{motion} ({len(traj)} keys){', with noise' if args.noise else ', noise-free'}"
+    )
+    return 0
+
+
+def _check_side_output(path, args, exts: tuple[str, ...], option: str) -> None:
+    if Path(path).suffix.lower() not in exts:
+        raise UsageError(f"{option} {path}: expected a {', '.join(exts)} file")
+    resolve_output(path)
+    _guard_output(Path(path), args)
+
+
+def cmd_imu_calibrate(args) -> int:
+    """``quatspline imu calibrate``: a gyroscope against the recording's motion (thin: the
+    work is :func:`quatspline.ops.calibrate_imu`)."""
+    if args.figure:
+        _check_side_output(args.figure, args, (".png", ".svg", ".pdf"), "--figure")
+    if args.json:
+        _check_side_output(args.json, args, (".json",), "--json")
+    traj = _read(args)
+    cal = ops.calibrate_imu(traj, args.imu, **options.imu_calibrate_options(args))
+    print(cal.table())
+    if args.json:
+        with atomic_write(args.json) as f:
+            f.write(json.dumps(cal.to_dict(), indent=1) + "\n")
+        print(f"wrote {args.json}")
+    if args.figure:
+        cal.plot_residuals(args.figure, name=Path(args.imu).name)
+        print(f"wrote {args.figure}")
+    return 0
+
+
 # ---- demo -----------------------------------------------------------------------------------
 def cmd_demo(args) -> int:
     return demo.run(Path(args.out), recording=Path(args.recording) if args.recording else None)
@@ -258,13 +338,19 @@ def build_parser() -> argparse.ArgumentParser:
     p = _Parser(
         prog="quatspline",
         description="Keyframe orientations and poses in, smooth rigid-body motion out.",
-        epilog="methods: " + ", ".join(METHODS),
+        epilog="methods: " + ", ".join(METHODS) + "\n\n" + options.examples("quatspline"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("--version", action="version", version=f"quatspline {__version__}")
     p.add_argument("--debug", action="store_true", help="show the traceback of an error")
     sub = p.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
 
-    s = sub.add_parser("sample", help="sample a spline through a recording's keys")
+    s = sub.add_parser(
+        "sample",
+        help="sample a spline through a recording's keys",
+        epilog=options.examples("sample"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     options.add_input_options(s)
     s.add_argument(
         "-o",
@@ -279,7 +365,12 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--force", action="store_true", help="allow overwriting the input file")
     s.set_defaults(func=cmd_sample)
 
-    ft = sub.add_parser("fit", help="fit a smooth spline to noisy measurements and sample it")
+    ft = sub.add_parser(
+        "fit",
+        help="fit a smooth spline to noisy measurements and sample it",
+        epilog=options.examples("fit"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     options.add_input_options(ft)
     ft.add_argument("-o", "--output", required=True, help="output file, or - (as sample)")
     ft.add_argument("--format", choices=sorted(qio.FORMATS), help="output format")
@@ -288,13 +379,23 @@ def build_parser() -> argparse.ArgumentParser:
     ft.add_argument("--force", action="store_true", help="allow overwriting the input file")
     ft.set_defaults(func=cmd_fit)
 
-    c = sub.add_parser("compare", help="compare methods on a recording")
+    c = sub.add_parser(
+        "compare",
+        help="compare methods on a recording",
+        epilog=options.examples("compare"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     options.add_input_options(c)
     options.add_compare_options(c)
     c.add_argument("--json", action="store_true", help="print JSON instead of a table")
     c.set_defaults(func=cmd_compare)
 
-    pl = sub.add_parser("plot", help="plot a spline through a recording's keys")
+    pl = sub.add_parser(
+        "plot",
+        help="plot a spline through a recording's keys",
+        epilog=options.examples("plot"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     options.add_input_options(pl)
     pl.add_argument("-o", "--output", required=True, help="figure file (.png, .svg, .pdf)")
     pl.add_argument("--kind", choices=("sphere", "body", "rates", "family"), default="sphere")
@@ -306,7 +407,12 @@ def build_parser() -> argparse.ArgumentParser:
     pl.add_argument("--force", action="store_true", help="allow overwriting the input file")
     pl.set_defaults(func=cmd_plot)
 
-    e = sub.add_parser("export", help="export a motion to glTF 2.0 (error-bounded) or BVH")
+    e = sub.add_parser(
+        "export",
+        help="export a motion to glTF 2.0 (error-bounded) or BVH",
+        epilog=options.examples("export"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     options.add_input_options(e)
     e.add_argument("-o", "--output", required=True, help="motion.glb, motion.gltf or motion.bvh")
     options.add_export_options(e)
@@ -315,17 +421,76 @@ def build_parser() -> argparse.ArgumentParser:
     e.set_defaults(func=cmd_export)
 
     d = sub.add_parser(
-        "demo", help="the papers' examples and a real recording through every method"
+        "demo",
+        help="the papers' examples and a real recording through every method",
+        epilog=options.examples("demo"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     d.add_argument("-o", "--out", default="out", help="output directory (default: out)")
     d.add_argument("--recording", help="recording to use (default: bundled TUM RGB-D fr1/xyz)")
     d.set_defaults(func=cmd_demo)
 
-    b = sub.add_parser("batch", help="one operation over many files, distributed with Dask")
+    b = sub.add_parser(
+        "batch",
+        help="one operation over many files, distributed with Dask",
+        epilog=options.examples("batch"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     batch.add_arguments(b, parser_class=_Parser)
     b.set_defaults(func=cmd_batch)
 
-    v = sub.add_parser("view", help="design attitude motion in the browser (local web page)")
+    im = sub.add_parser(
+        "imu",
+        help="simulate an IMU on a recording's motion, or calibrate one against it",
+        description="Inertial measurements: simulate the IMU a recording's motion would "
+        "produce, or calibrate a recorded gyroscope against the recording.",
+        epilog=options.examples("imu"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    imu = im.add_subparsers(
+        dest="imu_command", metavar="IMU_COMMAND", required=True, parser_class=_Parser
+    )
+    si = imu.add_parser(
+        "simulate",
+        help="the gyroscope (and accelerometer) samples a recording's motion would produce",
+        description="The IMU samples of the motion through a recording's keys (the --method "
+        "spline, a pose spline when the file has positions: then the accelerometer too; or a "
+        "smoothing fit with --fit), exact or with Kalibr imu.yaml noise. Times on the "
+        "recording's clock.",
+        epilog=options.examples("imu simulate"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    options.add_input_options(si)
+    si.add_argument(
+        "-o", "--output", required=True, help="IMU file: .csv (EuRoC imu0/data.csv), .bag, .mcap"
+    )
+    options.add_imu_simulate_options(si)
+    si.add_argument("--force", action="store_true", help="allow overwriting an input file")
+    si.set_defaults(func=cmd_imu_simulate)
+
+    ca = imu.add_parser(
+        "calibrate",
+        help="a gyroscope's mounting, bias, scale and time offset against a recording",
+        description="Calibrates the IMU's gyroscope against the recording's orientations "
+        "(smoothed by a fit): the model ω_meas(t) = K R_bsᵀ ω_body(t + δ) + b. Prints the "
+        "estimates with their standard errors and the RMS residual per axis.",
+        epilog=options.examples("imu calibrate"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    options.add_input_options(ca)
+    ca.add_argument("imu", help="IMU file (EuRoC imu0/data.csv, RepoIMU, ROS bag)")
+    options.add_imu_calibrate_options(ca)
+    ca.add_argument("--figure", metavar="FILE", help="residual figure (.png, .svg, .pdf)")
+    ca.add_argument("--json", metavar="FILE", help="the result as JSON (.json)")
+    ca.add_argument("--force", action="store_true", help="allow overwriting an input file")
+    ca.set_defaults(func=cmd_imu_calibrate)
+
+    v = sub.add_parser(
+        "view",
+        help="design attitude motion in the browser (local web page)",
+        epilog=options.examples("view"),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     v.add_argument("input", nargs="?", help="keys file, recording or trajectory (default: example)")
     v.add_argument("--port", type=int, default=0, help="port (default: a free one)")
     v.add_argument("--no-browser", action="store_true", help="print the URL only")
@@ -345,7 +510,13 @@ _CLI_NAMES = {
     "fps": "--fps",
     "max_error": "--max-error",
     "max_position_error": "--max-position-error",
+    "max_offset": "--max-offset",
+    "estimate": "--estimate",
+    "noise": "--noise",
 }
+
+
+_KEYWORDS = re.compile(r"\b(" + "|".join(k for k in _CLI_NAMES if "_" in k) + r")\b")
 
 
 def _cli_message(e: BaseException) -> str:
@@ -354,7 +525,9 @@ def _cli_message(e: BaseException) -> str:
     name, sep, rest = msg.partition(":")
     if sep and name in _CLI_NAMES:
         msg = _CLI_NAMES[name] + sep + rest
-    return msg
+    # a library keyword quoted inside the message ("… more than max_samples = 10") in the
+    # option's spelling; only identifiers with an underscore, never ordinary words
+    return _KEYWORDS.sub(lambda m: _CLI_NAMES[m.group(0)], msg)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -95,7 +95,7 @@ class _Where:
         return f"{self.path}: topic {self.topic!r}, message {self.index}"
 
 
-def _get(where, msg, dotted: str):
+def field(where, msg, dotted: str):
     """The field ``dotted`` of a decoded message; a bag whose embedded definition lacks or
     renames it is a one-line error naming the file, topic, message and field."""
     obj = msg
@@ -111,8 +111,8 @@ def _get(where, msg, dotted: str):
     return obj
 
 
-def _number(where, msg, dotted: str, integer: bool = False):
-    x = _get(where, msg, dotted)
+def number(where, msg, dotted: str, integer: bool = False):
+    x = field(where, msg, dotted)
     kinds = numbers.Integral if integer else numbers.Real
     if isinstance(x, bool) or not isinstance(x, kinds):
         raise TrajectoryError(
@@ -129,12 +129,12 @@ def _short(msgtype: str) -> str:
 
 def topics(path) -> dict[str, str]:
     """Topic → message type (``pkg/Type``) of every topic in the bag."""
-    with _open(path) as reader:
+    with open_bag(path) as reader:
         return {c.topic: _short(c.msgtype) for c in reader.connections}
 
 
 @contextlib.contextmanager
-def _open(path):
+def open_bag(path):
     highlevel = _rosbags("highlevel")
 
     p = Path(path)
@@ -216,6 +216,76 @@ def _listing(conns) -> str:
     return ", ".join(f"{c.topic} ({_short(c.msgtype)})" for c in conns) or "none"
 
 
+def check_stamp(stamp) -> None:
+    """Refuses a ``stamp=`` option other than ``"header"`` or ``"bag"``."""
+    if stamp not in ("header", "bag"):
+        raise ValueError(f"stamp: expected 'header' or 'bag', got {stamp!r}")
+
+
+def choose_topic(path, reader, topic, types, why: str):
+    """The topic to read (``topic``, or the one topic whose type is in ``types``), its
+    connections and message type; a missing, ambiguous or unusable topic is a one-line error
+    listing the bag's topics (``why``: what an unusable type lacks)."""
+    conns = list(reader.connections)
+    usable = [c for c in conns if c.msgtype in types]
+    if topic is None:
+        names = sorted({c.topic for c in usable})
+        if len(names) != 1:
+            what = "no topic given" if names else "no topic of a usable type"
+            raise TrajectoryError(
+                f"{path}: {what}; topics: {_listing(conns)} "
+                f"(usable types: {', '.join(_short(t) for t in types)})"
+            )
+        topic = names[0]
+    chosen = [c for c in conns if c.topic == topic]
+    if not chosen:
+        raise TrajectoryError(f"{path}: no topic {topic!r}; topics: {_listing(conns)}")
+    msgtype = chosen[0].msgtype
+    if msgtype not in types:
+        raise TrajectoryError(
+            f"{path}: topic {topic!r} has type {_short(msgtype)}, which {why} "
+            f"(usable: {', '.join(_short(t) for t in types)})"
+        )
+    return topic, chosen, msgtype
+
+
+def messages(path, reader, topic, chosen):
+    """The decoded messages of the connections ``chosen``, with a progress bar: yields
+    (where, bag receive time in ns, message); a damaged chunk or message is a one-line
+    error naming the file, topic and message."""
+    total = sum(int(getattr(c, "msgcount", 0) or 0) for c in chosen) or None
+    where = _Where(path, topic)
+    with progress(total=total, desc=f"reading {topic}", unit="msg") as bar:
+        for conn, bag_ns, raw in _guarded(path, reader.messages(connections=chosen)):
+            bar.update(1)
+            where.index += 1
+            try:
+                msg = reader.deserialize(raw, conn.msgtype)
+            except Exception as e:  # a corrupt message: name where it is
+                raise TrajectoryError(f"{where}: cannot decode ({e})") from None
+            yield where, bag_ns, msg
+
+
+def stamp_of(where, msg, stamp: str, bag_ns) -> int:
+    """The message's time in integer ns: its header stamp or the bag's receive time."""
+    if stamp == "header":
+        sec = number(where, msg, "header.stamp.sec", integer=True)
+        nsec = number(where, msg, "header.stamp.nanosec", integer=True)
+        return sec * 1_000_000_000 + nsec
+    return int(bag_ns)
+
+
+def int64_stamps(path, topic, ns) -> np.ndarray:
+    """The stamps as int64; one beyond 64-bit nanoseconds is a one-line error."""
+    out_of_range = [k for k, v in enumerate(ns) if not -(2**63) <= v < 2**63]
+    if out_of_range:
+        k = out_of_range[0]
+        raise TrajectoryError(
+            f"{path}: topic {topic!r}, stamp {k + 1}: {ns[k]} ns is beyond 64-bit nanoseconds"
+        )
+    return np.array(ns, dtype=np.int64)
+
+
 def read(
     path,
     topic: str | None = None,
@@ -253,80 +323,42 @@ def read(
     ImportError
         When ``rosbags`` is not installed (with the install hint).
     """
-    if stamp not in ("header", "bag"):
-        raise ValueError(f"stamp: expected 'header' or 'bag', got {stamp!r}")
-    with _open(path) as reader:
-        conns = list(reader.connections)
-        usable = [c for c in conns if c.msgtype in TYPES]
-        if topic is None:
-            names = sorted({c.topic for c in usable})
-            if len(names) != 1:
-                why = "no topic given" if names else "no topic of a usable type"
-                raise TrajectoryError(
-                    f"{path}: {why}; topics: {_listing(conns)} "
-                    f"(usable types: {', '.join(_short(t) for t in TYPES)})"
-                )
-            topic = names[0]
-        chosen = [c for c in conns if c.topic == topic]
-        if not chosen:
-            raise TrajectoryError(f"{path}: no topic {topic!r}; topics: {_listing(conns)}")
-        msgtype = chosen[0].msgtype
-        if msgtype not in TYPES:
-            raise TrajectoryError(
-                f"{path}: topic {topic!r} has type {_short(msgtype)}, which carries no "
-                f"orientation we can use (usable: {', '.join(_short(t) for t in TYPES)})"
-            )
+    check_stamp(stamp)
+    with open_bag(path) as reader:
+        topic, chosen, msgtype = choose_topic(
+            path, reader, topic, TYPES, "carries no orientation we can use"
+        )
         qpath, ppath = TYPES[msgtype]
         is_tf = msgtype == "tf2_msgs/msg/TFMessage"
         ns, quats, pos, children = [], [], [], set()
-        total = sum(int(getattr(c, "msgcount", 0) or 0) for c in chosen) or None
-        where = _Where(path, topic)
-        with progress(total=total, desc=f"reading {topic}", unit="msg") as bar:
-            for conn, bag_ns, raw in _guarded(path, reader.messages(connections=chosen)):
-                bar.update(1)
-                where.index += 1
-                try:
-                    msg = reader.deserialize(raw, conn.msgtype)
-                except Exception as e:  # a corrupt message: name where it is
-                    raise TrajectoryError(f"{where}: cannot decode ({e})") from None
-                items = _get(where, msg, "transforms") if is_tf else [msg]
-                if is_tf and not isinstance(items, (list, tuple)):
-                    raise TrajectoryError(f"{where}: field 'transforms' is not a list")
-                for item in items:
-                    if is_tf or msgtype == "geometry_msgs/msg/TransformStamped":
-                        child = _get(where, item, "child_frame_id")
-                        if not isinstance(child, str):
-                            raise TrajectoryError(f"{where}: field 'child_frame_id' is not text")
-                        children.add(child)
-                        if frame is not None and child != frame:
-                            continue
-                        if is_tf and frame is None and len(children) > 1:
-                            raise TrajectoryError(
-                                f"{path}: topic {topic!r} carries several child frames "
-                                f"({', '.join(sorted(children))}); choose one with frame= "
-                                "(--frame)"
-                            )
-                    if stamp == "header":
-                        sec = _number(where, item, "header.stamp.sec", integer=True)
-                        nsec = _number(where, item, "header.stamp.nanosec", integer=True)
-                        ns.append(sec * 1_000_000_000 + nsec)
-                    else:
-                        ns.append(int(bag_ns))
-                    quats.append(tuple(_number(where, item, f"{qpath}.{c}") for c in "wxyz"))
-                    if ppath is not None:
-                        pos.append(tuple(_number(where, item, f"{ppath}.{c}") for c in "xyz"))
+        for where, bag_ns, msg in messages(path, reader, topic, chosen):
+            items = field(where, msg, "transforms") if is_tf else [msg]
+            if is_tf and not isinstance(items, (list, tuple)):
+                raise TrajectoryError(f"{where}: field 'transforms' is not a list")
+            for item in items:
+                if is_tf or msgtype == "geometry_msgs/msg/TransformStamped":
+                    child = field(where, item, "child_frame_id")
+                    if not isinstance(child, str):
+                        raise TrajectoryError(f"{where}: field 'child_frame_id' is not text")
+                    children.add(child)
+                    if frame is not None and child != frame:
+                        continue
+                    if is_tf and frame is None and len(children) > 1:
+                        raise TrajectoryError(
+                            f"{path}: topic {topic!r} carries several child frames "
+                            f"({', '.join(sorted(children))}); choose one with frame= "
+                            "(--frame)"
+                        )
+                ns.append(stamp_of(where, item, stamp, bag_ns))
+                quats.append(tuple(number(where, item, f"{qpath}.{c}") for c in "wxyz"))
+                if ppath is not None:
+                    pos.append(tuple(number(where, item, f"{ppath}.{c}") for c in "xyz"))
     if not ns:
         extra = f" with child frame {frame!r} (frames: {', '.join(sorted(children)) or 'none'})"
         raise TrajectoryError(
             f"{path}: no messages on topic {topic!r}" + (extra if frame is not None else "")
         )
-    out_of_range = [k for k, v in enumerate(ns) if not -(2**63) <= v < 2**63]
-    if out_of_range:
-        k = out_of_range[0]
-        raise TrajectoryError(
-            f"{path}: topic {topic!r}, stamp {k + 1}: {ns[k]} ns is beyond 64-bit nanoseconds"
-        )
-    stamps = np.array(ns, dtype=np.int64)
+    stamps = int64_stamps(path, topic, ns)
     return finish(
         path,
         stamps * 1e-9,
@@ -362,15 +394,40 @@ def write(
     rules), keeping its mode; anything else is refused and left untouched."""
 
     _rosbags()  # the one-line install hint before anything else
-    path = Path(path)
-    suffix = path.suffix.lower()
-    ros = ros or (1 if suffix == ".bag" else 2)
     check_for_writing(path, traj)  # NaN, no rows, repeated times: what the reader rejects
     stamps = _stamps(traj)
     has_pos = traj.positions is not None
     pos = traj.positions if has_pos else np.zeros((len(traj), 3))
     if not (np.all(np.isfinite(traj.quats)) and np.all(np.isfinite(pos))):
         raise ValueError(f"{path}: refusing to write NaN or inf")
+    quats = traj.quats
+    msgtype = "geometry_msgs/msg/PoseStamped" if has_pos else "geometry_msgs/msg/QuaternionStamped"
+
+    def make(types, k, header):
+        q = quats[k]
+        rot = types["geometry_msgs/msg/Quaternion"](
+            x=float(q[1]), y=float(q[2]), z=float(q[3]), w=float(q[0])
+        )
+        if not has_pos:
+            return types[msgtype](header=header, quaternion=rot)
+        p = pos[k]
+        point = types["geometry_msgs/msg/Point"](x=float(p[0]), y=float(p[1]), z=float(p[2]))
+        pose = types["geometry_msgs/msg/Pose"](position=point, orientation=rot)
+        return types[msgtype](header=header, pose=pose)
+
+    write_bag(path, ros, topic, msgtype, stamps, frame_id, make)
+
+
+def write_bag(path, ros, topic: str, msgtype: str, stamps, frame_id: str, make) -> None:
+    """Writes ``len(stamps)`` messages of type ``msgtype`` on ``topic`` into a new bag at
+    ``path`` by the rules of :func:`write`: ``.bag`` → ROS 1 (unless ``ros`` says), ``.mcap``
+    → ROS 2 MCAP, any other path → a ROS 2 bag directory. ``make(types, k, header)`` builds
+    message ``k`` from the type store's classes and its header (stamp ``stamps[k]`` ns,
+    ``frame_id``); the receive time is the stamp."""
+    _rosbags()
+    path = Path(path)
+    suffix = path.suffix.lower()
+    ros = ros or (1 if suffix == ".bag" else 2)
     as_file = ros == 1 or suffix == ".mcap"
     old_files = None
     if as_file:
@@ -388,7 +445,7 @@ def write(
     with sigterm_unwinds():
         work = make_work_directory(target, ".bagtmp")
         try:
-            out = _write_bag(work, ros, suffix, traj.quats, stamps, pos, has_pos, topic, frame_id)
+            out = _write_bag(work, ros, suffix, topic, msgtype, stamps, frame_id, make)
             if as_file:
                 adopt_mode(out, old)
                 os.replace(out, target)
@@ -513,7 +570,7 @@ def _exchange(a: Path, b: Path) -> bool:
     return rc == 0
 
 
-def _write_bag(tmpdir: Path, ros, suffix, quats, stamps, pos, has_pos, topic, frame_id) -> Path:
+def _write_bag(tmpdir: Path, ros, suffix, topic, msgtype, stamps, frame_id, make) -> Path:
     """Writes the messages into a new bag inside ``tmpdir``; returns the bag's path."""
     typesys, rosbag1, rosbag2 = _rosbags("typesys"), _rosbags("rosbag1"), _rosbags("rosbag2")
 
@@ -521,11 +578,6 @@ def _write_bag(tmpdir: Path, ros, suffix, quats, stamps, pos, has_pos, topic, fr
     store = typesys.get_typestore(stores.ROS1_NOETIC if ros == 1 else stores.ROS2_HUMBLE)
     types = store.types
     Header, Time = types["std_msgs/msg/Header"], types["builtin_interfaces/msg/Time"]
-    Point, Quat = types["geometry_msgs/msg/Point"], types["geometry_msgs/msg/Quaternion"]
-    Pose = types["geometry_msgs/msg/Pose"]
-    Msg = types[
-        "geometry_msgs/msg/PoseStamped" if has_pos else "geometry_msgs/msg/QuaternionStamped"
-    ]
     serialize = store.serialize_ros1 if ros == 1 else store.serialize_cdr
     out = tmpdir / ("bag.bag" if ros == 1 else "bag")
     if ros == 1:
@@ -534,22 +586,16 @@ def _write_bag(tmpdir: Path, ros, suffix, quats, stamps, pos, has_pos, topic, fr
         plugin = rosbag2.StoragePlugin
         plugin = plugin.MCAP if suffix == ".mcap" else plugin.SQLITE3
         writer = rosbag2.Writer(out, version=9, storage_plugin=plugin)
-    with writer, progress(total=len(quats), desc="writing bag", unit="msg") as bar:
-        conn = writer.add_connection(topic, Msg.__msgtype__, typestore=store)
-        for k, (ns, p, q) in enumerate(zip(stamps, pos, quats)):
+    with writer, progress(total=len(stamps), desc="writing bag", unit="msg") as bar:
+        conn = writer.add_connection(topic, msgtype, typestore=store)
+        for k, ns in enumerate(stamps):
             sec, nsec = divmod(int(ns), 1_000_000_000)
             header = Header(
                 stamp=Time(sec=sec, nanosec=nsec),
                 frame_id=frame_id,
                 **({"seq": k} if ros == 1 else {}),
             )
-            rot = Quat(x=float(q[1]), y=float(q[2]), z=float(q[3]), w=float(q[0]))
-            if has_pos:
-                point = Point(x=float(p[0]), y=float(p[1]), z=float(p[2]))
-                msg = Msg(header=header, pose=Pose(position=point, orientation=rot))
-            else:
-                msg = Msg(header=header, quaternion=rot)
-            writer.write(conn, int(ns), serialize(msg, Msg.__msgtype__))
+            writer.write(conn, int(ns), serialize(make(types, k, header), msgtype))
             bar.update(1)
     if ros == 2 and suffix == ".mcap":
         out = next(out.glob("*.mcap"))

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._util.optional import need
+from .._util.options import DEFAULT_METHOD
 from ._columns import QUATS, TIME, clean, find, positions_for
 
 __all__ = [
@@ -145,7 +146,7 @@ class Trajectory:
     def __len__(self) -> int:
         return len(self.times)
 
-    def resample(self, times, method: str = "c3", extrapolate: str = "raise", **params):
+    def resample(self, times, method: str = DEFAULT_METHOD, extrapolate: str = "raise", **params):
         """This trajectory's spline sampled at ``times`` (absolute, in this trajectory's time
         unit; another :class:`Trajectory` gives its times).
 

@@ -1,7 +1,8 @@
-"""Library operations on recorded trajectories: sampling a spline, fitting, comparing methods
-and exporting.
+"""Library operations on recorded trajectories: sampling a spline, fitting, comparing methods,
+exporting, and simulating or calibrating an IMU.
 
-These are the functions behind ``quatspline sample``, ``fit``, ``compare`` and ``export``; the
+These are the functions behind ``quatspline sample``, ``fit``, ``compare``, ``export`` and
+``imu simulate|calibrate`` (:func:`simulate_imu`, :func:`calibrate_imu`); the
 command line, batch runs and viewers only call them, one operation each: :func:`sample` is the
 only sampling route (``--rate``, ``--count``, ``--at``; :meth:`quatspline.io.Trajectory.resample`
 too), :func:`fit_trajectory` the only fitting route, :func:`compare` the only comparison.
@@ -21,9 +22,10 @@ from __future__ import annotations
 
 from ..io.trajectory import set_sampler
 from . import _resample
-from ._compare import compare, format_table, markdown_cell
+from ._compare import IMPULSES, compare, format_table, markdown_cell
 from ._export import BvhReport, GltfReport, export, to_bvh, to_gltf
 from ._fit import FIT_EXTRAPOLATE, fit_trajectory, rms_residual_deg
+from ._imu import calibrate_imu, imu_motion, simulate_imu, write_simulated
 from ._ops import DEFAULT_MAX_SAMPLES, ParameterError, build_spline
 from ._sample import (
     check_times,
@@ -35,6 +37,7 @@ from ._sample import (
 
 __all__ = [
     "FIT_EXTRAPOLATE",
+    "IMPULSES",
     "BvhReport",
     "export",
     "GltfReport",
@@ -43,16 +46,20 @@ __all__ = [
     "DEFAULT_MAX_SAMPLES",
     "ParameterError",
     "build_spline",
+    "calibrate_imu",
     "check_times",
     "compare",
     "fit_trajectory",
     "format_table",
+    "imu_motion",
     "markdown_cell",
     "rms_residual_deg",
     "sample",
     "sample_times",
     "sample_trajectory",
+    "simulate_imu",
     "times_from_file",
+    "write_simulated",
 ]
 
 # the one sampling route behind io.Trajectory.resample (io lies below ops)

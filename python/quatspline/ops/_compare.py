@@ -14,7 +14,7 @@ from ..splines import path_length
 from ..splines.joints import continuity
 from ._ops import ParameterError, _build, _check_trajectory, _int_arg
 
-__all__ = ["TABLE_COLUMNS", "compare", "format_table", "markdown_cell"]
+__all__ = ["IMPULSES", "TABLE_COLUMNS", "compare", "format_table", "markdown_cell"]
 
 
 def compare(
@@ -45,11 +45,15 @@ def compare(
     Returns
     -------
     list of dict
-        One dict per method with plain ``float``/``int``/``str`` values: ``method``,
-        ``max_speed``, ``rms_speed``, ``rms_acceleration``, ``rms_jerk`` (rad/s, rad/s²,
-        rad/s³ in the recording's time unit), ``path_length`` (rad), ``continuity_order``
-        (the lowest order of continuity measured at the joints) and, with ``holdout``,
-        ``holdout_median_deg``, ``holdout_p95_deg``, ``holdout_max_deg``.
+        One dict per method with plain ``float``/``int``/``str`` values (or ``None``, see
+        below): ``method``, ``max_speed``, ``rms_speed``, ``rms_acceleration``, ``rms_jerk``
+        (rad/s, rad/s², rad/s³ in the recording's time unit), ``path_length`` (rad),
+        ``continuity_order`` (the lowest order of continuity measured at the joints) and,
+        with ``holdout``,
+        ``holdout_median_deg``, ``holdout_p95_deg``, ``holdout_max_deg``. Where ω jumps at a
+        joint (C⁰) the angular acceleration is an impulse there and ``rms_acceleration`` and
+        ``rms_jerk`` are ``None`` (no finite RMS exists); where α jumps (C¹) ``rms_jerk`` is
+        ``None``. The table (:func:`format_table`) shows them as "impulses".
 
     Raises
     ------
@@ -109,15 +113,17 @@ def _compare_one(m, traj, kt, keys, t_all, rest, holdout, samples_per_key) -> di
     w = np.linalg.norm(s.angular_velocity(t), axis=1)
     acc = np.linalg.norm(s.angular_acceleration(t), axis=1)
     jerk = np.linalg.norm(s.jerk(t), axis=1)
-    orders = [j.order for j in continuity(s)] or [s.continuity]
+    order = int(min([j.order for j in continuity(s)] or [s.continuity]))
     row = {
         "method": m,
         "max_speed": float(w.max()),
         "rms_speed": float(np.sqrt(np.mean(w**2))),
-        "rms_acceleration": float(np.sqrt(np.mean(acc**2))),
-        "rms_jerk": float(np.sqrt(np.mean(jerk**2))),
+        # A jump of ω (C⁰) is an impulse of α at the joint, a jump of α (C¹) one of the jerk:
+        # the samples between joints would report a finite RMS that the motion does not have.
+        "rms_acceleration": float(np.sqrt(np.mean(acc**2))) if order >= 1 else None,
+        "rms_jerk": float(np.sqrt(np.mean(jerk**2))) if order >= 2 else None,
         "path_length": float(path_length(s, per_segment=2)),
-        "continuity_order": int(min(orders)),
+        "continuity_order": order,
     }
     if holdout is not None:
         err = angle_between(s(t_all[rest]), traj.quats[rest], degrees=True)
@@ -129,19 +135,25 @@ def _compare_one(m, traj, kt, keys, t_all, rest, holdout, samples_per_key) -> di
     return row
 
 
-#: Columns of :func:`format_table`: key, header, format.
+#: Columns of :func:`format_table`: key, header, format (rates per second of the recording's
+#: clock; a ``None`` value is shown as :data:`IMPULSES`).
 TABLE_COLUMNS = [
     ("method", "method", "{}"),
-    ("max_speed", "max ‖ω‖", "{:.3g}"),
-    ("rms_speed", "rms ‖ω‖", "{:.3g}"),
-    ("rms_acceleration", "rms ‖α‖", "{:.3g}"),
-    ("rms_jerk", "rms ‖jerk‖", "{:.3g}"),
+    ("max_speed", "max ‖ω‖ (rad/s)", "{:.3g}"),
+    ("rms_speed", "rms ‖ω‖ (rad/s)", "{:.3g}"),
+    ("rms_acceleration", "rms ‖α‖ (rad/s²)", "{:.3g}"),
+    ("rms_jerk", "rms ‖jerk‖ (rad/s³)", "{:.3g}"),
     ("path_length", "path (rad)", "{:.4g}"),
     ("continuity_order", "C^k", "{}"),
     ("holdout_median_deg", "median err (°)", "{:.4f}"),
     ("holdout_p95_deg", "p95 err (°)", "{:.4f}"),
     ("holdout_max_deg", "max err (°)", "{:.4f}"),
 ]
+
+
+#: The cell of an RMS that does not exist: the rate jumps at a joint, its derivative is an
+#: impulse there.
+IMPULSES = "impulses"
 
 
 def markdown_cell(text) -> str:
@@ -167,10 +179,11 @@ def format_table(rows: list[dict]) -> str:
     Examples
     --------
     >>> from quatspline.ops import format_table
-    >>> print(format_table([{"method": "a|b", "max_speed": 1.5, "continuity_order": 2}]))
-    | method | max ‖ω‖ | C^k |
-    |---|---:|---:|
-    | a\\|b | 1.5 | 2 |
+    >>> print(format_table([{"method": "a|b", "max_speed": 1.5, "rms_jerk": None,
+    ...                      "continuity_order": 1}]))
+    | method | max ‖ω‖ (rad/s) | rms ‖jerk‖ (rad/s³) | C^k |
+    |---|---:|---:|---:|
+    | a\\|b | 1.5 | impulses | 1 |
     """
     if not rows:
         return ""
@@ -178,6 +191,11 @@ def format_table(rows: list[dict]) -> str:
     head = "| " + " | ".join(markdown_cell(c[1]) for c in cols) + " |"
     sep = "|" + "|".join("---" if c[0] == "method" else "---:" for c in cols) + "|"
     body = [
-        "| " + " | ".join(markdown_cell(f.format(r[k])) for k, _, f in cols) + " |" for r in rows
+        "| "
+        + " | ".join(
+            markdown_cell(IMPULSES if r[k] is None else f.format(r[k])) for k, _, f in cols
+        )
+        + " |"
+        for r in rows
     ]
     return "\n".join([head, sep, *body])

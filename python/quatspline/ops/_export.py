@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._util.options import parse_angle, parse_length
+from .._util.options import DEFAULT_METHOD, parse_angle, parse_length
 from .._util.progress_bars import progress as bar
 from ..core.interpolate import slerp
 from ..core.metrics import angle_between
@@ -79,7 +79,7 @@ class _Motion:
                 raise TypeError(
                     "method: a spline is exported as it is; method applies to an io.Trajectory only"
                 )
-        method = "c3" if method is None else method
+        method = DEFAULT_METHOD if method is None else method
         if isinstance(motion, Trajectory):
             self.name = motion.name
             t = motion.times
@@ -480,7 +480,7 @@ def to_gltf(
         at most :data:`MAX_SAMPLES` = 1,000,000); the bound is verified on a grid four times
         denser, and candidates are added where adjacent ones cannot meet it.
     method : str, optional
-        For a Trajectory: the registry method its spline is built with (default ``"c3"``),
+        For a Trajectory: the registry method its spline is built with (default ``"natural"``),
         with ``params``; a spline is exported as it is (giving ``method`` or parameters with
         one is a ``TypeError``).
     uniform : bool
@@ -651,7 +651,7 @@ def export(
     Parameters
     ----------
     motion : io.Trajectory, Spline or PoseSpline
-        The motion; a Trajectory goes through the spline ``method`` (default ``"c3"``) with
+        The motion; a Trajectory goes through the spline ``method`` (default ``"natural"``) with
         ``params``; a spline is exported as it is.
     path : path-like
         The output: ``.glb`` / ``.gltf`` (glTF) or ``.bvh``. Written atomically.
@@ -693,7 +693,7 @@ def export(
     >>> tr = qs.io.Trajectory(np.arange(5.0), qs.from_axis_angle([0, 0, 1], np.arange(5.0)))
     >>> with tempfile.TemporaryDirectory() as d:
     ...     print(export(tr, os.path.join(d, "m.bvh"), fps=2).summary().split(": ")[1])
-    BVH joint, 9 frames at 2 fps (c3 spline)
+    BVH joint, 9 frames at 2 fps (natural spline)
     """
     if not isinstance(path, (str, os.PathLike)):
         raise TypeError(f"path: expected a file path, got {type(path).__name__}")
@@ -740,7 +740,7 @@ def _export_bvh(motion, path: Path, method, fps, joint, params: dict) -> BvhRepo
     if not isinstance(joint, str):
         raise TypeError(f"joint: expected a string, got {type(joint).__name__}")
     if isinstance(motion, Trajectory):
-        method = "c3" if method is None else method
+        method = DEFAULT_METHOD if method is None else method
         t0, t1, keys = float(motion.times[0]), float(motion.times[-1]), motion.times
     else:
         m = _Motion(motion, method, params)  # refuses a method or parameters with a spline

@@ -61,6 +61,16 @@ def _relative_knots(knots, t0: float):
     return k.astype(float) - t0
 
 
+def _uncertainty_columns(f, t: np.ndarray, derivatives: bool) -> dict:
+    """The posterior standard deviations of a fit at ``t`` as extra columns."""
+    cols = {"orientation_std": f.std(t)}
+    if isinstance(f, FittedPose):
+        cols["position_std"] = f.position_std(t)
+    if derivatives:
+        cols["omega_std"] = f.angular_velocity_std(t)
+    return cols
+
+
 def fit_trajectory(
     traj,
     *,
@@ -72,6 +82,7 @@ def fit_trajectory(
     robust: str | None = None,
     knots=None,
     derivatives: bool = False,
+    uncertainty: bool = False,
     max_samples: int | None = None,
     extrapolate: str = "raise",
     progress=None,
@@ -93,6 +104,10 @@ def fit_trajectory(
         ``times``).
     derivatives : bool
         Add ``omega``, ``alpha`` and ``jerk`` columns (world frame).
+    uncertainty : bool
+        Add the fit's posterior standard deviations (:meth:`quatspline.FittedSpline.std`):
+        ``orientation_std`` (radians, about the body axes), ``position_std`` (with positions)
+        and, with ``derivatives``, ``omega_std`` (world frame). The fit must smooth (λ > 0).
     max_samples : int, optional
         Refuse to produce more samples (default :data:`quatspline.ops.DEFAULT_MAX_SAMPLES`),
         for ``times`` as for ``rate`` and ``count``.
@@ -131,6 +146,8 @@ def fit_trajectory(
         max_samples = DEFAULT_MAX_SAMPLES
     if not isinstance(derivatives, (bool, np.bool_)):
         raise TypeError(f"derivatives: expected a bool, got {type(derivatives).__name__}")
+    if not isinstance(uncertainty, (bool, np.bool_)):
+        raise TypeError(f"uncertainty: expected a bool, got {type(uncertainty).__name__}")
     if not isinstance(extrapolate, str) or extrapolate not in FIT_EXTRAPOLATE:
         raise ParameterError(
             f"extrapolate: expected one of {', '.join(FIT_EXTRAPOLATE)} for a fit, "
@@ -162,4 +179,6 @@ def fit_trajectory(
         q, pos, extra = evaluate(f.rotation, t, bool(derivatives), f.position)
     else:
         q, pos, extra = evaluate(f, t, bool(derivatives))
+    if uncertainty:
+        extra.update(_uncertainty_columns(f, t, bool(derivatives)))
     return Trajectory(t + t0, q, pos, extra=extra, name=traj.name, stamps_ns=ns), f

@@ -1,6 +1,6 @@
 """Resampling a trajectory onto other times, e.g. an estimate onto ground-truth stamps.
 
-``resample(traj, times, method="c3", extrapolate="raise")`` is :func:`quatspline.ops.sample`
+``resample(traj, times, method="natural", extrapolate="raise")`` is :func:`quatspline.ops.sample`
 with ``times``: ``method`` through the trajectory's keys (a cubic position spline when it has
 positions), evaluated at ``times`` — an array, or another :class:`~quatspline.io.Trajectory`
 whose times (and exact ``stamps_ns``) are used. Times are absolute, in the trajectory's unit;
@@ -10,13 +10,14 @@ every message gives absolute times as in the input.
 
 from __future__ import annotations
 
+from .._util.options import DEFAULT_METHOD
 from ._ops import _check_trajectory
 from ._sample import sample
 
 __all__ = ["resample"]
 
 
-def resample(traj, times, method: str = "c3", extrapolate: str = "raise", **params):
+def resample(traj, times, method: str = DEFAULT_METHOD, extrapolate: str = "raise", **params):
     """``traj``'s spline sampled at ``times`` (:func:`quatspline.ops.sample` with ``times``).
 
     Parameters

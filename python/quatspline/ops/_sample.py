@@ -15,6 +15,7 @@ import numpy as np
 
 from .._util.arrays import as_real
 from .._util.checks import short
+from .._util.options import DEFAULT_METHOD
 from .._util.progress_bars import progress
 from ..io import Trajectory
 from ..io import read as read_trajectory
@@ -254,7 +255,7 @@ def evaluate(rotation, t: np.ndarray, derivatives: bool, position=None):
 
 def sample(
     trajectory: Trajectory,
-    method: str = "c3",
+    method: str = DEFAULT_METHOD,
     *,
     rate: float | None = None,
     count: int | None = None,
@@ -275,8 +276,9 @@ def sample(
     ----------
     trajectory : quatspline.io.Trajectory
         The keys (times, quaternions, optional positions).
-    method : str, default "c3"
-        A method of :data:`quatspline.METHODS`.
+    method : str, default "natural"
+        A method of :data:`quatspline.METHODS` (the default: the one for recordings,
+        ``quatspline._util.options.DEFAULT_METHOD``).
     rate, count : optional
         Evenly spaced samples over the spline's domain (see :func:`sample_times`).
     times : array_like or quatspline.io.Trajectory, optional

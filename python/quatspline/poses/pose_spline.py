@@ -16,6 +16,7 @@ from numpy.typing import ArrayLike, NDArray
 from .. import _core
 from .._util.arrays import as_times, pose_key_order, with_width
 from .._util.checks import choice
+from .._util.options import DEFAULT_METHOD
 from ..core.algebra import rotate
 from ..registry import spline as make_spline
 from ..splines import EXTRAPOLATE, describe
@@ -38,8 +39,8 @@ class PoseSpline:
         Strictly increasing key times; pandas and numpy datetimes become seconds.
     positions : array_like, shape (N, 3)
         Key positions (any length unit).
-    rotation : str, default "c3"
-        A method name of :data:`quatspline.METHODS` (``"slerp"``, ``"natural"``, …).
+    rotation : str, default "natural"
+        A method name of :data:`quatspline.METHODS` (``"slerp"``, ``"c3"``, …).
     translation : {"cubic", "linear"}, default "cubic"
         Natural cubic spline or piecewise-linear positions.
     extrapolate : {"raise", "clamp", "linear", "periodic"}, default "raise"
@@ -86,7 +87,7 @@ class PoseSpline:
         quats: ArrayLike,
         times: ArrayLike,
         positions: ArrayLike,
-        rotation: str = "c3",
+        rotation: str = DEFAULT_METHOD,
         translation: str = "cubic",
         extrapolate: str = "raise",
         **params,

@@ -8,6 +8,7 @@ Times outside the domain follow one of :data:`EXTRAPOLATE` (Rust ``spline/eval.r
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -44,6 +45,38 @@ def _frozen_copy(v):
         c.flags.writeable = False
         return c
     return v
+
+
+def _snapshot(v):
+    """A copy of a construction argument that a caller's later mutation cannot reach
+    (arrays, lists, tuples and dicts are copied; splines and scalars are immutable)."""
+    if isinstance(v, np.ndarray):
+        return _frozen_copy(v)
+    if isinstance(v, (list, tuple)):
+        return type(v)(_snapshot(x) for x in v) if type(v) in (list, tuple) else v
+    if isinstance(v, dict):
+        return {k: _snapshot(x) for k, x in v.items()}
+    return v
+
+
+def _recording(init):
+    """Wraps a method class's ``__init__`` so that the outermost call keeps its arguments:
+    what :meth:`Spline.__reduce__` rebuilds the spline from."""
+
+    @functools.wraps(init)
+    def __init__(self, *args, **kwargs):
+        if "_made" not in self.__dict__:
+            skip = type(self)._not_pickled
+            kept = {k: _snapshot(v) for k, v in kwargs.items() if k not in skip}
+            self.__dict__["_made"] = (type(self), tuple(_snapshot(a) for a in args), kept)
+        init(self, *args, **kwargs)
+
+    return __init__
+
+
+def _rebuild(cls, args, kwargs):
+    """Unpickles a spline: the same construction, so the same curve bit for bit."""
+    return cls(*args, **kwargs)
 
 
 def describe(obj, segments: int, **fields: object) -> str:
@@ -104,6 +137,26 @@ class Spline:
     >>> s.method, s.continuity, s.interpolates
     ('c3', 3, True)
     """
+
+    #: Construction arguments that are not part of the curve (callbacks) and are not pickled.
+    _not_pickled: tuple[str, ...] = ("progress",)
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        if "__init__" in cls.__dict__:
+            cls.__init__ = _recording(cls.__dict__["__init__"])
+
+    def __reduce__(self):
+        """Pickles a spline as its construction (class and arguments): unpickling rebuilds
+        it, bit for bit the same curve; ``extrapolate`` travels with it. Splines so travel
+        to Dask workers and to ``multiprocessing`` pools."""
+        made = self.__dict__.get("_made")
+        if made is None:
+            raise TypeError(
+                f"cannot pickle a {type(self).__name__} made from a compiled curve directly; "
+                "make it with a method class or quatspline.spline()"
+            )
+        return (_rebuild, made, {"extrapolate": self.extrapolate})
 
     def __init__(self, core: _core.Spline, extrapolate: str = "raise", **params):
         choice(extrapolate, "extrapolate", EXTRAPOLATE)

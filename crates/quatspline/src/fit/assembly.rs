@@ -31,6 +31,15 @@ pub(super) const CHUNK: usize = 512;
 #[cfg(test)]
 pub(super) const SUM_CHUNK: usize = 4096;
 
+/// The half-bandwidth that asks [`assemble`] for the sums alone (see [`sums_only`]).
+const SUMS_ONLY: usize = usize::MAX;
+
+/// A band argument for [`data_half`] and [`pen_half`] that asks for the sums alone (the cost
+/// of a trial curve): no matrix, no gradient, no storage.
+pub(super) fn sums_only() -> Band {
+    Band { n: 0, p: SUMS_ONLY, a: Vec::new() }
+}
+
 /// One half of a linearisation: the data term (G = JᵀWJ, Jᵀ W r, rᵀWr, observations) or the
 /// penalty term (P, Jₚᵀ C p, pᵀCp).
 pub(super) struct Half {
@@ -95,6 +104,9 @@ impl ChunkBand<'_> {
     #[inline]
     pub(super) fn add_block(&mut self, off: usize, m: usize, blk: &[f64], scale: f64) {
         let w = self.w;
+        if w == 0 {
+            return;
+        }
         let own_rows = self.own.len() / w;
         for r in 0..m {
             let row = off + r;
@@ -122,6 +134,23 @@ pub(super) fn assemble<F>(nctrl: usize, segs: usize, k: usize, mut band: Band, f
 where
     F: Fn(usize, usize, &mut ChunkBand<'_>, &mut [f64]) -> (f64, f64) + Sync,
 {
+    if band.p == SUMS_ONLY {
+        // The sums alone (no matrix, no gradient): the same chunks and the same order of
+        // addition as below, so the sums are the same to the bit.
+        let parts: Vec<(f64, f64)> = (0..segs.div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|c| {
+                let (s0, s1) = (c * CHUNK, ((c + 1) * CHUNK).min(segs));
+                f(s0, s1, &mut ChunkBand { own: &mut [], spill: &mut [], w: 0 }, &mut [])
+            })
+            .collect();
+        let (mut sum, mut count) = (0.0, 0.0);
+        for (s, c) in parts {
+            sum += s;
+            count += c;
+        }
+        return Half { band: Band::zeros(0, 0), grad: Vec::new(), sum, count };
+    }
     let nb = 3 * k;
     let w = nb;
     let n = 3 * nctrl;
@@ -214,7 +243,9 @@ pub(super) fn delta_omega_deriv<const N: usize>(om: &model::V<N>, xi: &model::V<
     [c[0] * FACT[m], c[1] * FACT[m], c[2] * FACT[m]]
 }
 
-/// The penalty half: P = Σ Jₚᵀ C Jₚ, Jₚᵀ C p and pᵀ C p by Gauss quadrature per segment.
+/// The penalty half: P = Σ Jₚᵀ C Jₚ, Jₚᵀ C p and pᵀ C p by Gauss quadrature per segment,
+/// segment i's share scaled by its weight `wts[i]` when given (locally adaptive smoothing:
+/// λ Σᵢ wᵢ ∫_{segment i} |p|² dt, `adaptive.rs`).
 /// δω^(m) is linear in ξ with constant coefficients in the Jacobian's right factors, so it is
 /// applied to the k jet factors of [`Model::value_and_factors`] (3k constant columns) and the
 /// factors' constant 3×3 right multipliers J_r⁻¹, J_l⁻¹ come after, on plain numbers.
@@ -223,6 +254,7 @@ pub(super) fn penalty_half<const N: usize>(
     m: usize,
     nodes: &[(f64, f64)],
     band: Band,
+    wts: Option<&[f64]>,
 ) -> Half {
     let k = model.order;
     let nb = 3 * k;
@@ -238,11 +270,14 @@ pub(super) fn penalty_half<const N: usize>(
             let off = 3 * (i - s0);
             for &(u, w) in nodes {
                 let h = model.width(i);
-                let c = w * h;
+                let c = w * h * wts.map_or(1.0, |v| v[i]);
                 let q = model.value_and_factors::<N>(i, Jet::variable(u, 1.0 / h), &mut mats);
                 let om = Model::omega(&q);
                 let p: Vec3 = std::array::from_fn(|r| om[r].derivative(m));
                 pcp += c * vec3::dot(p, p);
+                if pb.w == 0 {
+                    continue;
+                }
                 for j in 0..k {
                     for cc in 0..3 {
                         let col = [mats[j][0][cc], mats[j][1][cc], mats[j][2][cc]];
@@ -321,6 +356,9 @@ pub(super) fn data_half(model: &Model, data: &Data, w: &[f64], offs: &[Vec3], ba
             }
             let ws = w[s];
             rwr += ws * vec3::dot(r, r);
+            if g.w == 0 {
+                continue;
+            }
             for a in 0..nb {
                 gd[off + a] += ws * vec3::dot(jac[a], r);
                 let row = &mut blk[a * nb..a * nb + a + 1];
@@ -336,10 +374,16 @@ pub(super) fn data_half(model: &Model, data: &Data, w: &[f64], offs: &[Vec3], ba
     })
 }
 
-pub(super) fn pen_half(model: &Model, pen: Penalty, nodes: &[(f64, f64)], band: Band) -> Half {
+pub(super) fn pen_half(
+    model: &Model,
+    pen: Penalty,
+    nodes: &[(f64, f64)],
+    band: Band,
+    wts: Option<&[f64]>,
+) -> Half {
     match pen {
-        Penalty::Acceleration => penalty_half::<3>(model, 1, nodes, band),
-        Penalty::Jerk => penalty_half::<4>(model, 2, nodes, band),
+        Penalty::Acceleration => penalty_half::<3>(model, 1, nodes, band, wts),
+        Penalty::Jerk => penalty_half::<4>(model, 2, nodes, band, wts),
     }
 }
 
@@ -353,7 +397,7 @@ pub(super) fn linearise(
     nodes: &[(f64, f64)],
 ) -> Lin {
     let d = data_half(model, data, w, offs, Band::zeros(0, 0));
-    Lin::new(d, pen_half(model, pen, nodes, Band::zeros(0, 0)))
+    Lin::new(d, pen_half(model, pen, nodes, Band::zeros(0, 0), None))
 }
 
 #[cfg(test)]
@@ -377,4 +421,62 @@ pub(super) fn cost(
         0.0
     };
     d + lam * p
+}
+
+#[cfg(test)]
+mod floor {
+    use super::*;
+    use crate::fit::start::initial_controls;
+    use std::time::Instant;
+
+    /// The floor of a fit at scale: one pass of each assembly, one banded factorisation, one
+    /// solve and one trace of H⁻¹G at 10⁶ samples (one knot interval per sample, as the
+    /// benchmark's `--scale`); a Gauss–Newton iteration costs at least an assembly of both
+    /// halves, a factorisation and a solve, a GCV candidate a factorisation, a solve and a
+    /// trace. A measurement, not a test: `cargo test --release -- --ignored floor --nocapture`.
+    #[test]
+    #[ignore]
+    fn floor_at_a_million_samples() {
+        let n = 1_000_000;
+        let t: Vec<f64> = (0..n).map(|i| i as f64 / 300.0).collect();
+        let y: Vec<crate::quat::Quat> = t
+            .iter()
+            .map(|&s| so3::exp([0.8 * (0.5 * s).sin(), 0.6 * (0.37 * s).cos(), 0.2 * (0.05 * s).sin()]))
+            .collect();
+        let d = Data { t, y, w: vec![1.0; n] };
+        let (k, segs) = (4, n - 1);
+        let dt = (d.t[n - 1] - d.t[0]) / segs as f64;
+        let model = Model::new(initial_controls(&d, d.t[0], dt, segs, k), dt, d.t[0], k);
+        let nodes = crate::quadrature::gauss_legendre01(penalty_nodes(k, 1, false));
+        let offs = vec![[0.0; 3]; n];
+        let time = |what: &str, f: &mut dyn FnMut()| {
+            let (w0, c0) = (Instant::now(), cpu_seconds());
+            f();
+            eprintln!("{what}: wall {:.3} s, CPU {:.3} s", w0.elapsed().as_secs_f64(), cpu_seconds() - c0);
+        };
+        let mut dh = None;
+        let mut ph = None;
+        time("data half", &mut || dh = Some(data_half(&model, &d, &d.w, &offs, Band::zeros(0, 0))));
+        time("penalty half", &mut || {
+            ph = Some(pen_half(&model, Penalty::Acceleration, &nodes, Band::zeros(0, 0), None))
+        });
+        let lin = Lin::new(dh.unwrap(), ph.unwrap());
+        let mut h = Band::zeros(0, 0);
+        time("H = G + λP", &mut || lin.g.axpy_into(1e-6, &lin.p, &mut h));
+        time("factorisation", &mut || h.cholesky_in_place().unwrap());
+        let mut x = vec![];
+        time("solve", &mut || x = h.solve(&lin.gd));
+        let mut tr = 0.0;
+        time("trace of H⁻¹G", &mut || tr = h.trace_inverse_product(&lin.g));
+        time("retraction", &mut || drop(model.retracted(&x, None)));
+        eprintln!("(unknowns {}, tr {tr:.3})", lin.gd.len());
+    }
+
+    /// User + system CPU seconds of this process (all threads).
+    fn cpu_seconds() -> f64 {
+        let s = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+        let f: Vec<&str> = s.rsplit(')').next().unwrap_or("").split_whitespace().collect();
+        let tick = |i: usize| f.get(i).and_then(|v| v.parse::<f64>().ok()).unwrap_or(0.0);
+        (tick(11) + tick(12)) / 100.0
+    }
 }

@@ -67,6 +67,13 @@ impl Band {
         out.a.extend(self.a.iter().zip(&other.a).map(|(x, y)| x + s * y));
     }
 
+    /// self ← self + s·other (same shape; in place: the same sums as [`Band::axpy_into`]).
+    pub fn axpy_assign(&mut self, s: f64, other: &Band) {
+        for (x, y) in self.a.iter_mut().zip(&other.a) {
+            *x += s * y;
+        }
+    }
+
     /// y = H x.
     pub fn matvec(&self, x: &[f64]) -> Vec<f64> {
         let mut y = vec![0.0; self.n];
@@ -330,6 +337,9 @@ mod tests {
             let mut out = Band::zeros(0, 0);
             h.axpy_into(0.5, &b, &mut out);
             assert_eq!(out.a, h.axpy(0.5, &b).a);
+            let mut inplace = h.clone();
+            inplace.axpy_assign(0.5, &b);
+            assert_eq!(out.a, inplace.a);
         }
     }
 

@@ -4,15 +4,29 @@
 use super::assembly::Lin;
 use super::banded::Band;
 use crate::error::Result;
-use rayon::prelude::*;
 
 /// GCV of the linearised problem at λ: (score, tr A). `h` is workspace for H = G + λP and
 /// its factor (reused between calls).
 pub(super) fn gcv_at(lin: &Lin, lam: f64, h: &mut Band) -> Result<(f64, f64)> {
     lin.g.axpy_into(lam, &lin.p, h);
     h.cholesky_in_place()?;
+    gcv_of_factor(lin, lam, h)
+}
+
+/// [`gcv_at`] for the last use of a linearisation: H = G + λP is formed in the storage of P
+/// (the same sums, so the same score), which saves a band.
+pub(super) fn gcv_final(lin: Lin, lam: f64) -> Result<(f64, f64)> {
+    let Lin { g, p: mut h, gd, gp, rwr, pcp, nobs } = lin;
+    for (x, y) in h.a.iter_mut().zip(&g.a) {
+        *x = y + lam * *x;
+    }
+    h.cholesky_in_place()?;
+    gcv_of_factor(&Lin { g, p: Band::zeros(0, 0), gd, gp, rwr, pcp, nobs }, lam, &h)
+}
+
+/// GCV at λ from the factor `hf` of H = G + λP (only G, the gradients and sums of `lin`).
+fn gcv_of_factor(lin: &Lin, lam: f64, hf: &Band) -> Result<(f64, f64)> {
     // The step's RSS and the trace are independent given the factor: one thread each.
-    let hf: &Band = h;
     let (rss, tr) = rayon::join(
         || {
             let rhs: Vec<f64> = lin.gd.iter().zip(&lin.gp).map(|(a, b)| -(a + lam * b)).collect();
@@ -130,7 +144,7 @@ pub(super) const LN_LAMBDA_TOL: f64 = 2e-3;
 /// Minimises GCV over ln λ in [lo, hi]; returns (λ, GCV).
 ///
 /// Without a previous λ (the first search): the best of a coarse grid of `grid` points,
-/// evaluated in parallel, refined by Brent's method between its grid neighbours. With one: a bracket of ±0.1 in ln λ around it, widened by doubling towards lower
+/// refined by Brent's method between its grid neighbours. With one: a bracket of ±0.1 in ln λ around it, widened by doubling towards lower
 /// values (down to 10⁻⁶ lo), then Brent's method to [`LN_LAMBDA_TOL`]. The caller re-selects at every
 /// linearisation until λ moves less than 1 %, so the final λ is always a Brent minimum.
 pub(super) fn select_lambda(
@@ -144,13 +158,10 @@ pub(super) fn select_lambda(
     let (xlo, xhi) = (lo.ln(), hi.ln());
     let Some(prev) = prev else {
         let xs: Vec<f64> = (0..grid).map(|i| xlo + (xhi - xlo) * i as f64 / (grid - 1) as f64).collect();
-        let vals: Vec<f64> = xs
-            .par_iter()
-            .map_init(
-                || Band::zeros(0, 0),
-                |h, &x| gcv_at(lin, x.exp(), h).map(|r| r.0).unwrap_or(f64::INFINITY),
-            )
-            .collect();
+        // One candidate at a time in one H (each uses both threads: the RSS and the trace
+        // run side by side): one H per thread would hold a fourth band.
+        let vals: Vec<f64> =
+            xs.iter().map(|&x| gcv_at(lin, x.exp(), h).map(|r| r.0).unwrap_or(f64::INFINITY)).collect();
         // Ties (a flat GCV: residuals that vanish for every λ) go to the largest λ, the
         // smoothest curve that fits as well.
         let ib = (0..grid).rev().min_by(|&i, &j| vals[i].total_cmp(&vals[j])).unwrap_or(0);

@@ -51,6 +51,11 @@
 //! minimum of the parabola through the cost at both ends when that lies well off the full
 //! step (Gauss–Newton is only linear where residuals are large).
 //!
+//! Locally adaptive smoothing (`adaptive.rs`): the penalty λ Σᵢ wᵢ ∫_{interval i} |p|² dt with
+//! weights wᵢ = r̄ᵢ^{−α} from the roughness r̄ of a global-GCV pilot fit, the exponent α and λ
+//! chosen by GCV at the pilot's linearisation (one parameter more than a global λ);
+//! [`fit_adaptive`] with [`Adaptivity::Auto`] keeps it only where it lowers GCV.
+//!
 //! λ = 0 (interpolation, also [`min_energy::min_energy_bspline`]): the limit λ → 0⁺, i.e. the minimum-penalty curve
 //! of the spline space through every sample, by Bregman iteration (iterated Tikhonov): fit with
 //! a small λ to targets shifted by eₛ, then eₛ ← eₛ − r_s, until max |r_s| ≤ 1e-11 rad
@@ -59,11 +64,14 @@
 //! Never silently unconverged: a solver that does not reach its tolerance within `max_iter`
 //! iterations returns [`Error::NotConverged`] with the iteration count and the last step.
 
+pub mod adaptive;
 pub mod banded;
+pub mod covariance;
 pub mod layout;
 pub mod min_energy;
 pub mod model;
 pub mod position;
+pub mod riemannian_cubic;
 pub mod so3;
 
 mod assembly;
@@ -74,6 +82,8 @@ mod start;
 mod types;
 
 pub use crate::quadrature::gauss_legendre01;
+pub use adaptive::{fit_adaptive, Adaptivity};
+pub use covariance::{fitted_layout, Posterior, Quantity};
 pub(crate) use lambda::lambda_cap;
 pub use solver::fit;
 pub use types::{FitOptions, FitResult, Knots, Penalty, Progress, Robust, Smoothing};

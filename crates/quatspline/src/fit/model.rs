@@ -48,7 +48,6 @@ pub struct Model {
     d: Vec<Vec3>,
     axes: Vec<Axis>,
     jri: Vec<M3>,
-    jli: Vec<M3>,
 }
 
 #[inline(always)]
@@ -96,6 +95,11 @@ fn jm_acc<const N: usize>(x: &mut JM3<N>, a: &JM3<N>, m: &M3, s: f64) {
     }
 }
 
+#[inline(always)]
+fn transpose(m: &M3) -> M3 {
+    std::array::from_fn(|r| std::array::from_fn(|c| m[c][r]))
+}
+
 /// The jet of the time derivative (the last coefficient is unknown and set to 0).
 #[inline(always)]
 pub fn shift<const N: usize>(j: Jet<N>) -> Jet<N> {
@@ -119,7 +123,6 @@ impl Model {
             d: vec![],
             axes: vec![],
             jri: vec![],
-            jli: vec![],
         };
         m.refresh();
         m
@@ -133,26 +136,23 @@ impl Model {
         self.d.resize(n, [0.0; 3]);
         self.axes.resize(n, Axis::default());
         self.jri.resize(n, [[0.0; 3]; 3]);
-        self.jli.resize(n, [[0.0; 3]; 3]);
         let ctrl = &self.ctrl;
         self.d
             .par_iter_mut()
             .zip(self.axes.par_iter_mut())
-            .zip(self.jri.par_iter_mut().zip(self.jli.par_iter_mut()))
+            .zip(self.jri.par_iter_mut())
             .with_min_len(4096)
             .enumerate()
-            .for_each(|(m, ((d, axis), (jri, jli)))| {
+            .for_each(|(m, ((d, axis), jri))| {
                 if m == 0 {
                     *d = [0.0; 3];
                     *axis = Axis::default();
                     *jri = [[0.0; 3]; 3];
-                    *jli = [[0.0; 3]; 3];
                 } else {
                     let v = so3::log(ctrl[m - 1].conj() * ctrl[m]);
                     *d = v;
                     *axis = Axis::from_log(vec3::scale(v, 0.5));
                     *jri = so3::jr_inv(v);
-                    *jli = so3::jl_inv(v);
                 }
             });
     }
@@ -174,7 +174,6 @@ impl Model {
             d: vec![],
             axes: vec![],
             jri: vec![],
-            jli: vec![],
         });
         out.order = self.order;
         out.dt = self.dt;
@@ -228,7 +227,7 @@ impl Model {
                 jm_acc(&mut x, &mats[mm], &self.jri[i + mm], 1.0);
             }
             if mm + 1 < k {
-                jm_acc(&mut x, &mats[mm + 1], &self.jli[i + mm + 1], -1.0);
+                jm_acc(&mut x, &mats[mm + 1], &transpose(&self.jri[i + mm + 1]), -1.0);
             }
             for c in 0..3 {
                 cols[mm][c] = [x[0][c], x[1][c], x[2][c]];
@@ -238,9 +237,11 @@ impl Model {
     }
 
     /// J_r⁻¹(d_m) and J_l⁻¹(d_m) of the chain logarithm d_m = Log(R_{m−1}⁻¹ R_m) (m ≥ 1).
+    /// J_l⁻¹(d) = J_r⁻¹(−d) = J_r⁻¹(d)ᵀ, to the bit (`so3::jr_inv` is I + ½[d]× + c[d]×² with
+    /// [d]× antisymmetric and [d]×² symmetric entry for entry), so only J_r⁻¹ is stored.
     #[inline(always)]
-    pub fn chain_jacobians(&self, m: usize) -> (&M3, &M3) {
-        (&self.jri[m], &self.jli[m])
+    pub fn chain_jacobians(&self, m: usize) -> (&M3, M3) {
+        (&self.jri[m], transpose(&self.jri[m]))
     }
 
     /// The curve on segment i and the factors of its Jacobian as jets: `mats[0]` = Ad(S_0⁻¹)
@@ -340,6 +341,18 @@ mod tests {
             })
             .collect();
         Model::new(ctrl, 0.4, 1.0, 4)
+    }
+
+    /// The stored J_r⁻¹ transposed is J_l⁻¹ to the bit, on both sides of the series switch.
+    #[test]
+    fn jl_inv_is_the_transpose_of_jr_inv() {
+        for v in [[0.3, -0.2, 0.9], [1e-9, 2e-9, -1e-9], [1e-3, 0.0, 2e-3], [2.0, 1.0, -0.5], [0.0; 3]] {
+            for s in [1.0, 0.01, 3.0] {
+                let d = vec3::scale(v, s);
+                let (l, r) = (so3::jl_inv(d), so3::jr_inv(d));
+                assert_eq!(l, transpose(&r), "{d:?}");
+            }
+        }
     }
 
     /// ξ columns against finite differences of Log(q(δ=0)⁻¹ q(δ)) for every control and

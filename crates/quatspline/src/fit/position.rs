@@ -14,6 +14,7 @@ use super::layout::Layout;
 use super::{fit_layout, Knots, Penalty, Robust, Smoothing};
 use crate::error::{Error, Result};
 use crate::quadrature::gauss_legendre01;
+use rayon::prelude::*;
 
 /// The fitted positions.
 #[derive(Debug, Clone)]
@@ -183,6 +184,189 @@ pub fn evaluate(
     Ok(())
 }
 
+/// The penalty matrix P = ∫ B^(dm) B^(dm)ᵀ dt (exact: k-point Gauss–Legendre per segment) of
+/// the position fit, half-bandwidth k − 1.
+fn penalty_band(lay: &Layout, dm: usize) -> Band {
+    let k = lay.order;
+    let mut pm = Band::zeros(lay.segs + k - 1, k - 1);
+    let nodes = gauss_legendre01(k);
+    let mut blk = vec![0.0; k * k];
+    for i in 0..lay.segs {
+        blk.iter_mut().for_each(|v| *v = 0.0);
+        let h = lay.width(i);
+        for &(u, w) in &nodes {
+            let b = basis(lay, i, u, dm);
+            let sc = h.powi(-(dm as i32));
+            for a in 0..k {
+                for c in 0..=a {
+                    blk[a * k + c] += w * h * sc * sc * b[a] * b[c];
+                }
+            }
+        }
+        pm.add_block(i, k, &blk, 1.0);
+    }
+    pm
+}
+
+/// (segment, basis values B_j(u)) of every sample time.
+fn sample_bases(lay: &Layout, t: &[f64]) -> Vec<(usize, Vec<f64>)> {
+    t.iter()
+        .map(|&t| {
+            let (i, u) = lay.locate(t);
+            (i, basis(lay, i, u, 0))
+        })
+        .collect()
+}
+
+/// The data's normal matrix G = Σ wₛ bₛ bₛᵀ (one block per sample of positive weight).
+fn gram_band(loc: &[(usize, Vec<f64>)], w: &[f64], nc: usize, k: usize) -> Band {
+    let mut g = Band::zeros(nc, k - 1);
+    let mut blk = vec![0.0; k * k];
+    for (s, (i, b)) in loc.iter().enumerate() {
+        if w[s] == 0.0 {
+            continue;
+        }
+        blk.iter_mut().for_each(|v| *v = 0.0);
+        for a in 0..k {
+            for c in 0..=a {
+                blk[a * k + c] = w[s] * b[a] * b[c];
+            }
+        }
+        g.add_block(*i, k, &blk, 1.0);
+    }
+    g
+}
+
+/// The posterior of a position fit (the linear case of `covariance.rs`): the coordinates
+/// share H = G + λP (half-bandwidth k − 1), so Cov(c_x) = Cov(c_y) = Cov(c_z) = σ̂² H⁻¹ and
+/// Cov(p(t)) = σ̂² b(t)ᵀ H⁻¹ b(t) · I₃ (b the k basis values of t's knot interval, inside the
+/// band of the selected inverse), σ̂² = RSS / (n_obs − 3 tr(H⁻¹G)), n_obs = 3 × the samples of
+/// positive weight (Wahba 1983; Nychka 1988). The polynomial of the penalty's null space
+/// that the fit removes first passes through the smoother unchanged: the smoother, hence
+/// its posterior, is the same.
+#[derive(Debug, Clone)]
+pub struct PositionPosterior {
+    lay: Layout,
+    inv: Band,
+    /// σ̂², length² per coordinate of a unit-weight residual.
+    pub sigma2: f64,
+    pub rss: f64,
+    pub nobs: f64,
+    /// tr A = 3 tr(H⁻¹G).
+    pub edf: f64,
+}
+
+impl PositionPosterior {
+    /// The posterior of the position fit with control points `ctrl` on `lay` to positions
+    /// `x` at `times`, sample `weights` (normalised to mean 1, as the fit does), the fit's
+    /// final `robust_weights` (None: all 1), `penalty` and λ = `lambda` > 0.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        times: &[f64],
+        x: &[[f64; 3]],
+        weights: Option<&[f64]>,
+        robust_weights: Option<&[f64]>,
+        ctrl: &[[f64; 3]],
+        lay: Layout,
+        penalty: Penalty,
+        lambda: f64,
+    ) -> Result<PositionPosterior> {
+        let n = times.len();
+        if !(lambda.is_finite() && lambda > 0.0) {
+            return Err(Error::invalid(
+                "smoothing",
+                format!(
+                    "the posterior needs a smoothing fit (λ > 0), got λ = {}: an interpolating fit \
+                     has no residuals to estimate the noise from",
+                    crate::error::Short(lambda)
+                ),
+            ));
+        }
+        if x.len() != n {
+            return Err(Error::invalid(
+                "positions",
+                format!("expected {n} positions (one per time), got {}", x.len()),
+            ));
+        }
+        let k = lay.order;
+        let nc = lay.segs + k - 1;
+        if ctrl.len() != nc {
+            return Err(Error::invalid(
+                "ctrl",
+                format!("expected {nc} control points for the layout, got {}", ctrl.len()),
+            ));
+        }
+        let ident = vec![crate::quat::Quat::IDENTITY; n];
+        let data = super::validate(times, &ident, weights, 1, "")?;
+        let w = super::covariance::effective_weights(&data.w, robust_weights)?;
+        let loc = sample_bases(&lay, &data.t);
+        let g = gram_band(&loc, &w, nc, k);
+        let mut h = penalty_band(&lay, penalty.m() + 1);
+        for (a, b) in h.a.iter_mut().zip(&g.a) {
+            *a = b + lambda * *a;
+        }
+        h.cholesky_in_place().map_err(|e| {
+            Error::Internal(format!("the position fit's normal matrix G + λP is not positive definite: {e}"))
+        })?;
+        let edf = 3.0 * h.trace_inverse_product(&g);
+        let inv = h.selected_inverse();
+        drop(h);
+        let (mut rss, mut nobs) = (0.0, 0.0);
+        for (s, (i, b)) in loc.iter().enumerate() {
+            if w[s] == 0.0 {
+                continue;
+            }
+            nobs += 3.0;
+            for d in 0..3 {
+                let p: f64 = (0..k).map(|j| b[j] * ctrl[i + j][d]).sum();
+                rss += w[s] * (p - x[s][d]).powi(2);
+            }
+        }
+        let sigma2 = super::covariance::noise_variance(rss, nobs, edf)?;
+        Ok(PositionPosterior { lay, inv, sigma2, rss, nobs, edf })
+    }
+
+    /// The variance of each coordinate of p(t) (derivative 0) or of the velocity p'(t)
+    /// (derivative 1) at every time of `t` (the covariance is that times I₃), in parallel.
+    /// Times must be finite and inside the domain (to 1e-9 of a knot interval).
+    pub fn variances(&self, t: &[f64], derivative: usize) -> Result<Vec<f64>> {
+        if derivative > 3 {
+            return Err(Error::invalid("derivative", format!("expected 0 … 3, got {derivative}")));
+        }
+        let lay = &self.lay;
+        let (a, b) = match &lay.breaks {
+            Some(br) => (br[0], br[lay.segs]),
+            None => (lay.t0, lay.t0 + lay.segs as f64 * lay.dt),
+        };
+        let tol = 1e-9 * lay.dt;
+        for (s, &v) in t.iter().enumerate() {
+            if !v.is_finite() {
+                return Err(Error::NonFinite { arg: "t", index: s });
+            }
+            if v < a - tol || v > b + tol {
+                return Err(Error::OutOfDomain { index: s, t: v, start: a, end: b });
+            }
+        }
+        use rayon::prelude::*;
+        let k = lay.order;
+        Ok(t.par_iter()
+            .with_min_len(256)
+            .map(|&v| {
+                let (i, u) = lay.locate(v);
+                let sc = lay.width(i).powi(-(derivative as i32));
+                let bb = basis(lay, i, u, derivative);
+                let mut q = 0.0;
+                for x in 0..k {
+                    for y in 0..k {
+                        q += bb[x] * self.inv.get(i + x, i + y) * bb[y];
+                    }
+                }
+                self.sigma2 * sc * sc * q
+            })
+            .collect())
+    }
+}
+
 #[allow(clippy::too_many_arguments)]
 /// Fits positions `x` at `times` (validated by the caller's orientation fit or here).
 pub fn fit_positions(
@@ -217,31 +401,8 @@ pub fn fit_positions(
     let (t0, dt, segs) = (lay.t0, lay.dt, lay.segs);
     let nc = segs + k - 1;
     // Penalty matrix P (exact) and data rows.
-    let mut pm = Band::zeros(nc, k - 1);
-    let nodes = gauss_legendre01(k);
-    let mut blk = vec![0.0; k * k];
-    for i in 0..segs {
-        blk.iter_mut().for_each(|v| *v = 0.0);
-        let h = lay.width(i);
-        for &(u, w) in &nodes {
-            let b = basis(&lay, i, u, dm);
-            let sc = h.powi(-(dm as i32));
-            for a in 0..k {
-                for c in 0..=a {
-                    blk[a * k + c] += w * h * sc * sc * b[a] * b[c];
-                }
-            }
-        }
-        pm.add_block(i, k, &blk, 1.0);
-    }
-    let loc: Vec<(usize, Vec<f64>)> = data
-        .t
-        .iter()
-        .map(|&t| {
-            let (i, u) = lay.locate(t);
-            (i, basis(&lay, i, u, 0))
-        })
-        .collect();
+    let pm = penalty_band(&lay, dm);
+    let loc = sample_bases(&lay, &data.t);
     let span = data.t[n - 1] - data.t[0];
     let rho = n as f64 / span;
     let lam_of = |h: f64| rho * h.powi(2 * dm as i32);
@@ -268,7 +429,7 @@ pub fn fit_positions(
                 tol: 1e-9,
             });
         }
-        let mut g = Band::zeros(nc, k - 1);
+        let g = gram_band(&loc, &w, nc, k);
         let mut rhs = vec![[0.0; 3]; nc];
         let mut nobs = 0.0;
         let mut xwx = 0.0;
@@ -284,17 +445,12 @@ pub fn fit_positions(
                 continue;
             }
             nobs += 3.0;
-            blk.iter_mut().for_each(|v| *v = 0.0);
             for a in 0..k {
-                for c in 0..=a {
-                    blk[a * k + c] = w[s] * b[a] * b[c];
-                }
                 for d in 0..3 {
                     rhs[i + a][d] += w[s] * b[a] * xr[s][d];
                 }
             }
             xwx += w[s] * (xr[s][0] * xr[s][0] + xr[s][1] * xr[s][1] + xr[s][2] * xr[s][2]);
-            g.add_block(*i, k, &blk, 1.0);
         }
         let solve_at = |lam: f64| -> Result<(f64, f64, Vec<[f64; 3]>)> {
             let mut l = g.axpy(lam, &pm);
@@ -332,7 +488,9 @@ pub fn fit_positions(
                 let f = |x: f64| solve_at(x.exp()).map(|r| r.0).unwrap_or(f64::INFINITY);
                 let grid = 25;
                 let xs: Vec<f64> = (0..grid).map(|i| a + (b - a) * i as f64 / (grid - 1) as f64).collect();
-                let vals: Vec<f64> = xs.iter().map(|&x| f(x)).collect();
+                // The grid's candidates are independent: in parallel (each its own factor of
+                // nc × k doubles; the values, hence the choice, do not depend on the threads).
+                let vals: Vec<f64> = xs.par_iter().map(|&x| f(x)).collect();
                 let ib = (0..grid).min_by(|&i, &j| vals[i].total_cmp(&vals[j])).unwrap_or(0);
                 let (mut l, mut r) = (xs[ib.saturating_sub(1)], xs[(ib + 1).min(grid - 1)]);
                 let gr = 0.5 * (5f64.sqrt() - 1.0);
@@ -445,6 +603,82 @@ pub fn fit_positions(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The posterior variances from the selected inverse against σ̂² bᵀH⁻¹b with H⁻¹ from dense
+    /// solves (positions and velocities, uniform and uneven knots, weights with a zero), with
+    /// σ̂² = RSS/(n_obs − tr A) and tr A the edf the fit reports; an interpolating fit is refused.
+    #[test]
+    fn posterior_matches_dense_inverse() {
+        let t: Vec<f64> = (0..60).map(|i| 0.05 * i as f64 + 0.01 * ((i * 3) % 4) as f64).collect();
+        let mut rng = crate::testing::XorShift64::new(3);
+        let x: Vec<[f64; 3]> =
+            t.iter().map(|&s| [s.sin() + 0.01 * (rng.uniform() - 0.5), s * s, 0.1 * rng.uniform()]).collect();
+        let w: Vec<f64> = (0..t.len()).map(|i| if i == 5 { 0.0 } else { 1.0 + (i % 3) as f64 }).collect();
+        let rw: Vec<f64> = (0..t.len()).map(|i| if i == 9 { 0.3 } else { 1.0 }).collect();
+        for (pen, knots) in [
+            (Penalty::Acceleration, Knots::Default),
+            (Penalty::Jerk, Knots::Default),
+            (Penalty::Acceleration, Knots::Array(vec![t[0], 0.4, 0.5, 1.9, t[59]])),
+        ] {
+            let f = fit_positions(&t, &x, Some(&w), pen, None, Smoothing::Auto, &knots, Robust::None, None)
+                .unwrap();
+            let lay =
+                super::super::fitted_layout(f.ctrl.len(), f.dt, f.t0, f.order, f.breaks.as_deref()).unwrap();
+            let post =
+                PositionPosterior::new(&t, &x, Some(&w), None, &f.ctrl, lay.clone(), pen, f.lambda).unwrap();
+            assert!((post.edf - f.edf).abs() < 1e-8 * f.edf, "{pen:?}: {} vs {}", post.edf, f.edf);
+            // With IRLS weights, against dense algebra.
+            let post =
+                PositionPosterior::new(&t, &x, Some(&w), Some(&rw), &f.ctrl, lay.clone(), pen, f.lambda)
+                    .unwrap();
+            let data =
+                super::super::validate(&t, &vec![crate::quat::Quat::IDENTITY; 60], Some(&w), 1, "").unwrap();
+            let we: Vec<f64> = data.w.iter().zip(&rw).map(|(a, b)| a * b).collect();
+            let k = lay.order;
+            let nc = f.ctrl.len();
+            let loc = sample_bases(&lay, &t);
+            let g = gram_band(&loc, &we, nc, k);
+            let h = g.axpy(f.lambda, &penalty_band(&lay, pen.m() + 1));
+            let l = h.cholesky().unwrap();
+            let hinv: Vec<Vec<f64>> = (0..nc)
+                .map(|j| l.solve(&(0..nc).map(|i| if i == j { 1.0 } else { 0.0 }).collect::<Vec<_>>()))
+                .collect();
+            let tr: f64 = (0..nc)
+                .map(|i| {
+                    (0..nc).filter(|j| i.abs_diff(*j) < k).map(|j| hinv[i][j] * g.get(j, i)).sum::<f64>()
+                })
+                .sum();
+            let mut rss = 0.0;
+            for (s, (i, b)) in loc.iter().enumerate() {
+                for d in 0..3 {
+                    let p: f64 = (0..k).map(|j| b[j] * f.ctrl[i + j][d]).sum();
+                    rss += we[s] * (p - x[s][d]).powi(2);
+                }
+            }
+            let s2 = rss / (3.0 * 59.0 - 3.0 * tr);
+            assert!((s2 - post.sigma2).abs() < 1e-9 * s2, "{s2} vs {}", post.sigma2);
+            let ts = [t[0], 0.33, 1.0, 2.2, t[59]];
+            for d in [0usize, 1] {
+                let v = post.variances(&ts, d).unwrap();
+                for (j, &tt) in ts.iter().enumerate() {
+                    let (i, u) = lay.locate(tt);
+                    let b = basis(&lay, i, u, d);
+                    let sc = lay.width(i).powi(-(d as i32));
+                    let mut want = 0.0;
+                    for a in 0..k {
+                        for c in 0..k {
+                            want += b[a] * hinv[i + a][i + c] * b[c];
+                        }
+                    }
+                    want *= s2 * sc * sc;
+                    assert!((v[j] - want).abs() < 1e-9 * want, "{pen:?} d {d} t {tt}: {} vs {want}", v[j]);
+                }
+            }
+            assert!(post.variances(&[t[59] + 0.1], 0).is_err());
+            assert!(post.variances(&[f64::NAN], 0).is_err());
+            assert!(PositionPosterior::new(&t, &x, Some(&w), None, &f.ctrl, lay, pen, 0.0).is_err());
+        }
+    }
 
     /// Marsden's identity: the control points of a parabola, as B-spline coefficients on
     /// uniform and uneven knots of orders 3–6, give back the parabola everywhere.

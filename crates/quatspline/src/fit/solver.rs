@@ -2,10 +2,10 @@
 //! λ chosen by GCV, continuation to a large fixed λ, IRLS for robust losses and Bregman
 //! iteration for interpolation (see the module doc of [`super`]).
 
-use super::assembly::{data_half, pen_half, penalty_nodes, residuals, Half, Lin};
+use super::assembly::{data_half, pen_half, penalty_nodes, residuals, sums_only, Half, Lin};
 use super::banded::Band;
 use super::knots::{fit_layout, schoenberg_whitney};
-use super::lambda::{dotv, gcv_at, lambda_cap, select_lambda};
+use super::lambda::{dotv, gcv_final, lambda_cap, select_lambda};
 use super::model::{Model, MAXK};
 use super::start::{initial_controls_from, medoid_filter, medoid_filter_half, ROBUST_MEDOID_HALF};
 use super::types::{pen_name, validate, Data, FitOptions, FitResult, Progress, Robust, Smoothing};
@@ -152,11 +152,13 @@ struct Solver<'a> {
     pen_cache: Option<Half>,
     data_cache: Option<Half>,
     spare: Vec<Band>,
-    hbuf: Band,
-    /// The halves at the model before a final step below the tolerance (not relinearised).
-    near_halves: Option<(Half, Half)>,
+    /// The penalty half at the model before a final step below the tolerance (not
+    /// relinearised; that model is `spare_model`, where `finish` assembles the data half).
+    near_pen: Option<Half>,
     /// The storage of the last replaced or rejected model, for the next trial.
     spare_model: Option<Model>,
+    /// Per-knot-interval weights of the penalty (locally adaptive smoothing, `adaptive.rs`).
+    pen_w: Option<Vec<f64>>,
 }
 
 /// What the loop does after a step ([`Solver::next_stage`]).
@@ -207,9 +209,9 @@ impl<'a> Solver<'a> {
             pen_cache: None,
             data_cache: None,
             spare: Vec::new(),
-            hbuf: Band::zeros(0, 0),
-            near_halves: None,
+            near_pen: None,
             spare_model: None,
+            pen_w: None,
         };
         // λ for the inner problems of interpolation: bandwidth about one sample spacing.
         s.lam = match opts.smoothing {
@@ -273,7 +275,7 @@ impl<'a> Solver<'a> {
     /// The penalty half at `model` into recycled storage.
     fn pen_half_at_model(&mut self) -> Half {
         let band = self.spare.pop().unwrap_or(Band::zeros(0, 0));
-        pen_half(&self.model, self.opts.penalty, &self.nodes, band)
+        pen_half(&self.model, self.opts.penalty, &self.nodes, band, self.pen_w.as_deref())
     }
 
     /// The data half at `model` (current weights and offsets) into recycled storage.
@@ -285,9 +287,8 @@ impl<'a> Solver<'a> {
     /// The Gauss–Newton pieces at `model`: the halves kept from the accepted step, else
     /// assembled afresh (after reweighting, under a robust loss).
     fn linearise(&mut self) -> Lin {
-        if let Some((dh, ph)) = self.near_halves.take() {
+        if let Some(ph) = self.near_pen.take() {
             // The loop went on after a step below the tolerance: linearise afresh.
-            self.spare.push(dh.band);
             self.spare.push(ph.band);
         }
         if self.robust_on {
@@ -339,11 +340,13 @@ impl<'a> Solver<'a> {
         }
         let prev = if self.searched { Some(self.lam) } else { None };
         if !self.searched {
-            // The grid holds one H per thread: free what the search does not use.
-            self.hbuf = Band::zeros(0, 0);
+            // Free what the first search does not use (the storage of the next trial).
             self.spare_model = None;
         }
-        let (mut l_new, _) = select_lambda(lin, lo, hi, 13, prev, &mut self.hbuf)?;
+        // H for the search, alive only during it (G, P and H: three bands).
+        let mut h = Band::zeros(0, 0);
+        let (mut l_new, _) = select_lambda(lin, lo, hi, 13, prev, &mut h)?;
+        drop(h);
         if self.searched {
             // A move back against the last one is at most half as long: where the GCV minima
             // of two curves point at each other (two basins of GCV), λ alternated between them
@@ -382,21 +385,27 @@ impl<'a> Solver<'a> {
         let mut accepted = None;
         let mut near = false;
         for _ in 0..30 {
-            lin.g.axpy_into(lam, &lin.p, &mut self.hbuf);
+            // H = G + λP in the storage of G (two bands are alive at any time: H, or G, and P;
+            // then the trial's halves in the same two). G is assembled again where it is
+            // needed after this (a failed factorisation, the final score after a step below
+            // the tolerance): the assembly is deterministic, so the result is the same.
+            let mut h = std::mem::replace(&mut lin.g, Band::zeros(0, 0));
+            h.axpy_assign(lam, &lin.p);
             if self.mu > 0.0 {
-                let diag = self.hbuf.diag();
+                let diag = h.diag();
                 let dmax = diag.iter().cloned().fold(0.0, f64::max);
                 for (i, d) in diag.iter().enumerate() {
-                    let idx = self.hbuf.idx(i, i);
-                    self.hbuf.a[idx] += self.mu * d.max(1e-12 * dmax);
+                    let idx = h.idx(i, i);
+                    h.a[idx] += self.mu * d.max(1e-12 * dmax);
                 }
             }
-            if self.hbuf.cholesky_in_place().is_err() {
+            if h.cholesky_in_place().is_err() {
+                lin.g = data_half(&self.model, data, &self.w, &self.offs, h).band;
                 self.mu = if self.mu == 0.0 { 1e-6 } else { self.mu * 10.0 };
                 continue;
             }
             let rhs: Vec<f64> = lin.gd.iter().zip(&lin.gp).map(|(a, b)| -(a + lam * b)).collect();
-            let d = self.hbuf.solve(&rhs);
+            let d = h.solve(&rhs);
             let trial = self.model.retracted(&d, self.spare_model.take());
             let smax = (0..d.len() / 3)
                 .map(|i| {
@@ -406,20 +415,19 @@ impl<'a> Solver<'a> {
             if smax < self.opts.tol {
                 // A step below the tolerance is accepted whatever its cost, so the trial is not
                 // linearised here: the halves at `model` (within `tol` of the trial) are kept
-                // for the final score and edf, and dropped if the loop goes on.
+                // for the final score and edf (G assembled again there), and dropped if the
+                // loop goes on.
+                lin.g = h;
                 accepted = Some((trial, smax));
                 near = true;
                 self.relax_damping();
                 break;
             }
             // The trial's cost from its linearisation (kept if the step is accepted), in the
-            // storage of G and P (three bands at most are alive: H, and G and P or the trial's).
-            let (gs, ps) = (
-                std::mem::replace(&mut lin.g, Band::zeros(0, 0)),
-                std::mem::replace(&mut lin.p, Band::zeros(0, 0)),
-            );
-            let tp = pen_half(&trial, pen, &self.nodes, ps);
-            let td = data_half(&trial, data, &self.w, &self.offs, gs);
+            // storage of H and P.
+            let ps = std::mem::replace(&mut lin.p, Band::zeros(0, 0));
+            let tp = pen_half(&trial, pen, &self.nodes, ps, self.pen_w.as_deref());
+            let td = data_half(&trial, data, &self.w, &self.offs, h);
             let c1 = td.sum + lam * tp.sum;
             if c1 <= c0 * (1.0 + 1e-12) + 1e-300 {
                 let (mut trial, mut smax, mut tp, mut td) = (trial, smax, tp, td);
@@ -434,12 +442,19 @@ impl<'a> Solver<'a> {
                 if slope < 0.0 && curv > 0.0 {
                     let alpha = -slope / (2.0 * curv);
                     if !(0.8..=1.25).contains(&alpha) && alpha.is_finite() {
+                        // The point at α by its cost alone (no matrices), in the trial's
+                        // storage; linearised only when kept (else the trial is rebuilt:
+                        // the retraction is deterministic).
                         let da: Vec<f64> = d.iter().map(|v| v * alpha).collect();
-                        let t2 = self.model.retracted(&da, None);
-                        let tp2 = pen_half(&t2, pen, &self.nodes, Band::zeros(0, 0));
-                        let td2 = data_half(&t2, data, &self.w, &self.offs, Band::zeros(0, 0));
-                        if td2.sum + lam * tp2.sum < c1 {
-                            (trial, smax, tp, td) = (t2, smax * alpha, tp2, td2);
+                        let t2 = self.model.retracted(&da, Some(trial));
+                        let c2 = data_half(&t2, data, &self.w, &self.offs, sums_only()).sum
+                            + lam * pen_half(&t2, pen, &self.nodes, sums_only(), self.pen_w.as_deref()).sum;
+                        if c2 < c1 {
+                            tp = pen_half(&t2, pen, &self.nodes, tp.band, self.pen_w.as_deref());
+                            td = data_half(&t2, data, &self.w, &self.offs, td.band);
+                            (trial, smax) = (t2, smax * alpha);
+                        } else {
+                            trial = self.model.retracted(&d, Some(t2));
                         }
                     }
                 }
@@ -451,13 +466,16 @@ impl<'a> Solver<'a> {
             }
             // Rejected (rare): linearise at `model` again for the damped retry.
             self.spare_model = Some(trial);
-            let ph = pen_half(&self.model, pen, &self.nodes, tp.band);
+            let ph = pen_half(&self.model, pen, &self.nodes, tp.band, self.pen_w.as_deref());
             lin = Lin::new(data_half(&self.model, data, &self.w, &self.offs, td.band), ph);
             self.mu = if self.mu == 0.0 { 1e-4 } else { self.mu * 10.0 };
         }
         if near {
-            // Keep the halves at the previous model (see above).
-            self.near_halves = Some(lin.into_halves());
+            // Keep the penalty half at the previous model (the data half's band holds the
+            // factor of H: assembled again by `finish` if the fit ends here).
+            let (dh, ph) = lin.into_halves();
+            self.spare.push(dh.band);
+            self.near_pen = Some(ph);
         } else {
             drop(lin);
         }
@@ -572,17 +590,20 @@ impl<'a> Solver<'a> {
     /// The result: residuals, and the score and edf at the solution (for a fixed λ: the GCV of
     /// the fixed λ).
     fn finish(mut self) -> Result<FitResult> {
-        drop(self.spare_model.take());
+        let prev = self.spare_model.take();
         let n = self.n;
         let (_, ang) = residuals(&self.model, self.data, &vec![[0.0; 3]; n]);
         let (score, edf) = if !self.interpolate {
             // The halves kept from the last accepted step are at `model` with the final
             // weights, or, after a step below the tolerance, at the model one step (≤ tol)
             // before; the score's linearised RSS includes that step.
-            if let Some((dh, ph)) = self.near_halves.take() {
+            if let Some(ph) = self.near_pen.take() {
+                let band = self.spare.pop().unwrap_or(Band::zeros(0, 0));
+                let m = prev.as_ref().expect("the model before the last step is kept");
+                self.data_cache = Some(data_half(m, self.data, &self.w, &self.offs, band));
                 self.pen_cache = Some(ph);
-                self.data_cache = Some(dh);
             }
+            drop(prev);
             let ph = match self.pen_cache.take() {
                 Some(h) => h,
                 None => self.pen_half_at_model(),
@@ -592,7 +613,7 @@ impl<'a> Solver<'a> {
                 None => self.data_half_at_model(),
             };
             drop(std::mem::take(&mut self.spare));
-            gcv_at(&Lin::new(dh, ph), self.lam, &mut self.hbuf)?
+            gcv_final(Lin::new(dh, ph), self.lam)?
         } else {
             self.lam = 0.0;
             (f64::INFINITY, 3.0 * self.data.w.iter().filter(|w| **w > 0.0).count() as f64)
@@ -617,6 +638,7 @@ impl<'a> Solver<'a> {
             iterations: self.it,
             final_step: self.step,
             converged: true,
+            penalty_weights: self.pen_w.take(),
         })
     }
 }
@@ -629,7 +651,27 @@ pub(super) fn solve(
     opts: &FitOptions,
     progress: Progress<'_>,
 ) -> Result<FitResult> {
+    solve_weighted(model, data, opts, None, progress)
+}
+
+/// [`solve`] with per-knot-interval penalty weights `pen_w` (λ Σᵢ wᵢ ∫_{segment i} |p|² dt)
+/// and, for λ = "auto", a first λ to search from (`start`, from a curve already fitted:
+/// Brent's method around it from the first linearisation, no fixed first step).
+pub(super) fn solve_weighted(
+    model: Model,
+    data: &Data,
+    opts: &FitOptions,
+    start: Option<(Vec<f64>, f64)>,
+    progress: Progress<'_>,
+) -> Result<FitResult> {
     let mut s = Solver::new(model, data, opts);
+    if let Some((w, lam)) = start {
+        s.pen_w = Some(w);
+        if s.auto {
+            s.lam = lam;
+            s.searched = true;
+        }
+    }
     s.start_pilot()?;
     loop {
         s.count_iteration()?;

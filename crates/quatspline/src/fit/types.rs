@@ -167,6 +167,9 @@ pub struct FitResult {
     pub iterations: usize,
     pub final_step: f64,
     pub converged: bool,
+    /// Locally adaptive smoothing: the penalty's weight wᵢ on knot interval i (the local λ is
+    /// λ·wᵢ; geometric mean 1); None for a global λ.
+    pub penalty_weights: Option<Vec<f64>>,
 }
 
 /// Progress callback: (stage, iteration, last step). Returning false cancels the fit.
