@@ -396,6 +396,92 @@ def glitch_table(seed: int, draws: int = 3):
     return rows
 
 
+def outlier_rows(seed: int, draws: int = 3):
+    """1 % of frames turned by 10° about random axes on 0.5° noise: the plain, Huber and
+    Cauchy fits and the floor (the plain fit with the outlier frames given weight 0), RMS angle
+    to the truth: per bundled recording (its own truth, one draw) and on random synthetic
+    motions (`draws` draws, random outlier placement). Ratios to the floor."""
+    out = []
+
+    def row(name, t, truth_q, q, bad):
+        err = {}
+        for key, kw in (
+            ("plain", {}),
+            ("floor", {"weights": (~bad).astype(float)}),
+            ("huber", {"robust": "huber"}),
+            ("cauchy", {"robust": "cauchy"}),
+        ):
+            err[key] = rms(angle(qs.fit(t, q, **kw)(t), truth_q))
+        return {"case": name, **{k: err[k] / err["floor"] for k in ("plain", "huber", "cauchy")}}
+
+    def draw(q, rng):
+        q = perturb(q, 0.5, rng)
+        bad = np.zeros(len(q), bool)
+        bad[rng.choice(len(q), size=max(1, int(round(0.01 * len(q)))), replace=False)] = True
+        axis = rng.normal(size=(bad.sum(), 3))
+        axis /= np.linalg.norm(axis, axis=1, keepdims=True)
+        q[bad] = qs.multiply(q[bad], qs.from_rotvec(axis * np.deg2rad(10.0)))
+        return q, bad
+
+    for name, _, t, clean, _ in truths():
+        q, bad = draw(clean, np.random.default_rng(seed))
+        out.append(row(name, t, clean, q, bad))
+    for d in range(draws):
+        rng = np.random.default_rng([seed, d, 10])
+        t, clean = random_motion(rng)
+        q, bad = draw(clean, rng)
+        out.append(row(f"random motion, draw {d}", t, clean, q, bad))
+    return out
+
+
+def random_motion(rng, n: int = 801):
+    """A random smooth motion: 8 s, n samples, each rotation-vector axis a sum of four
+    sinusoids of random frequency (0.1–1.5 Hz), amplitude and phase."""
+    t = np.linspace(0.0, 8.0, n)
+    f = rng.uniform(0.1, 1.5, (3, 4))
+    a = rng.uniform(0.1, 0.6, (3, 4)) / f
+    ph = rng.uniform(0, 2 * np.pi, (3, 4))
+    rv = np.stack(
+        [(a[i] * np.sin(2 * np.pi * f[i] * t[:, None] + ph[i])).sum(1) for i in range(3)], 1
+    )
+    return t, qs.from_rotvec(rv)
+
+
+def print_robust_tables(seed: int):
+    """The robust losses' tables (`--robust`): outliers against the floor, far glitches."""
+    print("\n## 1 % outliers of 10° on 0.5° noise: error / floor (outlier frames weighted 0)\n")
+    print("| case | plain / floor | huber / floor | cauchy / floor |")
+    print("|---|---|---|---|")
+    orows = outlier_rows(seed)
+    for r in orows:
+        print(f"| {r['case']} | {r['plain']:.3f} | {r['huber']:.3f} | {r['cauchy']:.3f} |")
+    gl = glitch_table(seed)
+    print_glitch_table(gl)
+    return {"outliers": orows, "glitches": gl}
+
+
+def print_glitch_table(gl):
+    print(
+        "\n## Far glitches (3 draws): largest iteration count; error ratio to the clean fit "
+        "of the same draw, mean (largest)\n"
+    )
+    print("| glitches | plain | huber | cauchy |")
+    print("|---|---|---|---|")
+    for r in gl:
+        lo, hi = r["deg"]
+        deg = f"{lo:g}°" if lo == hi else f"{lo:g}°–{hi:g}°"
+        what = (
+            f"{r['fraction']:.0%} single frames of {deg}"
+            if r["kind"] == "single"
+            else f"{r['fraction']:.0%} in bursts of {r['burst']} frames, {deg}"
+        )
+        cells = [
+            "error" if r[k] is None else f"{r[k][0]} it, {r[k][1]:.2f} ({r[k][2]:.2f})"
+            for k in ("None", "huber", "cauchy")
+        ]
+        print(f"| {what} | " + " | ".join(cells) + " |")
+
+
 def plot(figure, out: Path):
     import matplotlib
 
@@ -470,9 +556,17 @@ def main():
     ap.add_argument("--draws", type=int, default=8, help="noise draws for the spread table")
     ap.add_argument("--figure", default=str(ROOT / "docs" / "_static" / "fit_speed.png"))
     ap.add_argument("--json", help="write all results here")
+    ap.add_argument(
+        "--robust", action="store_true", help="only the robust losses' tables (outliers, glitches)"
+    )
     args = ap.parse_args()
     cpu = cpu_model()
     print(f"CPU: {cpu}")
+    if args.robust:
+        res = print_robust_tables(args.seed)
+        if args.json:
+            Path(args.json).write_text(json.dumps(res, indent=1, default=float))
+        return
     rows, figure = noise_table(args.seed)
     print("\n## fit vs the best interpolant (ratios: fit / interpolant)\n")
     print(
@@ -584,25 +678,7 @@ def main():
                 f"{cell(r['jerk_angle'])} | {cell(r['jerk_omega'])} |"
             )
     gl = glitch_table(args.seed)
-    print(
-        "\n## Far glitches (3 draws): largest iteration count; error ratio to the clean fit "
-        "of the same draw, mean (largest)\n"
-    )
-    print("| glitches | plain | huber | cauchy |")
-    print("|---|---|---|---|")
-    for r in gl:
-        lo, hi = r["deg"]
-        deg = f"{lo:g}°" if lo == hi else f"{lo:g}°–{hi:g}°"
-        what = (
-            f"{r['fraction']:.0%} single frames of {deg}"
-            if r["kind"] == "single"
-            else f"{r['fraction']:.0%} in bursts of {r['burst']} frames, {deg}"
-        )
-        cells = [
-            "error" if r[k] is None else f"{r[k][0]} it, {r[k][1]:.2f} ({r[k][2]:.2f})"
-            for k in ("None", "huber", "cauchy")
-        ]
-        print(f"| {what} | " + " | ".join(cells) + " |")
+    print_glitch_table(gl)
     me = min_energy_table()
     print("\n## MinimumEnergySpline vs NaturalSpline (keys: every 10th frame)\n")
     print(

@@ -719,10 +719,10 @@ def fit(
         turn, bursts of up to 20 consecutive frames); beyond that a ``ValueError``. Cauchy
         gives far glitches weight ≈ 0; Huber bounds their pull at c each.
     robust_scale : float, optional
-        The loss's scale c in radians (default: 3.067 σ̂ for Huber, 5.439 σ̂ for Cauchy — over
-        99 % efficiency at Gaussian noise — with σ̂ the per-axis noise estimated robustly from
-        the pilot's residuals). For positions the scale is at least 1e-6 × their extent and
-        otherwise estimated from the position residuals.
+        The loss's scale c in radians (default: 1.628 σ̂ for Huber, 2.666 σ̂ for Cauchy — 95 %
+        efficiency at Gaussian noise — with σ̂ the per-axis noise estimated robustly from the
+        pilot's residuals, at least √tol). For positions: 1.345 and 2.385 × 1.4826 × the median
+        residual of the non-robust position fit, at least 1e-6 × their extent.
     order : int, optional
         Spline order (default 4 for acceleration, 6 for jerk).
     max_iter : int

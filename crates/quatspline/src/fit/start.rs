@@ -74,13 +74,22 @@ const MEDOID_CHUNK: usize = 1024;
 /// length). (The cost of [`medoid_filter`], 1 − cos(θ/2), has slope ½
 /// at the half turn: with 30 % of glitches near 175° in a window of 41 their pull moved the
 /// medoid 15 samples from the centre.)
-/// Within a chunk the windows slide: each candidate's cost gains the sample entering and loses
-/// the one leaving (O(n · half) work; the first window of a chunk is summed in full).
+/// (The windows slide: [`running_medoid`].)
 pub(super) fn medoid_filter_half(data: &Data, half: usize) -> Vec<Quat> {
-    let n = data.y.len();
     let (y, w) = (&data.y, &data.w);
-    let d = |a: usize, b: usize| if w[b] > 0.0 { 1.0 - y[a].dot(y[b]).powi(2) } else { 0.0 };
-    let chunks: Vec<Vec<Quat>> = (0..n.div_ceil(MEDOID_CHUNK))
+    let d = |a: usize, b: usize| 1.0 - y[a].dot(y[b]).powi(2);
+    running_medoid(w, half, d).into_iter().map(|i| y[i]).collect()
+}
+
+/// For each of the `w.len()` samples, the index of the sample of positive weight in its window
+/// ([`robust_window`]) whose summed cost `d` to the window's samples of positive weight is
+/// least, ties to the nearer one. Within a chunk of [`MEDOID_CHUNK`] samples the windows
+/// slide: each candidate's cost gains the sample entering and loses the one leaving (O(n ·
+/// half) work; the first window of a chunk is summed in full).
+fn running_medoid(w: &[f64], half: usize, d: impl Fn(usize, usize) -> f64 + Sync) -> Vec<usize> {
+    let n = w.len();
+    let d = |a: usize, b: usize| if w[b] > 0.0 { d(a, b) } else { 0.0 };
+    let chunks: Vec<Vec<usize>> = (0..n.div_ceil(MEDOID_CHUNK))
         .into_par_iter()
         .map(|c| {
             let (i0, i1) = (c * MEDOID_CHUNK, ((c + 1) * MEDOID_CHUNK).min(n));
@@ -114,7 +123,7 @@ pub(super) fn medoid_filter_half(data: &Data, half: usize) -> Vec<Quat> {
                         best = (key.0, key.1, a);
                     }
                 }
-                out.push(y[best.2]);
+                out.push(best.2);
             }
             out
         })
