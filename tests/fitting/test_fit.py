@@ -416,7 +416,12 @@ def test_robust_loss_rejects_injected_outliers(loss):
     assert e_rob < 0.5 * e_plain
     assert e_rob < 1.5 * e_ref
     assert np.all(rob.robust_weights[bad] < 0.2)
-    assert np.median(rob.robust_weights) > 0.9
+    # Good samples keep most of their weight. (The bound was 0.9 for the M-step's former
+    # 99.9 %-efficient constants; the 95 %-efficient ones downweight good samples a little:
+    # at ℝ³ Gaussian noise Huber's median weight is 1 and Cauchy's 0.75, and this noise —
+    # random axes, half-normal angles, wider than χ₃ relative to its scale — gives 0.85
+    # and 0.67.)
+    assert np.median(rob.robust_weights) > 0.5
     assert np.isfinite(rob.robust_scale) and rob.robust_scale > 0
     assert rob.residuals[bad].min() > np.deg2rad(15)
 

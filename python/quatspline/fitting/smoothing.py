@@ -713,12 +713,16 @@ def fit(
         the motion is faster); the spline is then a non-uniform cumulative B-spline with the
         same continuity (C² / C⁴), extended beyond the ends with the end intervals' widths.
     robust : {None, "huber", "cauchy"}
-        Robust loss (iteratively reweighted), so single bad frames do not bend the curve.
+        Robust loss (iteratively reweighted), so bad frames do not bend the curve. The fit
+        starts from a high-breakdown pilot (a running medoid of ±20 samples, then the Cauchy
+        loss), so up to half of the frames may be far glitches (tracker flips up to a half
+        turn, bursts of up to 20 consecutive frames); beyond that a ``ValueError``. Cauchy
+        gives far glitches weight ≈ 0; Huber bounds their pull at c each.
     robust_scale : float, optional
-        The loss's scale c in radians (default: 1.345 σ̂ for Huber, 2.385 σ̂ for Cauchy, with
-        σ̂ = 1.4826 × the median residual of the non-robust fit, taken once its step is
-        below √tol). For positions the scale is at least 1e-6 × their extent and otherwise
-        estimated from the position residuals.
+        The loss's scale c in radians (default: 1.628 σ̂ for Huber, 2.666 σ̂ for Cauchy — 95 %
+        efficiency at Gaussian noise — with σ̂ the per-axis noise estimated robustly from the
+        pilot's residuals, at least √tol). For positions: 1.345 and 2.385 × 1.4826 × the median
+        residual of the non-robust position fit, at least 1e-6 × their extent.
     order : int, optional
         Spline order (default 4 for acceleration, 6 for jerk).
     max_iter : int

@@ -20,8 +20,13 @@
 //! bit-identical on any number of threads; an accepted step's cost comes from its
 //! linearisation, which the next iteration reuses.
 //! Robust losses by iteratively reweighted least squares (Huber: w = min(1, c/|r|),
-//! c = 1.345 σ̂; Cauchy: w = 1/(1 + (|r|/c)²), c = 2.385 σ̂; σ̂ = 1.4826 · median |r| of the
-//! non-robust fit once its step is below √tol, or `robust_scale`).
+//! c = 1.628 σ̂; Cauchy: w = 1/(1 + (|r|/c)²), c = 2.666 σ̂ — each 95 % efficient for ℝ³
+//! residuals of per-axis σ; or c = `robust_scale`) as an MM-estimate (Yohai 1987): a
+//! high-breakdown pilot — from a running medoid of ±20 samples, the redescending Cauchy loss
+//! with its scale from the start's residuals, then from its own — gives σ̂ (median |r| / 1.5382,
+//! then three reweighted truncated mean squares: breakdown point 50 %; at least √tol) and the
+//! start of the loss asked for; beyond the breakdown point (3.06 σ̂ ≥ π) the fit is an error
+//! (`solver.rs`).
 //! For samples far from the curve (glitches up to a half turn): the data term's matrix is the
 //! Riemannian Hessian of ½ dist² (`so3::dist_hess_sqrt`) rather than J_l⁻¹ᵀJ_l⁻¹, which is 17×
 //! too stiff across a residual of 170° (the same to O(θ²) for noise; the gradient is the same);

@@ -55,11 +55,35 @@ impl Robust {
             }
         }
     }
+    /// The one-dimensional constants (95 % efficient for a scalar residual), which the
+    /// position fit applies to 1.4826 · median |r|.
     pub(crate) fn tuning(self) -> f64 {
         match self {
             Robust::None => f64::INFINITY,
             Robust::Huber => 1.345,
             Robust::Cauchy => 2.385,
+        }
+    }
+    /// The tuning constant c of the M-step for residuals in ℝ³ — rotation vectors on SO(3),
+    /// position errors — in units of the per-axis noise σ: c = 1.628 σ (Huber) and 2.666 σ
+    /// (Cauchy), each 95 % efficient at Gaussian noise, the usual choice for the final step of
+    /// an MM-estimate (Yohai 1987; Maronna, Martin & Yohai 2006, ch. 5: the high-breakdown
+    /// start and scale give the robustness, the M-step from them the efficiency). For
+    /// ψ(r) = u(|r|) r in ℝ³ with r ~ N(0, σ²I) the efficiency is A²/B with A = E[u + |r|u′/3]
+    /// and B = E[u²|r|²]/3 (the asymptotic variance of an M-estimate of location in ℝᵖ,
+    /// Maronna 1976, for p = 3; checked by quadrature in the tests). They
+    /// are smaller than the one-dimensional 1.345 and 2.385 since |r| of a good sample is
+    /// χ₃-distributed (median 1.538 σ): Huber leaves the 55 % of good samples within c at
+    /// weight 1, Cauchy gives the median good sample weight 0.75. The one-dimensional
+    /// constants applied to 1.4826 · median |r| (3.067 σ and 5.439 σ, 99.9 % and 99.3 %
+    /// efficient) let each far glitch pull twice as hard: with 20 % of 170°–180° flips (six
+    /// draws) Huber lay up to 1.68× the clean fit's error off and Cauchy 1.52×, against 1.48×
+    /// and 1.39× with these.
+    pub(crate) fn tuning_r3(self) -> f64 {
+        match self {
+            Robust::None => f64::INFINITY,
+            Robust::Huber => 1.628,
+            Robust::Cauchy => 2.666,
         }
     }
     pub(crate) fn weight(self, r: f64, c: f64) -> f64 {
