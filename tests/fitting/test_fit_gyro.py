@@ -182,3 +182,26 @@ def test_default_gyro_noise_is_estimated_from_the_record():
     want = MEMS.white_std(200.0)[0]
     assert abs(f.gyro.gyro_noise / want - 1.0) < 0.15, (f.gyro.gyro_noise, want)
     assert math.isfinite(f.gyro.time_offset_std)
+
+
+def test_bias_standard_deviation_matches_monte_carlo():
+    """The stated standard deviation of the bias (σ_q² S⁻¹) against the scatter of the
+    estimates over 40 noise draws of one small problem (10 s, 100 Hz keys, 200 Hz gyro)."""
+    m = _motion(7, 10.0)
+    a, b = m.domain
+    sq = np.radians(0.1)
+    bias = np.radians([0.3, -0.2, 0.1])
+    sensor = SensorModel(gyro_bias=bias)
+    est, sds = [], []
+    for draw in range(40):
+        rng = np.random.default_rng(1000 + draw)
+        imu = simulate(m, times=np.arange(a, b, 1 / 200), sensor=sensor, noise=MEMS, seed=draw)
+        t, q = _keys(m, 100.0, sq, rng)
+        g = qs.fit(t, q, gyro=imu, gyro_noise=MEMS, noise_std=sq, estimate=("bias",)).gyro
+        est.append(g.bias)
+        sds.append(g.bias_std)
+    emp = np.std(np.array(est), axis=0, ddof=1)
+    stated = np.mean(np.array(sds), axis=0)
+    # 40 draws: the sample standard deviation is within ±25 % of the truth at about 2σ
+    assert np.all((emp / stated > 0.7) & (emp / stated < 1.4)), (emp, stated)
+    assert np.all(np.abs(np.mean(est, axis=0) - bias) < 3 * stated / np.sqrt(40) + 1e-6)
