@@ -379,8 +379,8 @@ fn gyro_lin(
     let mut blk = vec![0.0; nb * nb];
     let mut cur = usize::MAX;
     let mut hb = h;
-    for j in 0..g.t.len() {
-        let s = sample::<3>(model, sen, est, g.t[j], g.w[j], full, &mut mats);
+    for (&tj, &wj) in g.t.iter().zip(&g.w) {
+        let s = sample::<3>(model, sen, est, tj, wj, full, &mut mats);
         out.sum += vec3::dot(s.e, s.e);
         let Some(h) = hb.as_deref_mut() else { continue };
         if s.seg != cur {
@@ -422,7 +422,7 @@ fn dense_cholesky(a: &mut [f64], p: usize) -> Result<()> {
         for l in 0..j {
             d -= a[j * p + l] * a[j * p + l];
         }
-        if !(d > 0.0) || !d.is_finite() {
+        if !(d.is_finite() && d > 0.0) {
             return Err(Error::invalid("gyro", "the sensor parameters are not determined by the data"));
         }
         let d = d.sqrt();
@@ -523,6 +523,7 @@ pub fn default_lambda(kappa: f64, rate: f64, h: f64, pen: Penalty) -> f64 {
 /// `opts` is used as in [`super::fit`] except: `Knots::Default` puts one knot interval per
 /// `knots_per_sample` gyroscope spacings; `Smoothing::Auto` is [`default_lambda`]; robust
 /// losses and adaptive smoothing are not available.
+#[allow(clippy::too_many_arguments)]
 pub fn fit_gyro(
     times: &[f64],
     quats: &[Quat],
@@ -940,6 +941,7 @@ mod tests {
         gw: Vec<Vec3>,
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn simulate(
         rng: &mut XorShift64,
         m: &Model,
