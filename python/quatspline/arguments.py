@@ -10,7 +10,8 @@ single-file command over many files. The groups, and what translates each:
 - method: ``--method --param`` (:func:`method_options`);
 - sampling: ``--rate | --count | --at``, ``--derivatives --max-samples --extrapolate``
   (:func:`sampling_options`);
-- fit: ``--smoothing --penalty --robust --knots --uncertainty`` (:func:`fit_options`);
+- fit: ``--smoothing --penalty --robust --knots --uncertainty`` (:func:`fit_options`), and
+  for ``quatspline fit`` a gyroscope: ``--gyro --gyro-noise --estimate`` (:func:`gyro_options`);
 - compare: ``--methods --holdout`` (:func:`compare_options`);
 - export: ``--node --max-error --max-position-error --interpolation --empty --fps``
   (:func:`export_options`);
@@ -43,6 +44,7 @@ from ._util.options import (
     parse_spacing_or_file,
     parse_sweep,
 )
+from .fitting import GYRO_ESTIMATES
 from .imu.calibration import DEFAULT_ESTIMATE, ESTIMATES
 from .io.kitti import read_times
 from .registry import METHODS
@@ -56,6 +58,7 @@ __all__ = [
     "add_compare_options",
     "add_export_options",
     "add_fit_options",
+    "add_gyro_options",
     "add_imu_calibrate_options",
     "add_imu_simulate_options",
     "add_input_options",
@@ -68,6 +71,7 @@ __all__ = [
     "family_sweep",
     "export_options",
     "fit_options",
+    "gyro_options",
     "imu_calibrate_options",
     "imu_simulate_options",
     "knots_of",
@@ -108,6 +112,7 @@ EXAMPLES = {
         "quatspline fit recording.tum -o smooth.csv --rate 200",
         "quatspline fit mocap.bvh --joint LeftElbow -o elbow.csv --rate 120 --penalty jerk",
         "quatspline fit glitchy.csv -o clean.csv --count 1000 --robust huber --smoothing 1e-4",
+        "quatspline fit vicon.csv --gyro imu0.csv --gyro-noise imu.yaml -o fused.csv --rate 200",
     ],
     "compare": [
         "quatspline compare recording.tum --holdout 10",
@@ -264,6 +269,29 @@ def add_fit_options(p, *, uncertainty: bool = True) -> None:
         help="add the fit's posterior standard deviations per sample: orientation_std (radians, "
         "body axes), position_std (with positions), omega_std (rad/s, world axes, with "
         "--derivatives); needs a format with extra columns (csv, json, npz)",
+    )
+
+
+def add_gyro_options(p) -> None:
+    """A gyroscope fitted with the orientations (``quatspline fit``): the record, its noise
+    and the sensor parameters to estimate."""
+    p.add_argument(
+        "--gyro",
+        metavar="IMU",
+        help="an IMU file (EuRoC csv, RepoIMU csv, bag, …) whose gyroscope is fitted with the "
+        "orientations, on the recording's clock up to an estimated offset",
+    )
+    p.add_argument(
+        "--gyro-noise",
+        metavar="IMU.YAML",
+        help="Kalibr imu.yaml of the gyroscope's noise (default: estimated from the record)",
+    )
+    p.add_argument(
+        "--estimate",
+        default="bias,time_offset,rotation",
+        help="with --gyro: comma-separated sensor parameters to estimate, of "
+        + ", ".join(GYRO_ESTIMATES)
+        + " (default: bias,time_offset,rotation; 'none' holds them all)",
     )
 
 
@@ -475,7 +503,22 @@ def fit_options(args) -> dict:
     }
     if hasattr(args, "uncertainty"):
         out["uncertainty"] = bool(args.uncertainty)
+    if getattr(args, "gyro", None) is not None:
+        out.update(gyro_options(args))
+    elif getattr(args, "gyro_noise", None) is not None:
+        raise ParameterError("--gyro-noise: only with --gyro")
     return out
+
+
+def gyro_options(args) -> dict:
+    """``gyro`` (the IMU file), ``gyro_noise`` (an imu.yaml path or None) and ``estimate``
+    (each one of :data:`quatspline.fitting.GYRO_ESTIMATES`; "none" for none)."""
+    names = parse_list(args.estimate, "--estimate")
+    if names == ["none"]:
+        estimate = ()
+    else:
+        estimate = tuple(parse_choice(e, "--estimate", GYRO_ESTIMATES) for e in names)
+    return {"gyro": args.gyro, "gyro_noise": args.gyro_noise, "estimate": estimate}
 
 
 def compare_options(args) -> dict:

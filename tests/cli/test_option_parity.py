@@ -21,7 +21,9 @@ TUM = ROOT / "data" / "tum_rgbd_fr1_xyz" / "freiburg1_xyz-groundtruth.txt"
 
 #: Options only the single-file commands have (one output file, the JSON switch of compare).
 SINGLE_ONLY = {
-    "command", "func", "debug", "input", "output", "format", "force", "json", "imu_command"
+    "command", "func", "debug", "input", "output", "format", "force", "json", "imu_command",
+    # a gyroscope record belongs to one recording (``fit --gyro``), not to a batch of them
+    "gyro", "gyro_noise", "estimate",
 }  # fmt: skip
 #: Options only the batch has (many inputs, an output directory, Dask, resuming).
 BATCH_ONLY = {"command", "func", "debug", "operation", "inputs", "output", "scheduler",

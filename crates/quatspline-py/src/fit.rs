@@ -93,6 +93,110 @@ fn fit_rotations<'py>(
     Ok(d)
 }
 
+/// The fields of a fit result common to every orientation fit, into `d`.
+fn put_fit_result(py: Python<'_>, d: &Bound<'_, PyDict>, r: fit::FitResult) -> PyResult<()> {
+    let ctrl: Vec<f64> = r.ctrl.iter().flat_map(|q| q.to_wxyz()).collect();
+    d.set_item("ctrl", ctrl.into_pyarray(py).reshape([r.ctrl.len(), 4])?)?;
+    d.set_item("dt", r.dt)?;
+    d.set_item("t0", r.t0)?;
+    d.set_item("order", r.order)?;
+    let full = r.breaks.as_ref().map(|b| fit::layout::full_knots(b, r.order).into_pyarray(py));
+    d.set_item("knots_full", full)?;
+    d.set_item("breaks", r.breaks.as_ref().map(|b| b.clone().into_pyarray(py)))?;
+    d.set_item("residuals", r.residuals.into_pyarray(py))?;
+    d.set_item("robust_weights", r.robust_weights.into_pyarray(py))?;
+    d.set_item("robust_scale", r.robust_scale)?;
+    d.set_item("smoothing", r.lambda)?;
+    d.set_item("smoothing_requested", r.lambda_requested)?;
+    d.set_item("effective_dof", r.edf)?;
+    d.set_item("score", r.score)?;
+    d.set_item("iterations", r.iterations)?;
+    d.set_item("final_step", r.final_step)?;
+    d.set_item("converged", r.converged)?;
+    d.set_item("penalty_weights", r.penalty_weights.map(|v| v.into_pyarray(py)))?;
+    Ok(())
+}
+
+/// Gyro-aided orientation fit (`quatspline::fit::fit_gyro`); returns the dict of
+/// `fit_rotations` plus the sensor parameters, their covariance and the gyro residuals.
+#[pyfunction]
+#[pyo3(signature = (times, quats, weights, gyro_times, gyro, penalty, order, smoothing, knots_spacing,
+                    knots_array, max_iter, tol, sigma_gyro, sigma_orientation, estimate,
+                    bias, time_offset, rotation, knots_per_sample=1.0, bandwidth=1.0, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn fit_rotations_gyro<'py>(
+    py: Python<'py>,
+    times: PyReadonlyArray1<'py, f64>,
+    quats: PyReadonlyArray2<'py, f64>,
+    weights: Option<PyReadonlyArray1<'py, f64>>,
+    gyro_times: PyReadonlyArray1<'py, f64>,
+    gyro: PyReadonlyArray2<'py, f64>,
+    penalty: &str,
+    order: Option<usize>,
+    smoothing: Option<f64>,
+    knots_spacing: Option<f64>,
+    knots_array: Option<PyReadonlyArray1<'py, f64>>,
+    max_iter: usize,
+    tol: f64,
+    sigma_gyro: f64,
+    sigma_orientation: f64,
+    estimate: Vec<String>,
+    bias: [f64; 3],
+    time_offset: f64,
+    rotation: [f64; 4],
+    knots_per_sample: f64,
+    bandwidth: f64,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let t = vec_of(&times);
+    let q = quats_of(&quats, "quats")?;
+    let w = weights.as_ref().map(vec_of);
+    let gt = vec_of(&gyro_times);
+    let gw = rows_of::<3>(&gyro, "gyro")?;
+    let opts = FitOptions {
+        penalty: penalty.parse::<Penalty>().map_err(to_py)?,
+        order,
+        smoothing: smoothing_of(smoothing),
+        knots: knots_of(knots_spacing, knots_array),
+        robust: Robust::None,
+        robust_scale: None,
+        max_iter,
+        tol,
+    };
+    let est = fit::Estimate::parse(estimate.iter().map(String::as_str)).map_err(to_py)?;
+    let gopts = fit::GyroOptions {
+        sigma_gyro,
+        sigma_orientation,
+        estimate: est,
+        start: fit::Sensor {
+            bias,
+            time_offset,
+            rotation: quatspline::quat::Quat::from_wxyz(rotation).normalize(),
+            scale: [0.0; 3],
+        },
+        knots_per_sample,
+        bandwidth,
+    };
+    let mut rep = reporter(progress);
+    let r =
+        guarded(py, "fit", move || fit::fit_gyro(&t, &q, w.as_deref(), &gt, &gw, &opts, &gopts, &mut rep))?;
+    let d = PyDict::new(py);
+    put_fit_result(py, &d, r.fit)?;
+    let names = r.estimate.names();
+    let np = names.len();
+    d.set_item("gyro_parameters", names)?;
+    d.set_item("gyro_covariance", r.covariance.into_pyarray(py).reshape([np, np])?)?;
+    d.set_item("gyro_bias", r.sensor.bias.to_vec().into_pyarray(py))?;
+    d.set_item("time_offset", r.sensor.time_offset)?;
+    d.set_item("sensor_rotation", r.sensor.rotation.to_wxyz().to_vec().into_pyarray(py))?;
+    d.set_item("gyro_scale", r.sensor.scale.to_vec().into_pyarray(py))?;
+    let n = r.gyro_residuals.len();
+    let res: Vec<f64> = r.gyro_residuals.into_iter().flatten().collect();
+    d.set_item("gyro_residuals", res.into_pyarray(py).reshape([n, 3])?)?;
+    d.set_item("gyro_weight", r.gyro_weight)?;
+    Ok(d)
+}
+
 /// Minimum-jerk interpolation (B-spline form); returns the same dict as `fit_rotations`.
 #[pyfunction]
 #[pyo3(signature = (times, quats, penalty, resolution, progress=None))]
@@ -412,6 +516,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit_posterior, m)?)?;
     m.add_function(wrap_pyfunction!(position_posterior, m)?)?;
     m.add_function(wrap_pyfunction!(fit_rotations, m)?)?;
+    m.add_function(wrap_pyfunction!(fit_rotations_gyro, m)?)?;
     m.add_function(wrap_pyfunction!(fit_positions, m)?)?;
     m.add_function(wrap_pyfunction!(min_energy, m)?)?;
     m.add_function(wrap_pyfunction!(min_energy_spline, m)?)?;

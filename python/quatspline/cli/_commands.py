@@ -164,6 +164,9 @@ def cmd_fit(args) -> int:
     )
     _write_trajectory(args, out)
     rms = ops.rms_residual_deg(f)
+    rot = getattr(f, "rotation", f)  # the orientation part of a pose fit
+    if rot.gyro is not None:
+        print(ops.gyro_summary(rot.gyro), file=sys.stderr if args.output == "-" else sys.stdout)
     print(
         f"wrote {'standard output' if args.output == '-' else args.output}: {len(out)} samples "
         f"of a fit to {len(traj)} measurements (λ = {f.smoothing:.4g}, effective dof "
@@ -362,6 +365,7 @@ def build_parser() -> argparse.ArgumentParser:
     ft.add_argument("-o", "--output", required=True, help="output file, or - (as sample)")
     ft.add_argument("--format", choices=sorted(qio.FORMATS), help="output format")
     options.add_fit_options(ft)
+    options.add_gyro_options(ft)
     options.add_sampling_options(ft, extrapolate=ops.FIT_EXTRAPOLATE)
     ft.add_argument("--force", action="store_true", help="allow overwriting the input file")
     ft.set_defaults(func=cmd_fit)

@@ -31,6 +31,7 @@ from .._util.arrays import as_real, with_width
 from .._util.options import parse_smoothing
 from ..core.algebra import rotate
 from ..splines import Spline, describe
+from ._gyro import DEFAULT_ESTIMATE, GyroEstimate, estimate_names, gyro_record, gyro_sigma
 
 __all__ = ["FittedPose", "FittedSpline", "fit"]
 
@@ -265,6 +266,11 @@ class FittedSpline(Spline):
     noise_std : float
         σ̂, the noise per axis (radians) that the posterior estimates: √(RSS / (3 n − tr A))
         (see :meth:`covariance`).
+    gyro : GyroEstimate or None
+        A gyro-aided fit (``fit(..., gyro=...)``): the gyroscope's estimated bias, time
+        offset, sensor rotation (and scale) with their standard deviations and covariance;
+        None otherwise. ``gyro_bias``, ``time_offset`` and ``sensor_rotation`` are shortcuts
+        to its fields (None without a gyroscope).
     control_quats, knots, order, penalty
         The B-spline that was fitted.
 
@@ -308,6 +314,19 @@ class FittedSpline(Spline):
         self._layout = (float(result["dt"]), float(result["t0"]), result.get("breaks"))
         self._data = data  # (times, quats, weights) of the fit, for its posterior
         self._post = None
+        self.gyro = None  # a GyroEstimate, set by a gyro-aided fit
+
+    @property
+    def gyro_bias(self):
+        return None if self.gyro is None else self.gyro.bias
+
+    @property
+    def time_offset(self):
+        return None if self.gyro is None else self.gyro.time_offset
+
+    @property
+    def sensor_rotation(self):
+        return None if self.gyro is None else self.gyro.rotation
 
     @property
     def method(self) -> str:
@@ -316,6 +335,11 @@ class FittedSpline(Spline):
     # ---- uncertainty ------------------------------------------------------------------
     def _posterior(self):
         if self._post is None:
+            if self.gyro is not None:
+                raise ValueError(
+                    "covariance: the curve's posterior is not available for a gyro-aided fit "
+                    "(the sensor parameters' covariance is in .gyro)"
+                )
             if self._data is None:
                 raise ValueError(
                     "covariance: this curve does not hold the samples it was fitted to"
@@ -662,6 +686,10 @@ def fit(
     tol: float = 1e-10,
     progress=None,
     extrapolate: str = "raise",
+    gyro=None,
+    gyro_noise=None,
+    noise_std=None,
+    estimate=DEFAULT_ESTIMATE,
 ):
     """Fits a smooth orientation (and position) trajectory to noisy samples.
 
@@ -741,6 +769,27 @@ def fit(
         exception raised by the callable cancels the fit (``ValueError``).
     extrapolate : {"raise", "clamp"}
         Behaviour outside the data's time range.
+    gyro : quatspline.io.ImuData or (times, rates), optional
+        A gyroscope record (rates in rad/s, sensor frame) fitted together with the
+        orientations: the objective gains κ Σⱼ |K R_bsᵀ ω(tⱼ + δ) + b − mⱼ|², κ = σ_q²/σ_g²,
+        and the bias ``b``, time offset δ, sensor rotation ``R_bs`` (and scale ``K``) named in
+        ``estimate`` are estimated jointly with the curve (see the "Fitting with a gyroscope"
+        section of the IMU guide). Samples outside the orientations' time range are dropped
+        with a ``RuntimeWarning``. With a gyroscope, knots default to one interval per
+        gyroscope sample and ``smoothing="auto"`` to λ = κ ρ_g h^{2m} (ρ_g the gyroscope's
+        rate, h one gyroscope sample spacing; "gcv" and "adaptive" are not available); robust
+        losses and ``penalty="auto"`` are not available. The result's ``gyro`` holds the
+        estimates and their standard deviations.
+    gyro_noise : None, quatspline.io.ImuNoise or float
+        σ_g, the gyroscope's white noise per axis and sample (rad/s): an ImuNoise gives it
+        from its noise density at the record's rate; None estimates it from the record
+        (1.4826 × the median absolute second difference / √6).
+    noise_std : float, optional
+        σ_q, the orientations' noise per axis (radians), with a gyroscope; None: the
+        ``noise_std`` of the plain fit of the orientations.
+    estimate : sequence of str
+        With a gyroscope: some of ``"bias"``, ``"time_offset"``, ``"rotation"``, ``"scale"``
+        (default the first three); the others are held at 0, 0, identity and 1.
 
     Returns
     -------
@@ -775,6 +824,24 @@ def fit(
     q = _quats(quats, len(t))
     penalty = _choice(penalty, "penalty", (*_PENALTIES, "auto"))
     robust = _choice(robust, "robust", _ROBUST)
+    if gyro is not None:
+        kw = dict(weights=weights, smoothing=smoothing, penalty=penalty, knots=knots)
+        kw.update(robust=robust, order=order, max_iter=max_iter, tol=tol, progress=progress)
+        kw.update(extrapolate=extrapolate, gyro_noise=gyro_noise, noise_std=noise_std)
+        rot = _fit_gyro(t, q, gyro, estimate=estimate, **kw)
+        if positions is None:
+            return rot
+        # positions: their own fit (λ by GCV), as without a gyroscope
+        p = with_width(positions, "positions", 3)
+        if p.ndim != 2 or len(p) != len(t):
+            raise ValueError(f"positions: expected shape ({len(t)}, 3), got {p.shape}")
+        w, (ks, ka) = _weights(weights, len(t)), _knots(knots)
+        p = np.ascontiguousarray(p)
+        pos = _core.fit_positions(t, p, w, penalty, order, None, ks, ka, None, None)
+        pos.update(penalty=penalty, data=(t, p, w))
+        return FittedPose(rot, pos, extrapolate)
+    if gyro_noise is not None or noise_std is not None:
+        raise ValueError("gyro_noise, noise_std: only with a gyroscope (gyro=...)")
     if penalty == "auto":
         if _lambda(smoothing, "smoothing")[0] is not None or order is not None:
             raise ValueError(
@@ -851,6 +918,72 @@ def fit(
             cb.close()
     _warn_capped(pos, "smoothing[1]" if isinstance(smoothing, tuple) else "smoothing (positions)")
     return FittedPose(rot, pos, extrapolate)
+
+
+def _fit_gyro(t, q, gyro, *, estimate, smoothing, penalty, robust, gyro_noise, noise_std, **kw):
+    """The gyro-aided orientation fit (see :func:`fit`'s ``gyro``)."""
+    if penalty == "auto":
+        raise ValueError("penalty: 'auto' is not available with a gyroscope; give the penalty")
+    if robust is not None:
+        raise ValueError("robust: robust losses are not available with a gyroscope")
+    lam, mode = _lambda(smoothing, "smoothing")
+    if lam is None and mode != "auto":
+        raise ValueError(
+            f"smoothing: {mode!r} is not available with a gyroscope; use 'auto' or a number"
+        )
+    if lam == 0.0:
+        raise ValueError("smoothing: λ = 0 (interpolation) is not available with a gyroscope")
+    names = estimate_names(estimate)
+    gt, gw, rate, _ = gyro_record(gyro, (float(t[0]), float(t[-1])))
+    sigma_g = gyro_sigma(gyro_noise, gw, rate)
+    w = _weights(kw["weights"], len(t))
+    order = kw["order"]
+    if order is not None:
+        order = _integer(order, "order", 1, _MAX_ORDER, "a spline order")
+    max_iter = _integer(kw["max_iter"], "max_iter", 1, _MAX_ITER, "an iteration count")
+    tol = kw["tol"]
+    if isinstance(tol, bool) or not isinstance(tol, numbers.Real):
+        raise TypeError(f"tol: expected a number, got {type(tol).__name__}")
+    if not (np.isfinite(tol) and tol > 0):
+        raise ValueError(f"tol: expected a finite positive tolerance, got {float(tol):.6g}")
+    if noise_std is None:
+        sigma_q = fit(t, q, weights=w, penalty=penalty, order=order).noise_std
+    elif isinstance(noise_std, numbers.Real) and not isinstance(noise_std, bool):
+        sigma_q = float(noise_std)
+        if not (math.isfinite(sigma_q) and sigma_q > 0):
+            raise ValueError(f"noise_std: expected a finite positive angle, got {sigma_q:.6g}")
+    else:
+        raise TypeError(f"noise_std: expected a number, got {type(noise_std).__name__}")
+    ks, ka = _knots(kw["knots"])
+    cb = _progress(kw["progress"])
+    try:
+        res = _core.fit_rotations_gyro(
+            t,
+            q,
+            w,
+            gt,
+            gw,
+            penalty,
+            order,
+            lam,
+            ks,
+            ka,
+            int(max_iter),
+            float(tol),
+            float(sigma_g),
+            float(sigma_q),
+            list(names),
+            [0.0, 0.0, 0.0],
+            0.0,
+            [1.0, 0.0, 0.0, 0.0],
+            progress=cb,
+        )
+    finally:
+        if cb is not None and hasattr(cb, "close"):
+            cb.close()
+    out = FittedSpline(res, penalty, kw["extrapolate"], data=None)
+    out.gyro = GyroEstimate.from_result(res, names, sigma_g, sigma_q, gt)
+    return out
 
 
 def _warn_capped(res: dict, name: str) -> None:

@@ -32,6 +32,26 @@ def _kind(motion) -> str:
     return "rotation"
 
 
+def _refuse_accelerometer(sensor: SensorModel) -> None:
+    """A rotation spline has no positions, so no accelerometer: a sensor model that asks for
+    one (a lever arm, an accelerometer bias or matrix) is refused rather than ignored."""
+    asked = [
+        name
+        for name, on in (
+            ("lever_arm", np.any(sensor.lever_arm)),
+            ("accel_bias", np.any(sensor.accel_bias)),
+            ("accel_matrix", sensor.accel_matrix is not None),
+        )
+        if on
+    ]
+    if asked:
+        raise ValueError(
+            f"sensor: {', '.join(asked)} describe the accelerometer, which needs positions: "
+            "the motion is a rotation spline (give a pose spline, e.g. a PoseSpline or a fit "
+            "with positions)"
+        )
+
+
 def _motion_times(motion, rate, times, offset: float) -> tuple[np.ndarray, np.ndarray]:
     """(sensor times, motion times = sensor times + offset), checked against the domain."""
     if (rate is None) == (times is None):
@@ -183,7 +203,8 @@ def simulate(
     ValueError
         Neither or both of ``rate`` and ``times``; times not increasing, not finite or
         outside the motion's domain; a bad gravity vector; white noise with a single sample
-        (no rate to discretise with).
+        (no rate to discretise with); accelerometer terms of ``sensor`` (``lever_arm``,
+        ``accel_bias``, ``accel_matrix``) for a rotation spline, which has no positions.
     TypeError
         ``motion`` is not a spline, ``noise`` or ``sensor`` of the wrong kind.
 
@@ -211,6 +232,8 @@ def simulate(
         sensor = SensorModel()
     elif not isinstance(sensor, SensorModel):
         raise TypeError(f"sensor: expected a SensorModel, got {type(sensor).__name__}")
+    if kind == "rotation":
+        _refuse_accelerometer(sensor)
     model = _noise_model(noise)
     g = gravity_vector(gravity)
     t, tm = _motion_times(motion, rate, times, sensor.time_offset)

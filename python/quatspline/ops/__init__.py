@@ -24,7 +24,7 @@ from ..io.trajectory import set_sampler
 from . import _resample
 from ._compare import IMPULSES, compare, format_table, markdown_cell
 from ._export import BvhReport, GltfReport, export, keyframes, to_bvh, to_gltf
-from ._fit import FIT_EXTRAPOLATE, fit_trajectory, rms_residual_deg
+from ._fit import FIT_EXTRAPOLATE, fit_trajectory, gyro_summary, rms_residual_deg
 from ._imu import calibrate_imu, imu_motion, simulate_imu, write_simulated
 from ._ops import DEFAULT_MAX_SAMPLES, ParameterError, build_spline
 from ._sample import (
@@ -51,6 +51,7 @@ __all__ = [
     "check_times",
     "compare",
     "fit_trajectory",
+    "gyro_summary",
     "format_table",
     "imu_motion",
     "markdown_cell",

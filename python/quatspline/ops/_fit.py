@@ -5,17 +5,21 @@ before the fit is computed."""
 
 from __future__ import annotations
 
+import math
 import numbers
+from pathlib import Path
 
 import numpy as np
 
-from ..fitting import FittedPose, fit
-from ..io import Trajectory
+from ..fitting import FittedPose, GyroEstimate, fit
+from ..fitting._gyro import DEFAULT_ESTIMATE
+from ..io import ImuData, Trajectory, read_imu
 from ..splines import DEFAULT_MAX_SAMPLES
+from ._imu import _noise
 from ._ops import ParameterError, _check_trajectory
 from ._sample import evaluate, requested_times, sample_times
 
-__all__ = ["FIT_EXTRAPOLATE", "fit_trajectory", "rms_residual_deg"]
+__all__ = ["FIT_EXTRAPOLATE", "fit_trajectory", "gyro_summary", "rms_residual_deg"]
 
 #: The extrapolation modes of a fit (:func:`quatspline.fit`).
 FIT_EXTRAPOLATE = ("raise", "clamp")
@@ -61,6 +65,64 @@ def _relative_knots(knots, t0: float):
     return k.astype(float) - t0
 
 
+def gyro_summary(g: GyroEstimate) -> str:
+    """One line per estimated sensor parameter of a gyro-aided fit, with its standard
+    deviation (degrees, °/s, milliseconds).
+
+    Examples
+    --------
+    >>> import numpy as np, quatspline as qs
+    >>> from quatspline.ops import gyro_summary
+    >>> t = np.linspace(0.0, 4.0, 9)
+    >>> gt = np.linspace(0.0, 4.0, 401)
+    >>> f = qs.fit(t, qs.from_rotvec(np.outer(np.sin(t), [1.0, 0.5, 0.0])),
+    ...            gyro=(gt, np.outer(np.cos(gt), [1.0, 0.5, 0.0])), gyro_noise=0.01,
+    ...            noise_std=0.001, estimate=("bias",))
+    >>> print(gyro_summary(f.gyro).splitlines()[0][:22])
+    gyro bias (°/s):
+    """
+    lines = []
+    est = set(g.estimated)
+
+    def three(v, sd):
+        return "  ".join(f"{a:+.4f} ± {b:.4f}" for a, b in zip(v, sd))
+
+    if "bias" in est:
+        lines.append(f"gyro bias (°/s):        {three(np.degrees(g.bias), np.degrees(g.bias_std))}")
+    if "time_offset" in est:
+        lines.append(
+            f"time offset (ms):       {1e3 * g.time_offset:+.4f} ± {1e3 * g.time_offset_std:.4f}"
+        )
+    if "rotation" in est:
+        w = np.clip(abs(float(g.rotation[0])), 0.0, 1.0)
+        ang = math.degrees(2.0 * math.acos(w))
+        lines.append(
+            f"sensor rotation:        {ang:.4f}° (std per axis "
+            + ", ".join(f"{math.degrees(s):.4f}°" for s in g.rotation_std)
+            + ")"
+        )
+    if "scale" in est:
+        lines.append(f"gyro scale − 1:         {three(g.scale, g.scale_std)}")
+    rms = ", ".join(f"{math.degrees(v):.3f}" for v in g.rms)
+    lines.append(f"gyro residual RMS (°/s): {rms} (σ_g {math.degrees(g.gyro_noise):.3f})")
+    return "\n".join(lines)
+
+
+def _gyro(gyro, t0: float):
+    """The gyroscope for the fit: an ImuData, (times, rates) or a file read by
+    :func:`quatspline.io.read_imu`, its times moved to the fit's (relative) clock."""
+    if isinstance(gyro, (str, Path)):
+        gyro = read_imu(gyro)
+    if isinstance(gyro, ImuData):
+        return (gyro.times - t0, gyro.gyro)
+    if isinstance(gyro, (tuple, list)) and len(gyro) == 2:
+        return (np.asarray(gyro[0], dtype=float) - t0, gyro[1])
+    raise TypeError(
+        f"gyro: expected an ImuData, a pair (times, rates) or a file name, got "
+        f"{type(gyro).__name__}"
+    )
+
+
 def _uncertainty_columns(f, t: np.ndarray, derivatives: bool) -> dict:
     """The posterior standard deviations of a fit at ``t`` as extra columns."""
     cols = {"orientation_std": f.std(t)}
@@ -86,6 +148,9 @@ def fit_trajectory(
     max_samples: int | None = None,
     extrapolate: str = "raise",
     progress=None,
+    gyro=None,
+    gyro_noise=None,
+    estimate=DEFAULT_ESTIMATE,
 ):
     """Fits a recorded trajectory and samples the fit: the operation behind ``quatspline fit``.
 
@@ -116,6 +181,14 @@ def fit_trajectory(
         pose held.
     progress : None, True or callable
         As :func:`quatspline.fit`.
+    gyro : None, quatspline.io.ImuData, (times, rates) or path
+        A gyroscope fitted with the orientations (:func:`quatspline.fit`'s ``gyro``), its
+        times on the recording's clock; a path is read by :func:`quatspline.io.read_imu`.
+    gyro_noise : None, ImuNoise, mapping, imu.yaml path or float
+        The gyroscope's noise (:func:`quatspline.fit`'s ``gyro_noise``; a path or mapping is
+        read as Kalibr ``imu.yaml`` densities).
+    estimate : sequence of str
+        With ``gyro``: the sensor parameters to estimate (as :func:`quatspline.fit`).
 
     Returns
     -------
@@ -162,6 +235,13 @@ def fit_trajectory(
         extrapolate=extrapolate,
     )
     t0 = float(traj.times[0])
+    extra_kw = {}
+    if gyro is not None:
+        if isinstance(gyro_noise, (str, Path)) or hasattr(gyro_noise, "keys"):
+            gyro_noise = _noise(gyro_noise)
+        extra_kw = {"gyro": _gyro(gyro, t0), "gyro_noise": gyro_noise, "estimate": estimate}
+    elif gyro_noise is not None:
+        raise ParameterError("gyro_noise: only with a gyroscope (gyro=...)")
     f = fit(
         traj.times - t0,
         traj.quats,
@@ -172,6 +252,7 @@ def fit_trajectory(
         knots=_relative_knots(knots, t0),
         progress=progress,
         extrapolate=extrapolate,
+        **extra_kw,
     )
     if t is None:
         t = sample_times(f.domain, rate=rate, count=count, max_samples=max_samples)

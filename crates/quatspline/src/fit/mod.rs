@@ -68,6 +68,7 @@
 pub mod adaptive;
 pub mod banded;
 pub mod covariance;
+pub mod gyro;
 pub mod layout;
 pub mod min_energy;
 pub mod model;
@@ -85,6 +86,7 @@ mod types;
 pub use crate::quadrature::gauss_legendre01;
 pub use adaptive::{fit_adaptive, Adaptivity};
 pub use covariance::{fitted_layout, Posterior, Quantity};
+pub use gyro::{fit_gyro, Estimate, GyroFit, GyroOptions, Sensor};
 pub(crate) use lambda::lambda_cap;
 pub use solver::fit;
 pub use types::{FitOptions, FitResult, Knots, Penalty, Progress, Robust, Smoothing};
