@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tarfile
@@ -158,3 +159,46 @@ def test_viewer_assets_ship_in_the_wheel_and_missing_extras_give_a_hint(env):
         env, "quatspline", "batch", "sample", str(env[2]), "-o", str(env[2] / "b"), "--count", "3"
     )
     assert r.returncode == 1 and 'pip install "quatspline[dask]"' in r.stderr, r.stderr
+
+
+BLENDER_SCRIPT = """
+import addon_utils, bpy, math
+print("QS enabled", addon_utils.check("quatspline_addon")[1])
+obj = bpy.data.objects.new("body", None)
+bpy.context.collection.objects.link(obj)
+bpy.context.view_layer.objects.active = obj
+obj.select_set(True)
+obj.rotation_mode = "QUATERNION"
+for f, a in ((1, 0.0), (25, 1.0), (49, 2.5), (73, 3.0)):
+    obj.rotation_quaternion = (math.cos(a / 2), 0.0, 0.0, math.sin(a / 2))
+    obj.keyframe_insert("rotation_quaternion", frame=f)
+print("QS op", sorted(bpy.ops.quatspline.resample()))
+fc = [c for c in obj.animation_data.action.fcurves if c.data_path == "rotation_quaternion"]
+print("QS keys", len(fc[0].keyframe_points))
+"""
+
+
+@pytest.mark.skipif(shutil.which("blender") is None, reason="no blender on the PATH")
+def test_blender_addon_installs_from_the_wheel_and_resamples(env):
+    """The add-on as a wheel user installs it: ``python -m quatspline.blender install`` from
+    the wheel's environment, then a real, headless Blender runs its resample operator."""
+    py, _, work = env
+    cfg = {
+        "BLENDER_USER_CONFIG": str(work / "blender-config"),
+        "BLENDER_USER_SCRIPTS": str(work / "blender-scripts"),
+    }
+    clean = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
+    r = subprocess.run(
+        [str(py), "-m", "quatspline.blender", "install", "--blender", shutil.which("blender")],
+        cwd=work, env={**clean, **cfg}, capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    (work / "resample.py").write_text(BLENDER_SCRIPT, encoding="utf-8")
+    r = subprocess.run(
+        ["blender", "-b", "--python-exit-code", "1", "--python", str(work / "resample.py")],
+        cwd=work, env={**clean, **cfg}, capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    lines = [ln for ln in r.stdout.splitlines() if ln.startswith("QS ")]
+    assert r.returncode == 0, (r.stdout[-2000:], r.stderr[-2000:])
+    assert lines[:2] == ["QS enabled True", "QS op ['FINISHED']"], lines
+    assert int(lines[2].split()[-1]) > 4  # keys placed along the spline, not only the four
