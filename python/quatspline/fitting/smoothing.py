@@ -771,7 +771,7 @@ def fit(
         Behaviour outside the data's time range.
     gyro : quatspline.io.ImuData or (times, rates), optional
         A gyroscope record (rates in rad/s, sensor frame) fitted together with the
-        orientations: the objective gains κ Σⱼ |K R_bsᵀ ω(tⱼ + δ) + b − mⱼ|², κ = σ_q²/σ_g²,
+        orientations: the objective gains ``κ Σⱼ |K R_bsᵀ ω(tⱼ + δ) + b − mⱼ|²``, κ = σ_q²/σ_g²,
         and the bias ``b``, time offset δ, sensor rotation ``R_bs`` (and scale ``K``) named in
         ``estimate`` are estimated jointly with the curve (see the "Fitting with a gyroscope"
         section of the IMU guide). Samples outside the orientations' time range are dropped
