@@ -14,33 +14,12 @@ from __future__ import annotations
 
 import argparse
 import time
-from collections.abc import Callable
 
 import numpy as np
 import quatspline as qs
+from _common import cpu_model
 from bench import random_walk
-
-
-def cpu_name() -> str:
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return "unknown CPU"
-
-
-def best_ns(fn: Callable[[], object], n: int, repeat: int) -> float:
-    """Best wall time of ``repeat`` runs after one warm-up, per sample, in ns."""
-    fn()
-    best = float("inf")
-    for _ in range(repeat):
-        t0 = time.perf_counter_ns()
-        fn()
-        best = min(best, time.perf_counter_ns() - t0)
-    return best / n
+from engine_bench import best_ns
 
 
 def corners(keys: int) -> list[tuple[str, qs.Spline]]:
@@ -167,7 +146,7 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--only", choices=("arc", "corners"), default=None)
     a = ap.parse_args()
-    print(f"CPU: {cpu_name()}; ns per sample, best of {a.repeat} runs, {a.n:,} sorted samples\n")
+    print(f"CPU: {cpu_model()}; ns per sample, best of {a.repeat} runs, {a.n:,} sorted samples\n")
     if a.only != "corners":
         print(f"## Arc-length splines ({a.keys:,} keys)\n")
         arc_table(arc_families(a.keys), a.n, a.repeat)
