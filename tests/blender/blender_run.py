@@ -53,7 +53,7 @@ def skip_unless(which: str) -> None:
 def env(tmp_path: Path) -> dict:
     """Blender's user folders inside tmp_path (the tests never touch the user's Blender),
     and the folders quatspline imports from."""
-    e = dict(os.environ)
+    e = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}  # quatspline: QS_PATHS
     e["BLENDER_USER_CONFIG"] = str(tmp_path / "blender-config")
     e["BLENDER_USER_SCRIPTS"] = str(tmp_path / "blender-scripts")
     e["QS_PATHS"] = os.pathsep.join([PACKAGE_ROOT, *site.getsitepackages()])

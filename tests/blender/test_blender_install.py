@@ -3,8 +3,10 @@ folders live in the test's temporary directory; and the add-on's modules outside
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
+import textwrap
 
 import numpy as np
 import pytest
@@ -12,7 +14,7 @@ import quatspline.blender
 from quatspline._util.optional import MissingDependency
 from quatspline.blender import actions, installer
 
-from .blender_run import BLENDER, BLENDERS, env, needs_blender, run
+from .blender_run import BLENDER, BLENDERS, HERE, env, needs_blender, run
 
 CHECK = """
 import sys, addon_utils, bpy
@@ -148,3 +150,29 @@ def qs_mul(a, b):
         w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
         w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
     ])  # fmt: skip
+
+
+def test_the_docs_example_for_blender_as_a_module_runs_in_blender_42(tmp_path):
+    """docs/blender.md's example for the bpy module, as written, on a keyed active object."""
+    doc = (HERE.parents[1] / "docs" / "blender.md").read_text(encoding="utf-8")
+    (example,) = re.findall(r"```python\n(.*?)```", doc, flags=re.S)
+    setup = STUB_CHECK.split('print("QS version"')[0] + textwrap.dedent("""
+        obj = bpy.data.objects.new("body", None)
+        bpy.context.collection.objects.link(obj)
+        bpy.context.view_layer.objects.active = obj
+        obj.rotation_mode = "QUATERNION"
+        for f, a in ((1, 0.0), (25, 1.0), (49, 2.5), (73, 3.0)):
+            obj.rotation_quaternion = (math.cos(a / 2), 0.0, 0.0, math.sin(a / 2))
+            obj.keyframe_insert("rotation_quaternion", frame=f)
+        import os
+        sys.path += os.environ["QS_PATHS"].split(os.pathsep)  # the environment quatspline is in
+    """)
+    check = textwrap.dedent("""
+        fc = [c for c in obj.animation_data.action.fcurves
+              if c.data_path == "rotation_quaternion"]
+        print("QS keys", len(fc[0].keyframe_points), fc[0].keyframe_points[1].interpolation)
+    """)
+    (tmp_path / "example.py").write_text(setup + example + check, encoding="utf-8")
+    r = run(tmp_path, tmp_path / "example.py", which="bpy")
+    (line,) = [ln for ln in r.stdout.splitlines() if ln.startswith("QS keys")]
+    assert int(line.split()[2]) > 4 and line.split()[3] == "LINEAR", line
