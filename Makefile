@@ -11,7 +11,7 @@ DEV     := $(VENV)/.dev-stamp
 # maturin finds zig (the pip package `ziglang`) through the venv's python on PATH
 export PATH := $(abspath $(VENV))/bin:$(PATH)
 
-.PHONY: viewer-assets browser blender build demo test test-rust test-python test-wheel lint typecheck docs wheel sdist \
+.PHONY: viewer-assets browser blender blender-bpy build demo test test-rust test-python test-wheel lint typecheck docs wheel sdist \
 	bench accuracy fuzz clean
 
 $(BASE):
@@ -74,7 +74,24 @@ blender:
 			apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq blender python3-numpy; \
 		else echo "make: no blender and no way to install it here: Blender tests will skip"; fi; }
 
-test-python: build $(DEV) $(GLTF_VALIDATOR) viewer-assets browser blender
+# The official Blender 4.2 build as a Python module (PyPI's bpy, for Python 3.11 only) in its
+# own environment, .venv-bpy/, with the numpy Blender 4.2 bundles (1.26) and quatspline's
+# pure-Python dependencies; the tests put quatspline itself on its path. Built in a scratch
+# folder and moved into place only when complete; where python3.11 or PyPI is missing, its
+# tests skip with a message.
+BPY_PY   ?= python3.11
+BPY_VENV := .venv-bpy
+blender-bpy:
+	@test -x $(BPY_VENV)/bin/python || { \
+		if command -v $(BPY_PY) >/dev/null 2>&1; then \
+			rm -rf $(BPY_VENV).partial && $(BPY_PY) -m venv $(BPY_VENV).partial && \
+			$(BPY_VENV).partial/bin/python -m pip install --quiet --disable-pip-version-check \
+				"bpy==4.2.0" "numpy>=1.26,<2" "tqdm>=4.60" && \
+			mv $(BPY_VENV).partial $(BPY_VENV) || { rm -rf $(BPY_VENV).partial; \
+			echo "make: could not install bpy==4.2.0: the Blender 4.2 tests will skip"; }; \
+		else echo "make: no $(BPY_PY) for PyPI's bpy 4.2: the Blender 4.2 tests will skip"; fi; }
+
+test-python: build $(DEV) $(GLTF_VALIDATOR) viewer-assets browser blender blender-bpy
 	$(VPY) -m pytest
 	QUATSPLINE_SIMD=scalar $(VPY) -m pytest -q tests/core/test_simd.py tests/core/test_engine.py tests/splines/test_splines.py
 
@@ -130,4 +147,4 @@ accuracy: build $(DEV)
 	$(VPY) benchmarks/accuracy.py
 
 clean:
-	rm -rf target $(VENV) out dist docs/_build docs/api/generated docs/auto_examples
+	rm -rf target $(VENV) $(BPY_VENV) out dist docs/_build docs/api/generated docs/auto_examples

@@ -202,3 +202,40 @@ def test_blender_addon_installs_from_the_wheel_and_resamples(env):
     assert r.returncode == 0, (r.stdout[-2000:], r.stderr[-2000:])
     assert lines[:2] == ["QS enabled True", "QS op ['FINISHED']"], lines
     assert int(lines[2].split()[-1]) > 4  # keys placed along the spline, not only the four
+
+
+BPY_PYTHON = Path(os.environ.get("QUATSPLINE_BPY_PYTHON", ROOT / ".venv-bpy" / "bin" / "python"))
+
+
+@pytest.mark.skipif(
+    not os.access(BPY_PYTHON, os.X_OK),
+    reason=f"no Blender 4.2 Python module at {BPY_PYTHON} (`make blender-bpy` creates it)",
+)
+def test_blender_42_enables_the_addon_from_the_wheel_and_resamples(env):
+    """The stub add-on that ``install`` writes, made from the wheel's environment, enabled by
+    the official Blender 4.2 build (PyPI's bpy module, which has no executable for
+    ``install`` to run) through its add-on preferences; its resample operator runs."""
+    py, _, work = env
+    scripts = work / "bpy-scripts"
+    (scripts / "addons").mkdir(parents=True)
+    cfg = {"BLENDER_USER_CONFIG": str(work / "bpy-config"), "BLENDER_USER_SCRIPTS": str(scripts)}
+    clean = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
+    r = _run(env, str(py), "-c", "from quatspline.blender.installer import stub_text as s; "
+             "print(s(), end='')")  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    (scripts / "addons" / "quatspline_addon.py").write_text(r.stdout, encoding="utf-8")
+    script = (
+        "import bpy\nbpy.ops.preferences.addon_enable(module='quatspline_addon')\n"
+        + BLENDER_SCRIPT
+        + "import quatspline\nprint('QS from', quatspline.__file__)\n"
+    )
+    (work / "resample42.py").write_text(script, encoding="utf-8")
+    r = subprocess.run(
+        [str(BPY_PYTHON), str(work / "resample42.py")],
+        cwd=work, env={**clean, **cfg}, capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    lines = [ln for ln in r.stdout.splitlines() if ln.startswith("QS ")]
+    assert r.returncode == 0, (r.stdout[-2000:], r.stderr[-2000:])
+    assert lines[:2] == ["QS enabled True", "QS op ['FINISHED']"], lines
+    assert int(lines[2].split()[-1]) > 4
+    assert Path(lines[3].split(maxsplit=2)[2]).is_relative_to(py.parent.parent), lines[3]

@@ -3,6 +3,7 @@ JSON file (a list of jobs, each with its output .npz) and writes what Blender th
 own F-curve evaluation). One Blender run serves every job (a fresh scene each).
 
     blender -b --factory-startup --python blender_addon_driver.py -- jobs.json
+    python blender_addon_driver.py -- jobs.json     (Blender as a Python module: bpy)
 
 The folders to import quatspline from come in the environment variable QS_PATHS
 (os.pathsep-separated), as the installed stub add-on appends them.
@@ -14,7 +15,7 @@ import sys
 
 import numpy
 
-if not hasattr(numpy, "bool"):  # Debian's Blender 3.4 uses the alias numpy 1.24–1.26 lack
+if "bool" not in vars(numpy):  # Debian's Blender 3.4 uses the alias numpy 1.24–1.26 lack
     numpy.bool = bool
 
 for _p in os.environ.get("QS_PATHS", "").split(os.pathsep):
@@ -68,7 +69,7 @@ def _run(job):
     scene = bpy.context.scene
     scene.render.fps = job.get("fps", 24)
     scene.render.fps_base = 1.0
-    result = {}
+    result = {"blender": numpy.array(bpy.app.version)}
     kind = job["kind"]
     if kind in ("resample", "fit", "kinematics"):
         obj = _keyed_object(job["object"])
@@ -76,7 +77,8 @@ def _run(job):
         try:
             ret = op(**job.get("options", {}))
         except RuntimeError as e:  # an operator's ERROR report, raised by bpy.ops
-            numpy.savez(job["out"], status=numpy.array(["ERROR"]), error=numpy.array(str(e)))
+            numpy.savez(job["out"], status=numpy.array(["ERROR"]), error=numpy.array(str(e)),
+                        blender=numpy.array(bpy.app.version))  # fmt: skip
             return
         result["status"] = numpy.array(sorted(ret))
         if kind == "kinematics":

@@ -1,7 +1,8 @@
 """The Blender add-on in a real Blender (headless): what Blender's own F-curve evaluation
 plays after each operator, at random frames, against quatspline's spline through the same
 keys — within the stated bounds (0.01° and 0.1 mm by default), with the keys as Blender
-stores them (float32) and no slack. One Blender run drives every scene of this file."""
+stores them (float32) and no slack. One Blender run drives every scene of this file, in
+each Blender of :data:`blender_run.BLENDERS` (Debian's 3.4 and the official 4.2 module)."""
 
 from __future__ import annotations
 
@@ -10,9 +11,7 @@ import pytest
 import quatspline as qs
 from quatspline.io.gltf import sign_continuous
 
-from .blender_run import jobs, needs_blender
-
-pytestmark = needs_blender
+from .blender_run import BLENDERS, jobs, skip_unless
 
 FPS = 24
 BOUND = np.radians(0.01)
@@ -81,10 +80,11 @@ def _object(mode, frames, rot, loc):
             "location": np.asarray(loc).tolist()}  # fmt: skip
 
 
-@pytest.fixture(scope="module")
-def played(tmp_path_factory):
-    """Every scene of this file through one Blender run: name → what Blender played."""
-    d = tmp_path_factory.mktemp("blender-addon")
+@pytest.fixture(scope="module", params=list(BLENDERS))
+def played(request, tmp_path_factory):
+    """Every scene of this file through one run of each Blender: name → what it played."""
+    skip_unless(request.param)
+    d = tmp_path_factory.mktemp(f"blender-addon-{request.param}")
     specs = {}
     for mode, method, params, _ in RESAMPLE:
         frames, rot, _, loc, at = _resample_input(mode)
@@ -122,12 +122,20 @@ def played(tmp_path_factory):
         "frames": [],
     }  # fmt: skip
     trajs = {k: s.pop("_traj") for k, s in specs.items() if "_traj" in s}
-    out = jobs(d, specs)
+    out = jobs(d, specs, which=request.param)
     for k, s in specs.items():
         out[k]["frames"] = np.asarray(s["frames"])
+        out[k]["which"] = request.param
         if k in trajs:
             out[k]["traj"] = trajs[k]
     return out
+
+
+def test_the_scenes_ran_in_the_blender_named(played):
+    """Debian's package is Blender 3.4; PyPI's bpy module the official 4.2 build."""
+    want = {"blender": (3, 4), "bpy": (4, 2)}
+    for name, out in played.items():
+        assert tuple(out["blender"][:2]) == want[out["which"]], (name, out["blender"])
 
 
 def _played(out):

@@ -3,8 +3,10 @@ folders live in the test's temporary directory; and the add-on's modules outside
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
+import textwrap
 
 import numpy as np
 import pytest
@@ -12,7 +14,7 @@ import quatspline.blender
 from quatspline._util.optional import MissingDependency
 from quatspline.blender import actions, installer
 
-from .blender_run import BLENDER, env, needs_blender
+from .blender_run import BLENDER, BLENDERS, HERE, env, needs_blender, run
 
 CHECK = """
 import sys, addon_utils, bpy
@@ -54,6 +56,50 @@ def test_install_enables_the_addon_and_uninstall_removes_it(tmp_path):
     r = _module(tmp_path, "uninstall", "--blender", BLENDER)
     assert r.returncode == 0 and not stub.exists(), r.stderr
     assert _check(tmp_path)[:2] == ["QS enabled False", "QS ops False False"]
+
+
+STUB_CHECK = """
+import math, sys, bpy
+import addon_utils  # after bpy: Blender as a module puts it on sys.path
+print("QS version", *bpy.app.version[:2])
+before = list(sys.path)
+bpy.ops.preferences.addon_enable(module="quatspline_addon")
+print("QS enabled", addon_utils.check("quatspline_addon")[1],
+      hasattr(bpy.types, "QUATSPLINE_OT_resample"))
+paths = sys.modules["quatspline_addon"].PATHS
+print("QS paths", all(p in sys.path for p in paths))
+obj = bpy.data.objects.new("body", None)
+bpy.context.collection.objects.link(obj)
+bpy.context.view_layer.objects.active = obj
+obj.rotation_mode = "QUATERNION"
+for f, a in ((1, 0.0), (25, 1.0), (49, 2.5), (73, 3.0)):
+    obj.rotation_quaternion = (math.cos(a / 2), 0.0, 0.0, math.sin(a / 2))
+    obj.keyframe_insert("rotation_quaternion", frame=f)
+print("QS op", sorted(bpy.ops.quatspline.resample(method="c3")))
+fc = [c for c in obj.animation_data.action.fcurves if c.data_path == "rotation_quaternion"]
+print("QS more keys", len(fc[0].keyframe_points) > 4)
+bpy.ops.preferences.addon_disable(module="quatspline_addon")
+print("QS disabled", not addon_utils.check("quatspline_addon")[1],
+      not hasattr(bpy.types, "QUATSPLINE_OT_resample"), sys.path == before)
+"""
+
+
+@pytest.mark.parametrize("which", list(BLENDERS))
+def test_the_stub_addon_enables_resamples_and_disables_in_each_blender(tmp_path, which):
+    """The one-file add-on ``install`` writes, in Blender's user add-on folder, enabled and
+    disabled by Blender's own add-on preferences operators (Debian's 3.4 and the official
+    4.2 build, which has no executable to run ``install`` against as a module)."""
+    addons = tmp_path / "blender-scripts" / "addons"
+    addons.mkdir(parents=True)
+    (addons / f"{installer.STUB}.py").write_text(installer.stub_text(), encoding="utf-8")
+    (tmp_path / "check.py").write_text(STUB_CHECK, encoding="utf-8")
+    r = run(tmp_path, tmp_path / "check.py", which=which)
+    lines = [ln for ln in r.stdout.splitlines() if ln.startswith("QS ")]
+    version = {"blender": "QS version 3 4", "bpy": "QS version 4 2"}[which]
+    assert lines == [
+        version, "QS enabled True True", "QS paths True", "QS op ['FINISHED']",
+        "QS more keys True", "QS disabled True True True",
+    ], r.stdout[-2000:]  # fmt: skip
 
 
 def test_install_names_a_missing_blender(tmp_path):
@@ -104,3 +150,29 @@ def qs_mul(a, b):
         w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
         w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
     ])  # fmt: skip
+
+
+def test_the_docs_example_for_blender_as_a_module_runs_in_blender_42(tmp_path):
+    """docs/blender.md's example for the bpy module, as written, on a keyed active object."""
+    doc = (HERE.parents[1] / "docs" / "blender.md").read_text(encoding="utf-8")
+    (example,) = re.findall(r"```python\n(.*?)```", doc, flags=re.S)
+    setup = STUB_CHECK.split('print("QS version"')[0] + textwrap.dedent("""
+        obj = bpy.data.objects.new("body", None)
+        bpy.context.collection.objects.link(obj)
+        bpy.context.view_layer.objects.active = obj
+        obj.rotation_mode = "QUATERNION"
+        for f, a in ((1, 0.0), (25, 1.0), (49, 2.5), (73, 3.0)):
+            obj.rotation_quaternion = (math.cos(a / 2), 0.0, 0.0, math.sin(a / 2))
+            obj.keyframe_insert("rotation_quaternion", frame=f)
+        import os
+        sys.path += os.environ["QS_PATHS"].split(os.pathsep)  # the environment quatspline is in
+    """)
+    check = textwrap.dedent("""
+        fc = [c for c in obj.animation_data.action.fcurves
+              if c.data_path == "rotation_quaternion"]
+        print("QS keys", len(fc[0].keyframe_points), fc[0].keyframe_points[1].interpolation)
+    """)
+    (tmp_path / "example.py").write_text(setup + example + check, encoding="utf-8")
+    r = run(tmp_path, tmp_path / "example.py", which="bpy")
+    (line,) = [ln for ln in r.stdout.splitlines() if ln.startswith("QS keys")]
+    assert int(line.split()[2]) > 4 and line.split()[3] == "LINEAR", line

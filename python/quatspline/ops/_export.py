@@ -552,8 +552,8 @@ class GltfReport:
 
 #: Which players honour CUBICSPLINE tangents (stated in the export report and the docs).
 TANGENTS = (
-    "three.js and Babylon.js play them; Blender's glTF importer (3.4, checked) drops them "
-    "and rebuilds automatic Bézier handles, so in Blender the bound holds for LINEAR only "
+    "three.js and Babylon.js play them; Blender's glTF importer (3.4 and 4.2, checked) drops "
+    "them and rebuilds automatic Bézier handles, so in Blender the bound holds for LINEAR only "
     "(or import with the quatspline Blender add-on)"
 )
 
