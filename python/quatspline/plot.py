@@ -89,7 +89,11 @@ def _sphere_wire(ax):
         np.cos(u) * np.sin(v), np.sin(u) * np.sin(v), np.cos(v), color="0.88", linewidth=0.4
     )
     ax.set_box_aspect((1, 1, 1))
-    for lim, ticks in ((ax.set_xlim, ax.set_xticks), (ax.set_ylim, ax.set_yticks), (ax.set_zlim, ax.set_zticks)):
+    for lim, ticks in (
+        (ax.set_xlim, ax.set_xticks),
+        (ax.set_ylim, ax.set_yticks),
+        (ax.set_zlim, ax.set_zticks),
+    ):
         lim(-1.05, 1.05)
         ticks([-1.0, -0.5, 0.0, 0.5, 1.0])
     ax.set_xlabel("world x (unit vector)")
@@ -240,7 +244,9 @@ def _place_labels(ax, texts, anchors) -> None:
             text.set_verticalalignment(va)
             if dx:
                 text.set_transform(
-                    transforms.offset_copy(ax.transData, fig=fig, x=dx * 72 / fig.dpi, units="points")
+                    transforms.offset_copy(
+                        ax.transData, fig=fig, x=dx * 72 / fig.dpi, units="points"
+                    )
                 )
             kept.append(rect)
             break
@@ -320,6 +326,7 @@ def body(
                 ha="center",
                 va="bottom",
                 bbox={"boxstyle": "round,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.8},
+                in_layout=False,  # placed after the layout (see _place_labels)
             )
         )
         anchors.append((pos[m], 0.75 * scale))
@@ -330,7 +337,11 @@ def body(
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
     ax.set_zlim(lo[2], hi[2])
-    ax.set_box_aspect(tuple(np.maximum(hi - lo, 1e-9)))
+    aspect = np.maximum(hi - lo, 1e-9)
+    ax.set_box_aspect(tuple(aspect))
+    ticker = need("matplotlib.ticker", extra="plot", what="plots")
+    for axis, share in zip((ax.xaxis, ax.yaxis, ax.zaxis), aspect / aspect.max()):
+        axis.set_major_locator(ticker.MaxNLocator(nbins=max(2, round(7 * share))))
     ax.set_xlabel(f"x ({unit})")
     ax.set_ylabel(f"y ({unit})")
     ax.set_zlabel(f"z ({unit})")
@@ -340,7 +351,13 @@ def body(
         for k, c in enumerate(AXIS_COLOURS)
     ]
     handles.append(
-        Line2D([], [], color="0.55", lw=0.8, label=f"body every {rel[1] if count > 1 else 0:.{d}f} {time_unit}")
+        Line2D(
+            [],
+            [],
+            color="0.55",
+            lw=0.8,
+            label=f"body every {rel[1] if count > 1 else 0:.{d}f} {time_unit}",
+        )
     )
     ax.legend(handles=handles, loc="upper left", fontsize=8)
     note = _time_note(t0 + a, time_unit)
@@ -477,7 +494,9 @@ def family(
     if reference is None:
         reference = next(iter(splines), None)
     elif reference not in splines:
-        raise ValueError(f"reference: expected one of the labels {list(splines)}, got {reference!r}")
+        raise ValueError(
+            f"reference: expected one of the labels {list(splines)}, got {reference!r}"
+        )
     own = ax is None
     if not own:
         fig, ax = _axes(ax, None, None, "3d")
@@ -551,7 +570,11 @@ def _family_angles(ax, splines: dict, reference, n: int, cmap, time_unit: str) -
 
 #: At most this many measured samples are marked per curve of :func:`fitted` (evenly spread).
 MAX_DATA_MARKERS = 400
-_EULER = (("yaw", "z", AXIS_COLOURS[2]), ("pitch", "y′", AXIS_COLOURS[1]), ("roll", "x″", AXIS_COLOURS[0]))
+_EULER = (
+    ("yaw", "z", AXIS_COLOURS[2]),
+    ("pitch", "y′", AXIS_COLOURS[1]),
+    ("roll", "x″", AXIS_COLOURS[0]),
+)
 
 
 def _time_axis(t0: float, unit: str) -> str:
