@@ -570,11 +570,8 @@ def _family_angles(ax, splines: dict, reference, n: int, cmap, time_unit: str) -
 
 #: At most this many measured samples are marked per curve of :func:`fitted` (evenly spread).
 MAX_DATA_MARKERS = 400
-_EULER = (
-    ("yaw", "z", AXIS_COLOURS[2]),
-    ("pitch", "y′", AXIS_COLOURS[1]),
-    ("roll", "x″", AXIS_COLOURS[0]),
-)
+#: Z-Y′-X″ angles in order, coloured like the axis each turns about.
+_EULER = (("yaw", AXIS_COLOURS[2]), ("pitch", AXIS_COLOURS[1]), ("roll", AXIS_COLOURS[0]))
 
 
 def _time_axis(t0: float, unit: str) -> str:
@@ -684,7 +681,7 @@ def fitted(
     shown = thin(len(times), max_markers)
     dots = {"ls": "", "marker": "o", "ms": 2.5, "alpha": 0.45, "mew": 0}
     curve, data = _euler_curves(rotation, tt, times, quats)
-    for k, (angle, about, colour) in enumerate(_EULER):
+    for k, (angle, colour) in enumerate(_EULER):
         left[k].plot(times[shown], data[shown, k], color=colour, **dots)
         left[k].plot(tt, curve[:, k], color=colour, lw=1.5)
         left[k].set_ylabel(f"{angle} (°)")

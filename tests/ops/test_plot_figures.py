@@ -3,9 +3,11 @@ markers, curve pixels in the saved image, titles from the data."""
 
 from __future__ import annotations
 
+import os
 import re
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -407,3 +409,120 @@ def test_fitted_bad_input():
         plot.fitted(f, t, q, np.zeros((200, 2)))
     with pytest.raises(TypeError, match=r"fig: expected a matplotlib Figure"):
         plot.fitted(f, t, q, fig="figure")
+
+
+# ---- the command line draws through the same functions ------------------------------------------
+def noisy_file(tmp_path, n=600, start=1.4e9):
+    """A TUM recording with 1° of orientation and 1 cm of position noise, on a clock that starts
+    at ``start``."""
+    import quatspline.io as qio
+
+    t, q, p = noisy_recording(n, positions=True)
+    path = tmp_path / "noisy.tum"
+    qio.write(path, qio.Trajectory(t + start, q, p))
+    return path
+
+
+@pytest.fixture
+def saved(monkeypatch):
+    """The figures the command line hands to ``plot.save``."""
+    figs = []
+    orig = plot.save
+    monkeypatch.setattr(plot, "save", lambda fig, path: figs.append(fig) or orig(fig, path))
+    return figs
+
+
+def test_cli_fit_figure_is_the_data_against_the_fit(tmp_path, capsys, saved):
+    from quatspline.cli import main
+
+    src = noisy_file(tmp_path)
+    out, fig_path = tmp_path / "smooth.csv", tmp_path / "fit.png"
+    assert main(["fit", str(src), "-o", str(out), "--count", "50", "--figure", str(fig_path)]) == 0
+    printed = capsys.readouterr().out
+    assert f"wrote {fig_path}" in printed and fig_path.stat().st_size > 10_000
+    (fig,) = saved
+    assert len(fig.axes) == 10  # orientation and position columns: the file has positions
+    rms = float(re.search(r"RMS residual ([\d.]+)°", printed).group(1))
+    legend = [x.get_text() for x in fig.axes[3].get_legend().get_texts()]
+    assert legend[1].startswith("RMS ") and float(legend[1][4:-1]) == pytest.approx(rms, rel=5e-3)
+    assert fig.axes[-1].get_xlabel() == "time (s) after t₀ = 1400000000 s"
+    assert fig.get_suptitle().startswith("noisy.tum: fit to 600 samples")
+
+
+def test_cli_fit_refuses_a_figure_that_is_not_an_image_before_any_work(tmp_path, capsys):
+    from quatspline.cli import main
+
+    src = noisy_file(tmp_path, n=50)
+    out = tmp_path / "smooth.csv"
+    assert main(["fit", str(src), "-o", str(out), "--count", "5", "--figure", "f.txt"]) == 2
+    assert "--figure f.txt: expected a .png, .svg, .pdf file" in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_cli_plot_marks_no_keys_for_a_fit_and_names_the_start_of_the_body(tmp_path, saved):
+    from quatspline.cli import main
+
+    src = noisy_file(tmp_path, n=300)
+    out = tmp_path / "r.png"
+    assert main(["plot", str(src), "-o", str(out), "--kind", "rates", "--method", "fit"]) == 0
+    texts = [x.get_text() for x in saved[-1].findobj(lambda a: hasattr(a, "get_text"))]
+    assert not any("keys" in x for x in texts)
+    assert main(["plot", str(src), "-o", str(out), "--kind", "rates", "--force"]) == 0
+    texts = [x.get_text() for x in saved[-1].findobj(lambda a: hasattr(a, "get_text"))]
+    assert "keys (40 of 300 shown)" in texts  # an interpolating spline's keys still are
+    assert main(["plot", str(src), "-o", str(out), "--kind", "body", "--force"]) == 0
+    ax = saved[-1].axes[0]
+    assert ax.get_title().endswith("times after t₀ = 1400000000 s")
+    assert re.fullmatch(r"0(\.0+)? s", visible_labels(ax)[0].get_text())
+
+
+# ---- the documentation's screenshots -------------------------------------------------------------
+DOCS_STATIC = Path(__file__).resolve().parents[2] / "docs" / "_static"
+
+
+@pytest.mark.skipif(
+    os.environ.get("QUATSPLINE_SCREENSHOTS") != "1",
+    reason="screenshots only with QUATSPLINE_SCREENSHOTS=1",
+)
+def test_screenshots_for_the_docs(tmp_path):
+    """``docs/_static/figure-{body,family,fit}.png``, drawn by the routes users take: the demo's
+    body and family figures (through the command line's and the demo's functions) and
+    ``quatspline fit --figure`` on the bundled recording with noise added."""
+    import quatspline.io as qio
+    from quatspline.cli import main
+    from quatspline.examples import BETA_EXAMPLE2_VERTICES, load_recording
+    from quatspline.splines import BetaSpline
+
+    traj = load_recording()
+    t_rel = traj.times - traj.times[0]
+    idx = np.arange(0, len(t_rel), 10)
+    pose = qs.PoseSpline(traj.quats[idx], t_rel[idx], traj.positions[idx], rotation="c3")
+    fig = plot.body(
+        pose.rotation,
+        positions=pose.position,
+        snapshots=10,
+        t0=float(traj.times[0]),
+        title="TUM RGB-D fr1/xyz: the camera as a rigid body (C³ pose spline)",
+    )
+    plot.save(fig, DOCS_STATIC / "figure-body.png")
+    fam = {}
+    for b12 in (0.5, 2.0, 4.0):
+        b2 = np.full(len(BETA_EXAMPLE2_VERTICES), 0.5)
+        b2[1] = b12
+        fam[f"β₁,₂ = {b12}"] = BetaSpline(
+            BETA_EXAMPLE2_VERTICES, beta1=1.0, beta2=b2, canonicalize=False
+        )
+    plot.save(
+        plot.family(fam, title="Beta spline, paper Example 2: β₂ at vertex 1"),
+        DOCS_STATIC / "figure-family.png",
+    )
+    rng = np.random.default_rng(0)
+    noisy = qio.Trajectory(
+        traj.times,
+        qs.multiply(traj.quats, qs.from_rotvec(rng.normal(0, np.radians(1.0), (len(traj), 3)))),
+        traj.positions + rng.normal(0, 0.005, traj.positions.shape),
+    )
+    src = tmp_path / "fr1_xyz_noisy.tum"
+    qio.write(src, noisy)
+    argv = ["fit", str(src), "-o", str(tmp_path / "smooth.csv"), "--rate", "100"]
+    assert main([*argv, "--figure", str(DOCS_STATIC / "figure-fit.png")]) == 0
