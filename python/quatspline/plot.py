@@ -564,7 +564,7 @@ def _family_angles(ax, splines: dict, reference, n: int, cmap, time_unit: str) -
     ax.set_xlabel(f"time ({time_unit})" if same else "normalised time (start 0, end 1)")
     ax.set_ylabel(f"angle from {reference} (°)")
     ax.set_title("how far each member turns from the reference")
-    ax.legend(loc="upper left", fontsize=8)
+    ax.legend(loc="best", fontsize=8)
     ax.grid(alpha=0.3)
 
 
