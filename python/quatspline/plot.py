@@ -544,7 +544,9 @@ def _family_angles(ax, splines: dict, reference, n: int, cmap, time_unit: str) -
         return
     domains = [tuple(s.domain) for s in splines.values()]
     same = all(np.allclose(d, domains[0], rtol=0, atol=1e-12 * (1 + abs(d[1]))) for d in domains)
-    u = np.linspace(0.0, 1.0, n)
+    # every segment sampled (4 points each, up to 20,000), so dense keys are not aliased
+    segments = max(len(getattr(s, "joints", ())) for s in splines.values())
+    u = np.linspace(0.0, 1.0, max(n, min(4 * segments, 20_000)))
     ref = splines[reference]
     ra, rb = ref.domain
     q_ref = ref(ra + u * (rb - ra))
@@ -558,8 +560,9 @@ def _family_angles(ax, splines: dict, reference, n: int, cmap, time_unit: str) -
             angle,
             _STYLES[k % len(_STYLES)],
             color=_member_colour(cmap, k, len(splines)),
-            lw=2,
+            lw=1.4,
             label=text,
+            zorder=3 + len(splines) - k,  # the first members (the smaller sweeps) on top
         )
     ax.set_xlabel(f"time ({time_unit})" if same else "normalised time (start 0, end 1)")
     ax.set_ylabel(f"angle from {reference} (°)")

@@ -526,3 +526,14 @@ def test_screenshots_for_the_docs(tmp_path):
     qio.write(src, noisy)
     argv = ["fit", str(src), "-o", str(tmp_path / "smooth.csv"), "--rate", "100"]
     assert main([*argv, "--figure", str(DOCS_STATIC / "figure-fit.png")]) == 0
+
+
+def test_family_into_given_axes_for_the_sphere_and_the_angles():
+    fam = {f"α = {a}": qs.C3Spline(random_walk(6, 1), alpha=a) for a in (0, 0.3)}
+    fig = Figure()
+    ax = fig.add_subplot(1, 2, 1, projection="3d")
+    panel = fig.add_subplot(1, 2, 2)
+    assert plot.family(fam, ax=ax, angle_ax=panel, name="walk") is fig
+    assert len(fig.axes) == 2 and len(panel.lines) == 2 and "walk" in ax.get_title()
+    with pytest.raises(ValueError, match=r"angle_ax: only with ax"):
+        plot.family(fam, angle_ax=panel)
