@@ -537,3 +537,15 @@ def test_family_into_given_axes_for_the_sphere_and_the_angles():
     assert len(fig.axes) == 2 and len(panel.lines) == 2 and "walk" in ax.get_title()
     with pytest.raises(ValueError, match=r"angle_ax: only with ax"):
         plot.family(fam, angle_ax=panel)
+
+
+def test_cli_fit_figure_without_matplotlib_says_so_before_the_fit(tmp_path, capsys, monkeypatch):
+    from quatspline.cli import main
+
+    src = noisy_file(tmp_path, n=50)
+    out = tmp_path / "smooth.csv"
+    monkeypatch.setitem(sys.modules, "matplotlib", None)  # import matplotlib now fails
+    argv = ["fit", str(src), "-o", str(out), "--count", "5", "--figure", str(tmp_path / "f.png")]
+    assert main(argv) == 1
+    assert "fit --figure needs matplotlib: pip install" in capsys.readouterr().err
+    assert not out.exists()

@@ -24,6 +24,7 @@ from .. import batch, demo, ops, plot, viewer
 from .. import io as qio
 from .._core import __version__
 from .._util.atomic import atomic_write, resolve_output
+from .._util.optional import need
 from ..poses.pose_spline import PoseSpline
 from ..registry import METHODS
 
@@ -157,6 +158,7 @@ def cmd_fit(args) -> int:
         _check_extra_columns(args, "--uncertainty")
     if args.figure:
         _check_side_output(args.figure, args, (".png", ".svg", ".pdf"), "--figure")
+        need("matplotlib", extra="plot", what="fit --figure")  # before the fit, not after
     traj = _read(args)
     out, f = ops.fit_trajectory(
         traj,
