@@ -272,8 +272,8 @@ def body(
 ):
     """The path (``positions``: a callable t → (M, 3), or None to lay the boxes out along x)
     with direction arrows, and at most ``snapshots`` boxes at round times since the start of
-    the motion, each labelled with that time (labels that would collide on the page are moved
-    below their box or left out). ``t0`` is the clock reading at the spline's time 0 (e.g. a
+    the motion, each labelled with that time (a label that would collide with another on the
+    page is moved below or beside its box, or left out). ``t0`` is the clock reading at the spline's time 0 (e.g. a
     recording's first stamp): when the motion starts at another reading, the title says so once
     (``times after t₀ = …``). The view is orthographic with equal scales on all three axes.
 
