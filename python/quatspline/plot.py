@@ -286,7 +286,7 @@ def body(
     (['0 s', '5 s', '10 s'], 'times after t₀ = 1400000000 s')
     """
     _, _, Line2D = _mpl()
-    fig, ax = _axes(ax, fig, (8.0, 5.5), "3d")
+    fig, ax = _axes(ax, fig, (8.0, 6.2), "3d")
     a, b = spline.domain
     step = _nice_step(b - a, max(int(snapshots), 2))
     # round times; a last mark within step/1000 of the end stands at the end
