@@ -1,4 +1,4 @@
-"""Toolkit benchmark (issue 2.4): means, integration, non-uniform B-splines, arc-length
+"""Toolkit benchmark: means, integration, non-uniform B-splines, arc-length
 reparameterisation and screw splines, against peers where there is one (same data, same run).
 Prints the best of --repeat runs in ns per sample and ratios.
 
@@ -8,32 +8,11 @@ Prints the best of --repeat runs in ns per sample and ratios.
 from __future__ import annotations
 
 import argparse
-import platform
-import time
 
 import numpy as np
 import quatspline as qs
-
-
-def best_ns(fn, n: int, repeat: int) -> float:
-    fn()
-    best = float("inf")
-    for _ in range(repeat):
-        t0 = time.perf_counter_ns()
-        fn()
-        best = min(best, time.perf_counter_ns() - t0)
-    return best / n
-
-
-def cpu() -> str:
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown CPU"
+from _common import cpu_model
+from engine_bench import best_ns
 
 
 def walk(n, seed=0, step=0.3):
@@ -110,7 +89,7 @@ def main() -> None:
     twist = best_ns(lambda: screw.twist(u, order=3), m, r)
     rows.append(("ScrewSpline body twist'' , 1e5", twist, ""))
 
-    print(f"CPU: {cpu()}; best of {r} runs; ns per sample (ratio > 1: quatspline faster)")
+    print(f"CPU: {cpu_model()}; best of {r} runs; ns per sample (ratio > 1: quatspline faster)")
     for name, ns, note in rows:
         print(f"{name:44s} {ns:12.1f}  {note}")
 

@@ -813,14 +813,18 @@ def test_a_client_that_does_not_read_its_response_is_disconnected(monkeypatch):
         ).encode()
         c = socket.socket()
         c.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
-        c.settimeout(30)
+        c.settimeout(120)
         c.connect(("127.0.0.1", s.port))
         c.sendall(
             f"POST /api/export HTTP/1.1\r\nHost: 127.0.0.1:{s.port}\r\n"
             f"X-Quatspline-Token: {s.token}\r\nContent-Length: {len(body)}\r\n\r\n".encode()
             + body
         )
-        time.sleep(5.0)  # reads nothing while the server's buffers fill
+        # the server has computed and begun to answer (however long that takes on a loaded
+        # machine); from then on the client reads nothing while the buffers fill and the
+        # server's write timeout runs out
+        c.recv(1, socket.MSG_PEEK)
+        time.sleep(4.0)
         data = b""
         with contextlib.suppress(ConnectionResetError):
             while chunk := c.recv(1 << 16):
