@@ -488,26 +488,19 @@ DOCS_STATIC = Path(__file__).resolve().parents[2] / "docs" / "_static"
     reason="screenshots only with QUATSPLINE_SCREENSHOTS=1",
 )
 def test_screenshots_for_the_docs(tmp_path):
-    """``docs/_static/figure-{body,family,fit}.png``, drawn by the routes users take: the demo's
-    body and family figures (through the command line's and the demo's functions) and
+    """``docs/_static/figure-{body,family,fit}.png``, drawn by the routes users take:
+    ``quatspline plot --kind body`` on the bundled recording, the demo's family figure and
     ``quatspline fit --figure`` on the bundled recording with noise added."""
+    from importlib.resources import as_file, files
+
     import quatspline.io as qio
     from quatspline.cli import main
-    from quatspline.examples import BETA_EXAMPLE2_VERTICES, load_recording
+    from quatspline.examples import BETA_EXAMPLE2_VERTICES, RECORDING, load_recording
     from quatspline.splines import BetaSpline
 
-    traj = load_recording()
-    t_rel = traj.times - traj.times[0]
-    idx = np.arange(0, len(t_rel), 10)
-    pose = qs.PoseSpline(traj.quats[idx], t_rel[idx], traj.positions[idx], rotation="c3")
-    fig = plot.body(
-        pose.rotation,
-        positions=pose.position,
-        snapshots=10,
-        t0=float(traj.times[0]),
-        title="TUM RGB-D fr1/xyz: the camera as a rigid body (C³ pose spline)",
-    )
-    plot.save(fig, DOCS_STATIC / "figure-body.png")
+    with as_file(files("quatspline") / "data" / RECORDING) as path:
+        argv = ["plot", str(path), "-o", str(DOCS_STATIC / "figure-body.png"), "--kind", "body"]
+        assert main(argv) == 0
     fam = {}
     for b12 in (0.5, 2.0, 4.0):
         b2 = np.full(len(BETA_EXAMPLE2_VERTICES), 0.5)
@@ -519,6 +512,7 @@ def test_screenshots_for_the_docs(tmp_path):
         plot.family(fam, title="Beta spline, paper Example 2: β₂ at vertex 1"),
         DOCS_STATIC / "figure-family.png",
     )
+    traj = load_recording()
     rng = np.random.default_rng(0)
     noisy = qio.Trajectory(
         traj.times,
