@@ -273,9 +273,10 @@ def body(
     """The path (``positions``: a callable t → (M, 3), or None to lay the boxes out along x)
     with direction arrows, and at most ``snapshots`` boxes at round times since the start of
     the motion, each labelled with that time (a label that would collide with another on the
-    page is moved below or beside its box, or left out). ``t0`` is the clock reading at the spline's time 0 (e.g. a
-    recording's first stamp): when the motion starts at another reading, the title says so once
-    (``times after t₀ = …``). The view is orthographic with equal scales on all three axes.
+    page is moved below or beside its box, or left out). ``t0`` is the clock reading at the
+    spline's time 0 (e.g. a recording's first stamp): when the motion starts at another
+    reading, the title says so once (``times after t₀ = …``). The view is orthographic with
+    equal scales on all three axes.
 
     Examples
     --------
@@ -582,7 +583,11 @@ def _time_axis(t0: float, unit: str) -> str:
 
 
 def _shown(n_all: int, n_shown: int) -> str:
-    return f"measured ({n_all})" if n_all == n_shown else f"measured ({n_shown} of {n_all} shown)"
+    return (
+        f"measured ({n_all:,})"
+        if n_all == n_shown
+        else f"measured ({n_shown:,} of {n_all:,} shown)"
+    )
 
 
 def _euler_curves(spline, tt: np.ndarray, times: np.ndarray, quats: np.ndarray):
@@ -721,16 +726,15 @@ def fitted(
         ax.grid(alpha=0.3)
     for ax in [*left, *right[:4]]:
         ax.tick_params(labelbottom=False)
-    fig.legend(
+    left[0].legend(
         handles=[
             Line2D([], [], color="0.3", lw=1.5, label="fit"),
             Line2D([], [], color="0.3", **dots, label=_shown(len(times), len(shown))),
         ],
-        loc="outside upper right",
-        ncol=2,
-        fontsize=9,
+        loc="best",
+        fontsize=8,
     )
-    what = f"fit to {len(times)} samples"
+    what = f"fit to {len(times):,} samples"
     lam = getattr(spline, "smoothing", None)
     if lam is not None:
         what += f" (λ = {lam:.3g})"
@@ -741,7 +745,9 @@ def fitted(
 def _residual(ax, times, values, what: str, unit: str, ylabel: str) -> None:
     """A residual per sample (dots, every sample) and its RMS (a dashed line, in the legend)."""
     rms = float(np.sqrt(np.mean(values**2)))
-    ax.plot(times, values, ls="", marker="o", ms=2.0, color="0.25", alpha=0.5, mew=0, label=what)
+    alpha = 0.5 * min(1.0, math.sqrt(5000 / len(values)))  # dense records: a density, not a blot
+    ax.plot(times, values, ls="", marker="o", ms=2.0, color="0.25", alpha=max(alpha, 0.04), mew=0)
+    ax.plot([], [], ls="", marker="o", ms=3.0, color="0.25", label=what)  # the legend's dot
     ax.axhline(rms, color="#d62728", lw=1.2, ls="--", label=f"RMS {rms:.3g}{unit}")
     ax.set_ylabel(ylabel)
     ax.set_ylim(bottom=0.0)

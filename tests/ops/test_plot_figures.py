@@ -379,10 +379,10 @@ def test_fitted_shows_the_data_the_fit_and_the_residuals(pose):
     assert 1.2 < rms < 2.0  # √3 × 1° of noise per axis, less what the fit absorbs
     texts = [x.get_text() for x in fig.findobj(lambda a: hasattr(a, "get_text"))]
     assert not any("keys" in x for x in texts)
-    assert "measured (400 of 1500 shown)" in texts
+    assert "measured (400 of 1,500 shown)" in texts
     assert axes[-1].get_ylabel() == "|ω| (rad/s)"
     assert axes[-1].get_xlabel() == "time (s) after t₀ = 1400000000 s"
-    assert fig.get_suptitle().startswith("rec: fit to 1500 samples (λ = ")
+    assert fig.get_suptitle().startswith("rec: fit to 1,500 samples (λ = ")
     if pose:
         x_ax, y_ax, z_ax, p_res, speed = axes[4:9]
         for k, ax in enumerate((x_ax, y_ax, z_ax)):
