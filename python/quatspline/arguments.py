@@ -110,6 +110,7 @@ EXAMPLES = {
     ],
     "fit": [
         "quatspline fit recording.tum -o smooth.csv --rate 200",
+        "quatspline fit recording.tum -o smooth.csv --rate 200 --figure fit.png",
         "quatspline fit mocap.bvh --joint LeftElbow -o elbow.csv --rate 120 --penalty jerk",
         "quatspline fit glitchy.csv -o clean.csv --count 1000 --robust huber --smoothing 1e-4",
         "quatspline fit vicon.csv --gyro imu0.csv --gyro-noise imu.yaml -o fused.csv --rate 200",

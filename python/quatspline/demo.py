@@ -209,6 +209,7 @@ def _run(out: Path, recording: Path | None, figures: bool) -> str:
                 pose.rotation,
                 positions=pose.position,
                 snapshots=10,
+                t0=float(traj.times[0]),
                 title=f"{rec_title}: the camera as a rigid body (C³ pose spline)",
             ),
             out / "body.png",

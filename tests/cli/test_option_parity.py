@@ -24,6 +24,8 @@ SINGLE_ONLY = {
     "command", "func", "debug", "input", "output", "format", "force", "json", "imu_command",
     # a gyroscope record belongs to one recording (``fit --gyro``), not to a batch of them
     "gyro", "gyro_noise", "estimate",
+    # one figure file, like the one output file (``fit --figure``)
+    "figure",
 }  # fmt: skip
 #: Options only the batch has (many inputs, an output directory, Dask, resuming).
 BATCH_ONLY = {"command", "func", "debug", "operation", "inputs", "output", "scheduler",

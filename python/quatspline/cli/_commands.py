@@ -24,6 +24,7 @@ from .. import batch, demo, ops, plot, viewer
 from .. import io as qio
 from .._core import __version__
 from .._util.atomic import atomic_write, resolve_output
+from .._util.optional import need
 from ..poses.pose_spline import PoseSpline
 from ..registry import METHODS
 
@@ -155,6 +156,9 @@ def cmd_fit(args) -> int:
     _guard_output(Path(args.output), args)
     if args.uncertainty:
         _check_extra_columns(args, "--uncertainty")
+    if args.figure:
+        _check_side_output(args.figure, args, (".png", ".svg", ".pdf"), "--figure")
+        need("matplotlib", extra="plot", what="fit --figure")  # before the fit, not after
     traj = _read(args)
     out, f = ops.fit_trajectory(
         traj,
@@ -174,6 +178,13 @@ def cmd_fit(args) -> int:
         + (f", noise σ̂ {math.degrees(f.noise_std):.3f}° per axis)" if args.uncertainty else ")"),
         file=sys.stderr if args.output == "-" else sys.stdout,
     )
+    if args.figure:
+        t0 = float(traj.times[0])
+        fig = plot.fitted(
+            f, traj.times - t0, traj.quats, traj.positions, t0=t0, name=Path(args.input).name
+        )
+        plot.save(fig, args.figure)
+        print(f"wrote {args.figure}", file=sys.stderr if args.output == "-" else sys.stdout)
     return 0
 
 
@@ -202,6 +213,7 @@ def cmd_plot(args) -> int:
 
     traj = _read(args)
     kt = traj.times - traj.times[0]
+    marks = None if args.method == "fit" else kt  # a fit's samples are not keys
     name = Path(args.input).name + (f" {traj.name}" if traj.name else "")
     if args.kind == "family":
         fig = plot.family(
@@ -211,18 +223,18 @@ def cmd_plot(args) -> int:
     else:
         s = ops.build_spline(args.method, traj, options.checked_params(args.param, args.method))
         if args.kind == "sphere":
-            fig = plot.sphere(s, key_times=kt, name=name)
+            fig = plot.sphere(s, key_times=marks, name=name)
         elif args.kind == "rates":
             show = options.rates_shown(args)
             try:
-                fig = plot.rates(s, key_times=kt, name=name, show=show)
+                fig = plot.rates(s, key_times=marks, name=name, show=show)
             except ValueError as e:
                 raise UsageError(f"--{e}") from None
         else:
             pos = None
             if traj.positions is not None:
                 pos = PoseSpline(traj.quats, kt, traj.positions, rotation="slerp").position
-            fig = plot.body(s, positions=pos, name=name)
+            fig = plot.body(s, positions=pos, name=name, t0=float(traj.times[0]))
     _guard_output(Path(args.output), args)
     plot.save(fig, args.output)
     print(f"wrote {args.output}")
@@ -367,6 +379,11 @@ def build_parser() -> argparse.ArgumentParser:
     options.add_fit_options(ft)
     options.add_gyro_options(ft)
     options.add_sampling_options(ft, extrapolate=ops.FIT_EXTRAPOLATE)
+    ft.add_argument(
+        "--figure",
+        metavar="FILE",
+        help="the data against the fit and the residuals as a figure (.png, .svg, .pdf)",
+    )
     ft.add_argument("--force", action="store_true", help="allow overwriting the input file")
     ft.set_defaults(func=cmd_fit)
 
