@@ -286,3 +286,71 @@ def test_min_energy_on_hundreds_of_random_keys_returns_a_curve_never_an_error(n,
     else:
         assert s.converged
     np.testing.assert_array_less(angle(s(t), q), 1e-11)
+
+
+def stage_reports(calls, stage):
+    """The reports of one stage: done counts 1 … n, then a last report with done == total == n;
+    every known total lies at or above done."""
+    mine = [c for c in calls if c[0] == stage]
+    n = mine[-1][1]
+    assert [c[1] for c in mine] == [*range(1, n + 1), n], mine
+    assert all(
+        total is None or (isinstance(total, int) and total >= done) for _, done, total in mine
+    )
+    assert mine[-1][2] == n
+    return n
+
+
+@pytest.mark.parametrize("mode", ["discrete", "exact"])
+def test_progress_reports_stage_done_total(mode):
+    # The house protocol of fit: (stage, done, total), total counting the real work (the
+    # iterations of each stage), each stage closed by done == total.
+    t, q = keys(30, seed=3)
+    calls = []
+    s = qs.MinimumEnergySpline(q, t, mode=mode, progress=lambda *a: calls.append(a))
+    stages = list(dict.fromkeys(c[0] for c in calls))
+    if mode == "exact":
+        assert stages == ["exact"]
+        assert stage_reports(calls, "exact") == s.iterations
+    else:
+        assert stages == ["exact", "descent"]
+        stage_reports(calls, "exact")
+        assert stage_reports(calls, "descent") == s.iterations
+
+
+def test_progress_of_the_jerk_form_and_a_wrong_kind():
+    t, q = keys(12)
+    calls = []
+    s = qs.MinimumEnergySpline(q, t, penalty="jerk", progress=lambda *a: calls.append(a))
+    assert {c[0] for c in calls} == {"fit"} and stage_reports(calls, "fit") == s.iterations
+    with pytest.raises(TypeError, match="progress"):
+        qs.MinimumEnergySpline(q, t, progress="yes")
+
+
+def test_a_raising_progress_callable_cancels_during_the_exact_start():
+    t, q = keys(30, seed=3)
+
+    def stop(stage, done, total):
+        if stage == "exact":
+            raise KeyboardInterrupt
+
+    with pytest.raises((ValueError, KeyboardInterrupt)):
+        qs.MinimumEnergySpline(q, t, progress=stop)
+
+
+@pytest.mark.parametrize("mode", ["discrete", "exact"])
+def test_the_result_does_not_depend_on_the_thread_count(mode):
+    # The intervals are processed in parallel and their shares added in interval order.
+    t, q = keys(60, seed=5)
+    tt = np.linspace(t[0], t[-1], 997)
+    out = []
+    try:
+        for n in (1, 2, 3):
+            qs.set_num_threads(n)
+            s = qs.MinimumEnergySpline(q, t, mode=mode)
+            out.append((s.energy, s.iterations, s(tt), s.angular_acceleration(tt)))
+    finally:
+        qs.set_num_threads(0)
+    for o in out[1:]:
+        assert o[0] == out[0][0] and o[1] == out[0][1]
+        assert np.array_equal(o[2], out[0][2]) and np.array_equal(o[3], out[0][3])

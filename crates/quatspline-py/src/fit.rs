@@ -258,6 +258,7 @@ fn min_energy_spline<'py>(
     d.set_item("iterations", s.iterations)?;
     d.set_item("converged", s.converged)?;
     d.set_item("gradient_norm", s.gradient_norm)?;
+    d.set_item("jacobian_passes", s.jacobian_passes)?;
     Ok((crate::spline::wrap(Ok(s))?, d))
 }
 

@@ -21,9 +21,39 @@ from .._util.arrays import as_real, with_width
 from .._util.checks import integer
 from ..splines import NaturalSpline, Spline
 from ..splines.reparam import gauss_legendre
-from .smoothing import _PENALTIES, _choice, _progress, _times
+from .smoothing import _PENALTIES, _choice, _FitProgress, _times
 
 __all__ = ["MinimumEnergySpline"]
+
+
+class _StageProgress(_FitProgress):
+    """The core's reports (stage, iteration, step) of a minimum-energy construction as
+    (stage, done, total), per stage: ``"exact"`` (Newton's method for the Riemannian cubic;
+    step = largest mismatch, to 1e-12), ``"descent"`` (the discrete form's descent; step =
+    relative energy decrease, to 1e-13) and ``"fit"`` (the jerk form's solver, to 1e-12).
+    ``total`` is the iterations done plus those the step's rate of decrease still needs (None
+    while unknown); every stage ends with a report whose done == total."""
+
+    TOL = {"exact": 1e-12, "descent": 1e-13, "fit": 1e-12}
+    CAP = {"exact": 60, "descent": 200, "fit": 2000}
+
+    def __init__(self, progress):
+        super().__init__(progress, 1e-12, 60)
+        self.stage, self.done = "", 0
+
+    def __call__(self, stage: str, it: int, step: float) -> None:
+        if stage != self.stage:
+            self.end_stage()
+            self.stage, self.steps, self.total = stage, [], None
+            self.tol, self.max_iter = self.TOL.get(stage, 1e-12), self.CAP.get(stage, 2000)
+        self.done = it
+        super().__call__(stage, it, step)
+
+    def end_stage(self) -> None:
+        """The current stage ended (a last report with done == total)."""
+        if self.stage and self.done:
+            self.finish(self.done)
+        self.done = 0
 
 
 class MinimumEnergySpline(Spline):
@@ -92,6 +122,13 @@ class MinimumEnergySpline(Spline):
         Acceleration: bubble polynomials per key interval (0 … 16, default 4). Jerk: knot
         intervals per mean key interval (1 … 64, default 8).
     extrapolate : {"raise", "clamp"}
+    progress : None, True or callable
+        True shows a tqdm bar; a callable gets ``(stage, done, total)`` after every iteration
+        of each stage: ``"exact"`` (Newton's method for the Riemannian cubic: the exact mode,
+        and the discrete mode's start), ``"descent"`` (the discrete descent) or ``"fit"`` (the
+        jerk form's solver). ``total`` is the iterations done plus those the rate of decrease
+        of the step still needs (None until two steps are seen); each stage ends with a report
+        whose ``done == total``. An exception raised by the callable cancels the construction.
 
     Attributes
     ----------
@@ -107,6 +144,10 @@ class MinimumEnergySpline(Spline):
     gradient_norm : float
         Acceleration: the norm of the energy's gradient over the free parameters at the
         result (NaN for jerk and for ``mode="exact"``).
+    jacobian_passes : int
+        The discrete acceleration form: passes of the Jacobian over all quadrature nodes (its
+        construction's dominant cost: one per descent iteration, plus one for the gradient at
+        the result when the last step moved it); 0 otherwise.
     residual : float
         ``mode="exact"``: the largest scaled mismatch of the shooting equations at the keys
         (≤ 1e-12); NaN otherwise.
@@ -186,8 +227,12 @@ class MinimumEnergySpline(Spline):
                     )
                 r = r.tolist()
             rates.append(r)
-        cb = _progress(progress)
+        if progress is None or progress is False:
+            cb = None
+        else:
+            cb = _StageProgress(progress)
         self.residual = float("nan")
+        self.jacobian_passes = 0
         try:
             if mode == "exact":
                 tt = None if times is None else np.ascontiguousarray(t)
@@ -218,6 +263,7 @@ class MinimumEnergySpline(Spline):
                 self.natural_energy = float(res["energy_natural"])
                 self.converged = bool(res["converged"])
                 self.gradient_norm = float(res["gradient_norm"])
+                self.jacobian_passes = int(res["jacobian_passes"])
                 if not self.converged:
                     warnings.warn(
                         f"MinimumEnergySpline: stopped after {int(res['iterations'])} "
@@ -227,8 +273,10 @@ class MinimumEnergySpline(Spline):
                         RuntimeWarning,
                         stacklevel=2,
                     )
+            if cb is not None:
+                cb.end_stage()
         finally:
-            if cb is not None and hasattr(cb, "close"):
+            if cb is not None:
                 cb.close()
         super().__init__(core, extrapolate)
         if penalty == "jerk":

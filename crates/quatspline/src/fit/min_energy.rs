@@ -22,6 +22,11 @@
 //! √wₘ ω̇(tₘ): the chain rule through δ's Taylor coefficients at each node (linear in the
 //! parameters, exact) times ∂ω̇/∂coefficients by central differences; the normal matrix is
 //! banded (a key interval couples its two keys' (v, a) and its own bubbles).
+//! The intervals' shares of the energy, the normal equations and the gradient are computed in
+//! parallel and added in interval order (the same sums at any thread count); a pass of the
+//! Jacobian over every quadrature node (19 evaluations of ω̇ per node) is the descent's
+//! dominant cost, and the gradient at the result reuses the last pass when no later step moved
+//! the parameters.
 //! Raising K nests the spaces (energy non-increasing) and, the polynomials being dense,
 //! converges to the continuous optimum: this is the Sping (discrete numerical) route to
 //! Spicv (the analytic optimum).
@@ -43,6 +48,7 @@ use crate::jet::{angular, JQuat, Jet};
 use crate::quat::Quat;
 use crate::spline::{local, same_rotation, segment_jets, NaturalEnds, NaturalSpline, Spline};
 use crate::vec3::Vec3;
+use rayon::prelude::*;
 
 /// Pieces per key interval and Gauss–Legendre nodes per piece of the energy quadrature.
 pub const PIECES: usize = 8;
@@ -66,6 +72,9 @@ pub struct MinEnergySpline {
     pub converged: bool,
     /// |∂(½E)/∂x| over the free parameters at the returned iterate.
     pub gradient_norm: f64,
+    /// Jacobian passes over all quadrature nodes (the descent's dominant cost): one per
+    /// iteration plus one for the gradient at the result when the last step was accepted.
+    pub jacobian_passes: usize,
     /// Per key interval: whether it joins two equal keys (a hold: exactly constant).
     holds: Vec<bool>,
 }
@@ -212,6 +221,7 @@ impl MinEnergySpline {
             iterations: 0,
             converged: true,
             gradient_norm: 0.0,
+            jacobian_passes: 0,
             holds,
         };
         let cache = Cache::new(&me);
@@ -227,7 +237,15 @@ impl MinEnergySpline {
         // more iterations the more keys there were (12, 20, 65 for 100, 300, 1000 random keys);
         // from the projection it needs a few. Used only when it lowers the energy; if Newton's
         // method for the exact curve fails, the descent starts from δ = 0 as before.
-        if let Some(x) = me.projection_of_exact(ends, &fixed) {
+        let mut cancelled = false;
+        let start = me.projection_of_exact(ends, &fixed, &mut |stage, it, r| {
+            cancelled = !progress(stage, it, r);
+            !cancelled
+        });
+        if cancelled {
+            return Err(Error::invalid("progress", "cancelled by the progress callback"));
+        }
+        if let Some(x) = start {
             let e1 = cache.energy(&x);
             if e1 < e0 {
                 me.x = x;
@@ -237,11 +255,15 @@ impl MinEnergySpline {
         let mut mu = 0.0f64;
         let mut it = 0;
         let mut converged = false;
+        // The gradient at the last point whose normal equations were formed: the returned
+        // gradient norm when no later step was accepted.
+        let mut g_last: Option<Vec<f64>> = None;
         while it < MAX_ITER {
             it += 1;
             let mut step = 0.0;
             let (h, g) = cache.normal_equations(&me.x, &fixed);
             let mut accepted = false;
+            g_last = Some(g.clone());
             for _ in 0..40 {
                 let d = match h.solve_damped(&g, mu) {
                     Some(d) => d,
@@ -253,6 +275,7 @@ impl MinEnergySpline {
                 let trial: Vec<f64> = me.x.iter().zip(&d).map(|(a, b)| a + b).collect();
                 let e1 = cache.energy(&trial);
                 if e1 < e {
+                    g_last = None;
                     step = (e - e1) / e0;
                     me.x = trial;
                     e = e1;
@@ -265,7 +288,7 @@ impl MinEnergySpline {
                     break;
                 }
             }
-            if !progress("MinimumEnergySpline", it, step) {
+            if !progress("descent", it, step) {
                 return Err(Error::invalid("progress", "cancelled by the progress callback"));
             }
             // Converged: no step lowers the energy any more (the finite-difference Jacobian's
@@ -275,7 +298,8 @@ impl MinEnergySpline {
                 break;
             }
         }
-        let (_, g) = cache.normal_equations(&me.x, &fixed);
+        me.jacobian_passes = it + usize::from(g_last.is_none());
+        let g = g_last.unwrap_or_else(|| cache.gradient(&me.x, &fixed));
         me.gradient_norm = g.iter().zip(&fixed).filter(|(_, &f)| !f).map(|(v, _)| v * v).sum::<f64>().sqrt();
         me.energy = e;
         me.iterations = it;
@@ -286,10 +310,13 @@ impl MinEnergySpline {
     /// Parameters whose δ matches Log(N⁻¹ R) for the exact optimum R: vᵢ, aᵢ its first two
     /// derivatives at the keys, the bubbles by least squares of the remainder at 2K + 4
     /// Gauss–Legendre nodes per key interval. None when R cannot be computed.
-    fn projection_of_exact(&self, ends: NaturalEnds, fixed: &[bool]) -> Option<Vec<f64>> {
-        let exact =
-            super::riemannian_cubic::RiemannianCubic::from_natural(&self.nat, ends, &mut |_, _, _| true)
-                .ok()?;
+    fn projection_of_exact(
+        &self,
+        ends: NaturalEnds,
+        fixed: &[bool],
+        progress: Progress<'_>,
+    ) -> Option<Vec<f64>> {
+        let exact = super::riemannian_cubic::RiemannianCubic::from_natural(&self.nat, ends, progress).ok()?;
         let j = self.nat.joints();
         let segs = self.intervals();
         let (k, st) = (self.k, self.stride());
@@ -312,38 +339,43 @@ impl MinEnergySpline {
             }
         }
         if k > 0 {
+            // Per key interval (in parallel; each writes only its own bubbles).
             let gl = crate::quadrature::gauss_legendre01(2 * k + 4);
-            let mut bub = Vec::new();
-            for i in 0..segs {
-                if self.holds[i] {
-                    continue;
-                }
-                let (a, b) = (j[i], j[i + 1]);
-                let p = local_params(&x, i, st, segs, self.closed);
-                let mut ata = nalgebra::DMatrix::<f64>::zeros(k, k);
-                let mut atb = nalgebra::DMatrix::<f64>::zeros(k, 3);
-                for &(u, w) in &gl {
-                    let t = a + u * (b - a);
-                    let s = crate::spline::local::<3>(t, a, b);
-                    bubbles(s, k, &mut bub);
-                    let herm = quintic_hermite(s);
-                    let base = delta(&p, k, b - a, &herm, &[]);
-                    let target = delta_at(i, t);
-                    for r in 0..k {
-                        for c in 0..k {
-                            ata[(r, c)] += w * bub[r].0[0] * bub[c].0[0];
-                        }
-                        for c in 0..3 {
-                            atb[(r, c)] += w * bub[r].0[0] * (target[c].0[0] - base[c].0[0]);
+            let xs = &x;
+            let sols: Vec<Option<Vec<f64>>> = (0..segs)
+                .into_par_iter()
+                .map(|i| {
+                    if self.holds[i] {
+                        return Some(Vec::new());
+                    }
+                    let mut bub = Vec::new();
+                    let (a, b) = (j[i], j[i + 1]);
+                    let p = local_params(xs, i, st, segs, self.closed);
+                    let mut ata = nalgebra::DMatrix::<f64>::zeros(k, k);
+                    let mut atb = nalgebra::DMatrix::<f64>::zeros(k, 3);
+                    for &(u, w) in &gl {
+                        let t = a + u * (b - a);
+                        let s = crate::spline::local::<3>(t, a, b);
+                        bubbles(s, k, &mut bub);
+                        let herm = quintic_hermite(s);
+                        let base = delta(&p, k, b - a, &herm, &[]);
+                        let target = delta_at(i, t);
+                        for r in 0..k {
+                            for c in 0..k {
+                                ata[(r, c)] += w * bub[r].0[0] * bub[c].0[0];
+                            }
+                            for c in 0..3 {
+                                atb[(r, c)] += w * bub[r].0[0] * (target[c].0[0] - base[c].0[0]);
+                            }
                         }
                     }
-                }
-                let sol = ata.cholesky()?.solve(&atb);
-                for r in 0..k {
-                    for c in 0..3 {
-                        x[i * st + 6 + 3 * r + c] = sol[(r, c)];
-                    }
-                }
+                    let sol = ata.cholesky()?.solve(&atb);
+                    Some((0..3 * k).map(|rc| sol[(rc / 3, rc % 3)]).collect())
+                })
+                .collect();
+            for (i, sol) in sols.into_iter().enumerate() {
+                let sol = sol?;
+                x[i * st + 6..i * st + 6 + sol.len()].copy_from_slice(&sol);
             }
         }
         for (v, &f) in x.iter_mut().zip(fixed) {
@@ -439,27 +471,42 @@ impl Cache {
         let gl = crate::quadrature::gauss_legendre01(NODES);
         let j = me.nat.joints();
         let segs = me.intervals();
-        let m = PIECES * NODES;
-        let (mut nq, mut herm, mut bub, mut w) =
-            (Vec::with_capacity(segs * m), Vec::with_capacity(segs * m), Vec::new(), Vec::new());
-        let mut h = Vec::with_capacity(segs);
-        for i in 0..segs {
-            let (a, b) = (j[i], j[i + 1]);
-            h.push(b - a);
-            let piece = (b - a) / PIECES as f64;
-            for p in 0..PIECES {
-                let lo = a + p as f64 * piece;
-                for &(u, wt) in &gl {
-                    let t = lo + u * piece;
-                    nq.push(me.nat.segment::<3>(i, t));
-                    let s = local::<3>(t, a, b);
-                    herm.push(quintic_hermite(s));
-                    let mut bb = Vec::with_capacity(me.k);
-                    bubbles(s, me.k, &mut bb);
-                    bub.push(bb);
-                    w.push(wt * piece);
+        type Part = (Vec<JQuat<3>>, Vec<[Jet<3>; 4]>, Vec<Vec<Jet<3>>>, Vec<f64>);
+        let parts: Vec<Part> = (0..segs)
+            .into_par_iter()
+            .map(|i| {
+                let m = PIECES * NODES;
+                let (mut nq, mut herm, mut bub, mut w) = (
+                    Vec::with_capacity(m),
+                    Vec::with_capacity(m),
+                    Vec::with_capacity(m),
+                    Vec::with_capacity(m),
+                );
+                let (a, b) = (j[i], j[i + 1]);
+                let piece = (b - a) / PIECES as f64;
+                for p in 0..PIECES {
+                    let lo = a + p as f64 * piece;
+                    for &(u, wt) in &gl {
+                        let t = lo + u * piece;
+                        nq.push(me.nat.segment::<3>(i, t));
+                        let s = local::<3>(t, a, b);
+                        herm.push(quintic_hermite(s));
+                        let mut bb = Vec::with_capacity(me.k);
+                        bubbles(s, me.k, &mut bb);
+                        bub.push(bb);
+                        w.push(wt * piece);
+                    }
                 }
-            }
+                (nq, herm, bub, w)
+            })
+            .collect();
+        let h = (0..segs).map(|i| j[i + 1] - j[i]).collect();
+        let (mut nq, mut herm, mut bub, mut w) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for (a, b, c, d) in parts {
+            nq.extend(a);
+            herm.extend(b);
+            bub.extend(c);
+            w.extend(d);
         }
         Cache { k: me.k, segs, closed: me.closed, h, nq, herm, bub, w }
     }
@@ -476,19 +523,141 @@ impl Cache {
         }
     }
 
+    /// E(x): the intervals' sums in parallel, added in interval order.
     fn energy(&self, x: &[f64]) -> f64 {
         let st = 6 + 3 * self.k;
-        let mut r = Vec::new();
-        let mut e = 0.0;
-        for i in 0..self.segs {
-            let p = local_params(x, i, st, self.segs, self.closed);
-            self.residuals(i, &p, &mut r);
-            e += r.iter().map(|v| v * v).sum::<f64>();
-        }
-        e
+        let parts: Vec<f64> = (0..self.segs)
+            .into_par_iter()
+            .map_init(Vec::new, |r, i| {
+                let p = local_params(x, i, st, self.segs, self.closed);
+                self.residuals(i, &p, r);
+                r.iter().map(|v| v * v).sum::<f64>()
+            })
+            .collect();
+        parts.iter().fold(0.0, |e, v| e + v)
     }
 
-    /// JᵀJ and Jᵀr (for ½E's Gauss–Newton model), fixed parameters held at zero step.
+    /// Global indices of interval i's local parameters.
+    fn gidx(&self, i: usize, st: usize, nl: usize) -> Vec<usize> {
+        (0..nl)
+            .map(|c| {
+                if c < st {
+                    i * st + c
+                } else if self.closed && i + 1 == self.segs {
+                    c - st
+                } else {
+                    (i + 1) * st + c - st
+                }
+            })
+            .collect()
+    }
+
+    /// Interval i's share of JᵀJ (lower triangle, row-major nl × nl; empty unless `hessian`)
+    /// and of Jᵀr.
+    fn interval_normal(&self, i: usize, x: &[f64], fixed: &[bool], hessian: bool) -> (Vec<f64>, Vec<f64>) {
+        let st = 6 + 3 * self.k;
+        let nl = st + 6;
+        let p = local_params(x, i, st, self.segs, self.closed);
+        let gidx = self.gidx(i, st, nl);
+        let mut r0 = Vec::new();
+        self.residuals(i, &p, &mut r0);
+        let nr = r0.len();
+        let mut jac = vec![0.0; nr * nl];
+        let h = self.h[i];
+        let m = PIECES * NODES;
+        for (node, n) in (i * m..(i + 1) * m).enumerate() {
+            // Chain rule: ω̇ depends on δ's Taylor coefficients (9 numbers) and those are
+            // linear in the parameters. ∂ω̇/∂coefficients by central differences (steps
+            // that move δ by about 1e-6 rad), then exact products with the basis jets.
+            let d = delta(&p, self.k, h, &self.herm[n], &self.bub[n]);
+            let sw = self.w[n].sqrt();
+            let mut dm = [[0.0f64; 9]; 3];
+            for c in 0..3 {
+                for o in 0..3 {
+                    let e = 1e-6 / h.powi(o as i32);
+                    let mut dp = d;
+                    dp[c].0[o] += e;
+                    let ap = alpha_body(self.nq[n] * exp_rotvec(dp));
+                    dp[c].0[o] -= 2.0 * e;
+                    let am = alpha_body(self.nq[n] * exp_rotvec(dp));
+                    for r in 0..3 {
+                        dm[r][3 * c + o] = sw * (ap[r] - am[r]) / (2.0 * e);
+                    }
+                }
+            }
+            for j in 0..nl {
+                if fixed[gidx[j]] {
+                    continue;
+                }
+                let (basis, scale, comp) = if j < 3 {
+                    (self.herm[n][0], h, j)
+                } else if j < 6 {
+                    (self.herm[n][1], h * h, j - 3)
+                } else if j < st {
+                    (self.bub[n][(j - 6) / 3], 1.0, (j - 6) % 3)
+                } else if j < st + 3 {
+                    (self.herm[n][2], h, j - st)
+                } else {
+                    (self.herm[n][3], h * h, j - st - 3)
+                };
+                for r in 0..3 {
+                    let mut v = 0.0;
+                    for o in 0..3 {
+                        v += dm[r][3 * comp + o] * scale * basis.0[o];
+                    }
+                    jac[j * nr + 3 * node + r] = v;
+                }
+            }
+        }
+        // Columns of J are contiguous (dot products of length nr); JᵀJ's lower triangle only
+        // (the band stores it; a closed loop's dense matrix mirrors it).
+        let col = |a: usize| &jac[a * nr..a * nr + nr];
+        let dot = |u: &[f64], v: &[f64]| {
+            // Eight running sums (vectorised), added pairwise at the end.
+            let mut acc = [0.0f64; 8];
+            for (a, b) in u.chunks_exact(8).zip(v.chunks_exact(8)) {
+                for l in 0..8 {
+                    acc[l] += a[l] * b[l];
+                }
+            }
+            let mut s = ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7]));
+            let tail = u.len() - u.len() % 8;
+            for (a, b) in u[tail..].iter().zip(&v[tail..]) {
+                s += a * b;
+            }
+            s
+        };
+        let g: Vec<f64> = (0..nl).map(|a| dot(col(a), &r0)).collect();
+        let mut blk = Vec::new();
+        if hessian {
+            blk = vec![0.0; nl * nl];
+            for a in 0..nl {
+                for b in 0..=a {
+                    blk[a * nl + b] = dot(col(a), col(b));
+                }
+            }
+        }
+        (blk, g)
+    }
+
+    /// Jᵀr alone (= ∇(½E)), fixed parameters left out (zero).
+    fn gradient(&self, x: &[f64], fixed: &[bool]) -> Vec<f64> {
+        let st = 6 + 3 * self.k;
+        let nl = st + 6;
+        let parts: Vec<Vec<f64>> =
+            (0..self.segs).into_par_iter().map(|i| self.interval_normal(i, x, fixed, false).1).collect();
+        let mut g = vec![0.0; x.len()];
+        for (i, gl) in parts.iter().enumerate() {
+            for (a, j) in self.gidx(i, st, nl).into_iter().enumerate() {
+                g[j] += gl[a];
+            }
+        }
+        g
+    }
+
+    /// JᵀJ and Jᵀr (for ½E's Gauss–Newton model), fixed parameters held at zero step. The
+    /// intervals' shares are computed in parallel and added in interval order (the same sums
+    /// at any thread count).
     fn normal_equations(&self, x: &[f64], fixed: &[bool]) -> (Normal, Vec<f64>) {
         let st = 6 + 3 * self.k;
         let nl = st + 6;
@@ -499,90 +668,19 @@ impl Cache {
             Normal::Band(Band::zeros(npar, nl - 1))
         };
         let mut g = vec![0.0; npar];
-        let mut r0 = Vec::new();
-        for i in 0..self.segs {
-            let p = local_params(x, i, st, self.segs, self.closed);
-            let gidx: Vec<usize> = (0..nl)
-                .map(|c| {
-                    if c < st {
-                        i * st + c
-                    } else if self.closed && i + 1 == self.segs {
-                        c - st
-                    } else {
-                        (i + 1) * st + c - st
-                    }
-                })
-                .collect();
-            self.residuals(i, &p, &mut r0);
-            let nr = r0.len();
-            let mut jac = vec![0.0; nr * nl];
-            let h = self.h[i];
-            let m = PIECES * NODES;
-            for (node, n) in (i * m..(i + 1) * m).enumerate() {
-                // Chain rule: ω̇ depends on δ's Taylor coefficients (9 numbers) and those are
-                // linear in the parameters. ∂ω̇/∂coefficients by central differences (steps
-                // that move δ by about 1e-6 rad), then exact products with the basis jets.
-                let d = delta(&p, self.k, h, &self.herm[n], &self.bub[n]);
-                let sw = self.w[n].sqrt();
-                let mut dm = [[0.0f64; 9]; 3];
-                for c in 0..3 {
-                    for o in 0..3 {
-                        let e = 1e-6 / h.powi(o as i32);
-                        let mut dp = d;
-                        dp[c].0[o] += e;
-                        let ap = alpha_body(self.nq[n] * exp_rotvec(dp));
-                        dp[c].0[o] -= 2.0 * e;
-                        let am = alpha_body(self.nq[n] * exp_rotvec(dp));
-                        for r in 0..3 {
-                            dm[r][3 * c + o] = sw * (ap[r] - am[r]) / (2.0 * e);
-                        }
-                    }
-                }
-                for j in 0..nl {
-                    if fixed[gidx[j]] {
-                        continue;
-                    }
-                    let (basis, scale, comp) = if j < 3 {
-                        (self.herm[n][0], h, j)
-                    } else if j < 6 {
-                        (self.herm[n][1], h * h, j - 3)
-                    } else if j < st {
-                        (self.bub[n][(j - 6) / 3], 1.0, (j - 6) % 3)
-                    } else if j < st + 3 {
-                        (self.herm[n][2], h, j - st)
-                    } else {
-                        (self.herm[n][3], h * h, j - st - 3)
-                    };
-                    for r in 0..3 {
-                        let mut v = 0.0;
-                        for o in 0..3 {
-                            v += dm[r][3 * comp + o] * scale * basis.0[o];
-                        }
-                        jac[(3 * node + r) * nl + j] = v;
-                    }
-                }
-            }
-            let mut blk = vec![0.0; nl * nl];
+        let parts: Vec<(Vec<f64>, Vec<f64>)> =
+            (0..self.segs).into_par_iter().map(|i| self.interval_normal(i, x, fixed, true)).collect();
+        for (i, (blk, gl)) in parts.iter().enumerate() {
+            let gidx = self.gidx(i, st, nl);
             for a in 0..nl {
-                for b in 0..nl {
-                    let mut s = 0.0;
-                    for r in 0..nr {
-                        s += jac[r * nl + a] * jac[r * nl + b];
-                    }
-                    blk[a * nl + b] = s;
-                }
-                let mut s = 0.0;
-                for r in 0..nr {
-                    s += jac[r * nl + a] * r0[r];
-                }
-                g[gidx[a]] += s;
+                g[gidx[a]] += gl[a];
             }
             match &mut normal {
-                Normal::Band(band) => band.add_block(i * st, nl, &blk, 1.0),
+                Normal::Band(band) => band.add_block(i * st, nl, blk, 1.0),
                 Normal::Dense(m) => {
                     for a in 0..nl {
                         for b in 0..nl {
-                            m[(gidx[a], gidx[b])] += blk[a * nl + b];
+                            m[(gidx[a], gidx[b])] += blk[a.max(b) * nl + a.min(b)];
                         }
                     }
                 }
@@ -716,6 +814,126 @@ mod tests {
                 let d = me.segment::<4>(2, tk).derivatives();
                 assert!((d[0].dot(q[2]).abs() - 1.0).abs() <= 4e-16, "{ends:?} at {tk}");
                 assert!(d[1..].iter().all(|x| x.to_wxyz() == [0.0; 4]), "{ends:?} at {tk}");
+            }
+        }
+    }
+
+    /// The normal equations as first written (serial, row-major Jacobian, full JᵀJ by plain
+    /// sums): the reference the parallel, column-wise assembly is checked against.
+    fn normal_equations_reference(c: &Cache, x: &[f64], fixed: &[bool]) -> (Vec<Vec<f64>>, Vec<f64>) {
+        let st = 6 + 3 * c.k;
+        let nl = st + 6;
+        let npar = x.len();
+        let mut hm = vec![vec![0.0; npar]; npar];
+        let mut g = vec![0.0; npar];
+        let mut r0 = Vec::new();
+        for i in 0..c.segs {
+            let p = local_params(x, i, st, c.segs, c.closed);
+            let gidx = c.gidx(i, st, nl);
+            c.residuals(i, &p, &mut r0);
+            let nr = r0.len();
+            let mut jac = vec![0.0; nr * nl];
+            let h = c.h[i];
+            let m = PIECES * NODES;
+            for (node, n) in (i * m..(i + 1) * m).enumerate() {
+                let d = delta(&p, c.k, h, &c.herm[n], &c.bub[n]);
+                let sw = c.w[n].sqrt();
+                let mut dm = [[0.0f64; 9]; 3];
+                for cc in 0..3 {
+                    for o in 0..3 {
+                        let e = 1e-6 / h.powi(o as i32);
+                        let mut dp = d;
+                        dp[cc].0[o] += e;
+                        let ap = alpha_body(c.nq[n] * exp_rotvec(dp));
+                        dp[cc].0[o] -= 2.0 * e;
+                        let am = alpha_body(c.nq[n] * exp_rotvec(dp));
+                        for r in 0..3 {
+                            dm[r][3 * cc + o] = sw * (ap[r] - am[r]) / (2.0 * e);
+                        }
+                    }
+                }
+                for j in 0..nl {
+                    if fixed[gidx[j]] {
+                        continue;
+                    }
+                    let (basis, scale, comp) = if j < 3 {
+                        (c.herm[n][0], h, j)
+                    } else if j < 6 {
+                        (c.herm[n][1], h * h, j - 3)
+                    } else if j < st {
+                        (c.bub[n][(j - 6) / 3], 1.0, (j - 6) % 3)
+                    } else if j < st + 3 {
+                        (c.herm[n][2], h, j - st)
+                    } else {
+                        (c.herm[n][3], h * h, j - st - 3)
+                    };
+                    for r in 0..3 {
+                        jac[(3 * node + r) * nl + j] =
+                            (0..3).map(|o| dm[r][3 * comp + o] * scale * basis.0[o]).sum::<f64>();
+                    }
+                }
+            }
+            for a in 0..nl {
+                for b in 0..nl {
+                    hm[gidx[a]][gidx[b]] += (0..nr).map(|r| jac[r * nl + a] * jac[r * nl + b]).sum::<f64>();
+                }
+                g[gidx[a]] += (0..nr).map(|r| jac[r * nl + a] * r0[r]).sum::<f64>();
+            }
+        }
+        for (j, &f) in fixed.iter().enumerate() {
+            if f {
+                hm[j][j] = 1.0;
+            }
+        }
+        (hm, g)
+    }
+
+    #[test]
+    fn normal_equations_and_gradient_match_the_serial_reference() {
+        let (t, q) = keys(12);
+        for (ends, res) in [(NaturalEnds::Natural, 3), (NaturalEnds::Rest, 2), (NaturalEnds::Closed, 2)] {
+            let mut tt = t.clone();
+            if ends == NaturalEnds::Closed {
+                tt.push(t[t.len() - 1] + 1.0);
+            }
+            let me = MinEnergySpline::new(&q, Some(&tt), ends, res, &mut |_, _, _| true).unwrap();
+            let cache = Cache::new(&me);
+            let n = me.x.len();
+            let mut fixed = vec![false; n];
+            if ends == NaturalEnds::Rest {
+                fixed[0..3].iter_mut().for_each(|f| *f = true);
+                fixed[n - 6..n - 3].iter_mut().for_each(|f| *f = true);
+            }
+            // Away from the optimum too (a non-trivial residual and gradient).
+            let x: Vec<f64> =
+                me.x.iter().enumerate().map(|(i, v)| v + 1e-3 * ((i * 7 % 11) as f64 - 5.0)).collect();
+            let (hm, gr) = normal_equations_reference(&cache, &x, &fixed);
+            let (h, g) = cache.normal_equations(&x, &fixed);
+            let gs = cache.gradient(&x, &fixed);
+            let scale = hm.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs()));
+            let gscale = gr.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            assert!(gscale > 0.0 && scale > 0.0);
+            for a in 0..n {
+                assert!((g[a] - gr[a]).abs() <= 1e-12 * gscale, "{ends:?} g[{a}]");
+                assert!((gs[a] - gr[a]).abs() <= 1e-12 * gscale, "{ends:?} gradient[{a}]");
+                for b in 0..n {
+                    let v = match &h {
+                        Normal::Band(band) => {
+                            let (r, c) = (a.max(b), a.min(b));
+                            if r - c > band.p {
+                                0.0
+                            } else {
+                                band.a[band.idx(r, c)]
+                            }
+                        }
+                        Normal::Dense(m) => m[(a, b)],
+                    };
+                    assert!(
+                        (v - hm[a][b]).abs() <= 1e-12 * scale,
+                        "{ends:?} H[{a}, {b}]: {v} vs {}",
+                        hm[a][b]
+                    );
+                }
             }
         }
     }

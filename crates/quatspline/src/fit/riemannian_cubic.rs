@@ -46,6 +46,7 @@ use crate::kinematics::{jr_inv, mat_vec};
 use crate::quat::Quat;
 use crate::spline::{same_rotation, segment_jets, NaturalEnds, NaturalSpline, Spline};
 use crate::vec3::{self, Vec3};
+use rayon::prelude::*;
 
 /// Order P of the Taylor series method (coefficients 0 … P).
 pub const ORDER: usize = 20;
@@ -442,9 +443,16 @@ impl Problem<'_> {
                 }
             }
         }
-        for (i, &s) in self.run.segs.iter().enumerate() {
+        // The intervals are integrated in parallel (independent given z), then assembled in order.
+        let shots: Vec<Shot> = self
+            .run
+            .segs
+            .par_iter()
+            .enumerate()
+            .map(|(i, &s)| shoot(self.keys[s], state(i), 0.0, self.h(s), jac, None))
+            .collect::<Result<_>>()?;
+        for ((i, &s), shot) in self.run.segs.iter().enumerate().zip(shots) {
             let h = self.h(s);
-            let shot = shoot(self.keys[s], state(i), 0.0, h, jac, None)?;
             let target = self.next_key(s);
             let r = so3::log(target.conj() * shot.q);
             let jinv = jr_inv(r);
@@ -698,7 +706,7 @@ impl RiemannianCubic {
         for run in &runs {
             let p = Problem { keys: &keys, joints: &joints, run, nkeys };
             let mut zr: Vec<f64> = run.segs.iter().flat_map(|&s| z[9 * s..9 * s + 9].to_vec()).collect();
-            let mut rep = |it: usize, r: f64| progress("MinimumEnergySpline", total + it, r);
+            let mut rep = |it: usize, r: f64| progress("exact", total + it, r);
             let (it, res) = newton(&p, &mut zr, &mut rep)?;
             total += it;
             if res > TOL || !res.is_finite() {
@@ -717,30 +725,44 @@ impl RiemannianCubic {
         }
         // Dense output: integrate every interval once more, recording its steps; the start of
         // an interval takes the key's sign nearest the previous interval's end.
+        // The intervals are integrated in parallel from their keys as given; a sign flip of
+        // the start negates every coefficient (the series is linear in q₀), exactly.
+        let shots: Vec<Option<(Shot, Vec<Step>)>> = (0..segs)
+            .into_par_iter()
+            .map(|i| {
+                if holds[i] {
+                    return Ok(None);
+                }
+                let st: [Vec3; 3] =
+                    std::array::from_fn(|c| [z[9 * i + 3 * c], z[9 * i + 3 * c + 1], z[9 * i + 3 * c + 2]]);
+                let mut own = Vec::new();
+                let shot = shoot(keys[i], st, joints[i], joints[i + 1] - joints[i], false, Some(&mut own))?;
+                Ok(Some((shot, own)))
+            })
+            .collect::<Result<_>>()?;
         let mut steps = Vec::new();
         let mut first = Vec::with_capacity(segs + 1);
         let mut energy = 0.0;
         let mut prev: Option<Quat> = None;
-        for i in 0..segs {
+        for (i, shot) in shots.into_iter().enumerate() {
             first.push(steps.len());
-            let mut q0 = keys[i];
-            if let Some(p) = prev {
-                if p.dot(q0) < 0.0 {
-                    q0 = -q0;
-                }
-            }
-            if holds[i] {
+            let flip = prev.is_some_and(|p| p.dot(keys[i]) < 0.0);
+            let Some((shot, own)) = shot else {
+                let q0 = if flip { -keys[i] } else { keys[i] };
                 let mut q = [[0.0; P1]; 4];
                 (q[0][0], q[1][0], q[2][0], q[3][0]) = (q0.w, q0.x, q0.y, q0.z);
                 steps.push(Step { t0: joints[i], q });
                 prev = Some(q0);
                 continue;
+            };
+            for mut step in own {
+                if flip {
+                    step.q.iter_mut().flatten().for_each(|c| *c = -*c);
+                }
+                steps.push(step);
             }
-            let st: [Vec3; 3] =
-                std::array::from_fn(|c| [z[9 * i + 3 * c], z[9 * i + 3 * c + 1], z[9 * i + 3 * c + 2]]);
-            let shot = shoot(q0, st, joints[i], joints[i + 1] - joints[i], false, Some(&mut steps))?;
             energy += shot.energy;
-            prev = Some(shot.q);
+            prev = Some(if flip { -shot.q } else { shot.q });
         }
         first.push(steps.len());
         let energy_natural = super::min_energy::natural_energy(nat);
