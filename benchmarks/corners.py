@@ -13,6 +13,7 @@ Run: ``python benchmarks/corners.py [--n 100000] [--keys 1000] [--repeat 5] [--o
 from __future__ import annotations
 
 import argparse
+import math
 import time
 
 import numpy as np
@@ -50,14 +51,27 @@ def corners(keys: int) -> list[tuple[str, qs.Spline]]:
         ("bspline (closed)", qs.CumulativeBSpline(q, ends="closed")),
         ("bspline (rest, holds)", qs.CumulativeBSpline(held, ends="rest", holds=True)),
         ("beta", qs.BetaSpline(q, beta1=1.5, beta2=0.5)),
-        (
-            "cumulative_bezier (4096 points)",
-            qs.CumulativeBezier(random_walk(4096, 4, 0.3), domain=dom),
-        ),
     ]
+    for n in (64, 256, 1024, 4096):
+        c = random_walk(n, 4, 0.3)
+        rows.append((f"cumulative_bezier ({n} points)", qs.CumulativeBezier(c, domain=dom)))
     for n in (16, 17, 33, 65):
         rows.append((f"bezier ({n} points)", qs.SphericalBezier(q[:n], domain=dom)))
     return rows
+
+
+def bernstein_window(degree: int) -> float:
+    """Mean number of Bernstein terms of degree ``degree`` at least 2⁻⁶⁰ times the row's
+    largest (the cumulative Bézier curve's window: its factors per sample) over u ∈ [0, 1]."""
+    i = np.arange(degree + 1)
+    ln_c = np.array(
+        [math.lgamma(degree + 1) - math.lgamma(k + 1) - math.lgamma(degree - k + 1) for k in i]
+    )
+    counts = []
+    for u in np.linspace(0.0, 1.0, 2001)[1:-1]:
+        ln_b = ln_c + i * math.log(u) + (degree - i) * math.log1p(-u)
+        counts.append(np.count_nonzero(ln_b >= ln_b.max() - 60 * math.log(2)))
+    return float(np.mean(counts))
 
 
 def arc_families(keys: int) -> list[tuple[str, qs.Spline]]:
@@ -135,6 +149,12 @@ def table(rows: list[tuple[str, qs.Spline]], n: int, repeat: int) -> None:
             points = int(name.split("(")[1].split()[0])
             slerps = points * (points - 1) // 2
             floors.append(f"{name}: {slerps:,} slerps per sample, {cells[0] / slerps:.2f} ns each")
+        elif name.startswith("cumulative_bezier"):
+            w = bernstein_window(int(name.split("(")[1].split()[0]) - 1)
+            floors.append(
+                f"{name}: {w:,.1f} factors per sample in the Bernstein window (mean over u), "
+                f"{cells[0] / w:.1f} ns each (values), {cells[2] / w:.1f} ns (ω)"
+            )
     for line in floors:
         print(f"- {line}")
 
