@@ -60,8 +60,7 @@ class _Exact:
 @pytest.mark.parametrize("seed", [3, 8])
 def test_values_and_derivatives_equal_an_exact_mpmath_evaluation_at_200_points(seed):
     """Fails if the window is too narrow: with steps of up to 1.2 rad, a window dropping
-    Bernstein mass of 1e-13 moves the curve by more than the tolerance (checked by narrowing
-    the cut to 2⁻³⁶: errors ~1e-13)."""
+    Bernstein mass of ~1e-13 (a cut near 2⁻³⁶) moves the curve by more than the tolerance."""
     c = random_walk(201, seed, step=0.6)
     s = qs.CumulativeBezier(c)
     exact = _Exact(c)
