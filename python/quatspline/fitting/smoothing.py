@@ -750,12 +750,12 @@ def fit(
         burst longer than 20 frames that the frames it contradicts do not outnumber two to
         one raises ``ValueError`` naming its time range (give the bad frames weight 0), as
         does a scale beyond the breakdown point. Cauchy gives far glitches weight ≈ 0; Huber
-        bounds their pull at c each. Positions: the same scheme from a running median.
+        bounds their pull at c each.
     robust_scale : float, optional
         The loss's scale c in radians (default: 1.628 σ̂ for Huber, 2.666 σ̂ for Cauchy — 95 %
         efficiency at Gaussian noise — with σ̂ the per-axis noise estimated robustly from the
-        pilot's residuals, at least √tol); for positions likewise (σ̂ in length units, at
-        least 1e-6 × their extent), not settable.
+        pilot's residuals, at least √tol). For positions: 1.345 and 2.385 × 1.4826 × the median
+        residual of the non-robust position fit, at least 1e-6 × their extent.
     order : int, optional
         Spline order (default 4 for acceleration, 6 for jerk).
     max_iter : int

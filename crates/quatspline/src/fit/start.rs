@@ -154,7 +154,9 @@ fn angle(a: Quat, b: Quat) -> f64 {
 ///
 /// The samples of positive weight are cut into runs at jumps: consecutive samples farther
 /// apart than J = max(30°, 8 × the median step) ([`JUMP_MIN`]). A run is internally smooth; a
-/// burst of flipped frames is a run bounded by two jumps. Run q may follow run p in a chain
+/// burst of flipped frames is a run bounded by two jumps. (J reads the median step: when more
+/// than half of the steps are jumps — scattered glitches beyond about 30 % — J exceeds them
+/// all, there is one run, and the running medoid alone is the start.) Run q may follow run p in a chain
 /// when its first sample lies within J + v·Δt of p's last (Δt the time between them, v the
 /// 99th percentile of the angular rate over the steps that are not jumps: the motion cannot
 /// carry the curve farther), skipping at most [`CHAIN_LOOKBACK`] runs. The consensus is the
@@ -389,5 +391,33 @@ mod tests {
             // centre is 30 samples in)
             assert!(ang(out[i], clean[i]) < 0.3, "sample {i}: {}", ang(out[i], clean[i]));
         }
+    }
+
+    /// The consensus of runs drops a burst of 50 frames turned by one rotation (longer than
+    /// the medoid's window, which followed it) and keeps every other sample; a burst of 140
+    /// between runs of 130 (they outnumber it, but not two to one) is an error naming it.
+    #[test]
+    fn consensus_drops_long_bursts_and_names_contested_ones() {
+        let n = 400;
+        let t: Vec<f64> = (0..n).map(|i| i as f64 * 0.01).collect();
+        let clean: Vec<Quat> = t.iter().map(|&s| so3::exp([0.6 * s.sin(), 0.3 * s, 0.1])).collect();
+        let burst = |lo: usize, hi: usize| {
+            let mut y = clean.clone();
+            for q in &mut y[lo..hi] {
+                *q = *q * so3::exp([0.0, 2.97, 0.0]);
+            }
+            Data { t: t.clone(), y, w: vec![1.0; n] }
+        };
+        let mask = consensus_mask(&burst(100, 150)).unwrap();
+        for (i, k) in mask.iter().enumerate() {
+            assert_eq!(*k, !(100..150).contains(&i), "sample {i}");
+        }
+        assert!(consensus_mask(&Data { t: t.clone(), y: clean.clone(), w: vec![1.0; n] })
+            .unwrap()
+            .iter()
+            .all(|k| *k));
+        let e = consensus_mask(&burst(130, 270)).unwrap_err();
+        assert!(matches!(e, Error::Invalid { arg: "quats", .. }), "{e}");
+        assert!(e.to_string().contains("the 140 consecutive samples at t = 1.3 … "), "{e}");
     }
 }

@@ -55,6 +55,15 @@ impl Robust {
             }
         }
     }
+    /// The one-dimensional constants (95 % efficient for a scalar residual), which the
+    /// position fit applies to 1.4826 · median |r|.
+    pub(crate) fn tuning(self) -> f64 {
+        match self {
+            Robust::None => f64::INFINITY,
+            Robust::Huber => 1.345,
+            Robust::Cauchy => 2.385,
+        }
+    }
     /// The tuning constant c of the M-step for residuals in ℝ³ — rotation vectors on SO(3),
     /// position errors — in units of the per-axis noise σ: c = 1.628 σ (Huber) and 2.666 σ
     /// (Cauchy), each 95 % efficient at Gaussian noise, the usual choice for the final step of
