@@ -742,10 +742,15 @@ def fit(
         same continuity (C² / C⁴), extended beyond the ends with the end intervals' widths.
     robust : {None, "huber", "cauchy"}
         Robust loss (iteratively reweighted), so bad frames do not bend the curve. The fit
-        starts from a high-breakdown pilot (a running medoid of ±20 samples, then the Cauchy
-        loss), so up to half of the frames may be far glitches (tracker flips up to a half
-        turn, bursts of up to 20 consecutive frames); beyond that a ``ValueError``. Cauchy
-        gives far glitches weight ≈ 0; Huber bounds their pull at c each.
+        starts from a high-breakdown pilot: runs of samples that jump more than 30° from
+        their neighbours and disagree with the consensus of the recording (the chain of runs
+        holding the most samples) are dropped (weight 0), then a running medoid of ±20
+        samples and the Cauchy loss. Scattered glitches of any size and number that do not
+        agree with each other, and bursts of consecutive flipped frames, are rejected; a
+        burst longer than 20 frames that the frames it contradicts do not outnumber two to
+        one raises ``ValueError`` naming its time range (give the bad frames weight 0), as
+        does a scale beyond the breakdown point. Cauchy gives far glitches weight ≈ 0; Huber
+        bounds their pull at c each.
     robust_scale : float, optional
         The loss's scale c in radians (default: 1.628 σ̂ for Huber, 2.666 σ̂ for Cauchy — 95 %
         efficiency at Gaussian noise — with σ̂ the per-axis noise estimated robustly from the

@@ -7,7 +7,9 @@ use super::banded::Band;
 use super::knots::{fit_layout, schoenberg_whitney};
 use super::lambda::{dotv, gcv_final, lambda_cap, select_lambda};
 use super::model::{Model, MAXK};
-use super::start::{initial_controls_from, medoid_filter, medoid_filter_half, ROBUST_MEDOID_HALF};
+use super::start::{
+    consensus_mask, initial_controls_from, medoid_filter, medoid_filter_half, ROBUST_MEDOID_HALF,
+};
 use super::types::{pen_name, validate, Data, FitOptions, FitResult, Progress, Robust, Smoothing};
 use crate::error::{Error, Result, Short};
 use crate::quadrature::gauss_legendre01;
@@ -93,13 +95,39 @@ pub fn fit(
     if opts.smoothing == Smoothing::Fixed(0.0) {
         schoenberg_whitney(&data, &lay)?;
     }
-    let init = if opts.smoothing == Smoothing::Fixed(0.0) {
-        initial_controls_from(&data, &data.y, &lay)
+    // The start: a curve through a running medoid of the samples of positive weight (a
+    // zero-weight sample is no anchor: a run of them would drag the start off the data).
+    let kept = |d: &Data| {
+        let keep: Vec<usize> = (0..d.w.len()).filter(|&i| d.w[i] > 0.0).collect();
+        Data {
+            t: keep.iter().map(|&i| d.t[i]).collect(),
+            y: keep.iter().map(|&i| d.y[i]).collect(),
+            w: keep.iter().map(|&i| d.w[i]).collect(),
+        }
+    };
+    let (init, data) = if opts.smoothing == Smoothing::Fixed(0.0) {
+        (initial_controls_from(&data, &data.y, &lay), data)
     } else if opts.robust != Robust::None {
-        // the high-breakdown start of a robust fit (see `Solver::new`)
-        initial_controls_from(&data, &medoid_filter_half(&data, ROBUST_MEDOID_HALF), &lay)
+        // The high-breakdown start of a robust fit (see `Solver::start_pilot`): the runs that
+        // the consensus rejects are dropped (weight 0: a redescending loss does not hold a
+        // curve where a long run of glitches is the only data, since even their tiny weights
+        // outweigh the penalty there; Huber's pull c follows them), then the running medoid
+        // of what is left; the curve slerps across each dropped run.
+        let mask = consensus_mask(&data)?;
+        let mut data = data;
+        for (w, k) in data.w.iter_mut().zip(&mask) {
+            if !k {
+                *w = 0.0;
+            }
+        }
+        let sum: f64 = data.w.iter().sum();
+        let scale = data.w.len() as f64 / sum;
+        data.w.iter_mut().for_each(|w| *w *= scale);
+        let k = kept(&data);
+        (initial_controls_from(&k, &medoid_filter_half(&k, ROBUST_MEDOID_HALF), &lay), data)
     } else {
-        initial_controls_from(&data, &medoid_filter(&data), &lay)
+        let k = kept(&data);
+        (initial_controls_from(&k, &medoid_filter(&k), &lay), data)
     };
     let model = Model::with_layout(init, lay);
     solve(model, &data, opts, progress)

@@ -4,6 +4,7 @@
 use super::layout;
 use super::so3;
 use super::types::Data;
+use crate::error::{Error, Result};
 use crate::quat::Quat;
 use crate::vec3;
 use rayon::prelude::*;
@@ -131,6 +132,142 @@ fn running_medoid(w: &[f64], half: usize, d: impl Fn(usize, usize) -> f64 + Sync
     chunks.concat()
 }
 
+/// The least angle (radians) between consecutive samples that [`consensus_mask`] reads as a
+/// jump rather than motion: 30°. A curve that turns that far between two samples is not
+/// resolved by any fit of them (and 8 × the median step raises it for data sampled that
+/// coarsely); tracker flips (170°–180°) and random rotations (median 126°) lie far above it.
+const JUMP_MIN: f64 = std::f64::consts::PI / 6.0;
+
+/// Runs of [`consensus_mask`] a chain may skip at once (the look-back of its dynamic
+/// programme, which is O(runs × this)).
+const CHAIN_LOOKBACK: usize = 64;
+
+/// The angle between two rotations (sign-blind), radians.
+fn angle(a: Quat, b: Quat) -> f64 {
+    2.0 * a.dot(b).abs().min(1.0).acos()
+}
+
+/// Which samples the start of a robust fit may use: false for each sample of a run of
+/// consecutive samples that the consensus of the recording rejects; an error where that
+/// consensus is contested for a run longer than [`ROBUST_MEDOID_HALF`] (shorter ones the
+/// running medoid of the kept samples outvotes in any case).
+///
+/// The samples of positive weight are cut into runs at jumps: consecutive samples farther
+/// apart than J = max(30°, 8 × the median step) ([`JUMP_MIN`]). A run is internally smooth; a
+/// burst of flipped frames is a run bounded by two jumps. (J reads the median step: when more
+/// than half of the steps are jumps — scattered glitches beyond about 30 % — J exceeds them
+/// all, there is one run, and the running medoid alone is the start.) Run q may follow run p in a chain
+/// when its first sample lies within J + v·Δt of p's last (Δt the time between them, v the
+/// 99th percentile of the angular rate over the steps that are not jumps: the motion cannot
+/// carry the curve farther), skipping at most [`CHAIN_LOOKBACK`] runs. The consensus is the
+/// chain holding the most samples (dynamic programming forwards, F, and backwards, B: the best
+/// chain through run r holds F(r) + B(r) − |r| samples).
+///
+/// Breakdown: a rejected run r of |r| samples loses to the consensus by the margin
+/// best − through(r), the samples it contradicts less its own. The run is rejected cleanly when
+/// that margin is at least |r| — the samples it contradicts outnumber it two to one; below, no
+/// choice is supported by the data (a burst as long as the motion that surrounds it, or motion
+/// fast enough that a flip is reachable within the burst's duration) and the fit is an error
+/// naming the run's time range, not a curve through it or half-way to it.
+pub(super) fn consensus_mask(data: &Data) -> Result<Vec<bool>> {
+    let (t, y) = (&data.t, &data.y);
+    let n = y.len();
+    let mut mask = vec![true; n];
+    let idx: Vec<usize> = (0..n).filter(|&i| data.w[i] > 0.0).collect();
+    if idx.len() < 3 {
+        return Ok(mask);
+    }
+    let steps: Vec<f64> = idx.windows(2).map(|p| angle(y[p[0]], y[p[1]])).collect();
+    let mut sorted = steps.clone();
+    sorted.sort_by(f64::total_cmp);
+    let jump = JUMP_MIN.max(8.0 * sorted[sorted.len() / 2]);
+    // runs: [start, end] positions in `idx`
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    let mut start = 0;
+    for (j, &s) in steps.iter().enumerate() {
+        if s > jump {
+            runs.push((start, j));
+            start = j + 1;
+        }
+    }
+    runs.push((start, idx.len() - 1));
+    if runs.len() == 1 {
+        return Ok(mask);
+    }
+    let mut rates: Vec<f64> = steps
+        .iter()
+        .enumerate()
+        .filter(|(_, &s)| s <= jump)
+        .map(|(j, &s)| s / (t[idx[j + 1]] - t[idx[j]]))
+        .collect();
+    rates.sort_by(f64::total_cmp);
+    let v = if rates.is_empty() { 0.0 } else { rates[(rates.len() * 99 / 100).min(rates.len() - 1)] };
+    let m = runs.len();
+    let len = |r: usize| (runs[r].1 - runs[r].0 + 1) as f64;
+    let fits = |p: usize, q: usize| {
+        let (a, b) = (idx[runs[p].1], idx[runs[q].0]);
+        angle(y[a], y[b]) <= jump + v * (t[b] - t[a])
+    };
+    let mut fwd = vec![0.0; m];
+    let mut pred = vec![usize::MAX; m];
+    for q in 0..m {
+        let mut best = (0.0, usize::MAX);
+        for p in q.saturating_sub(CHAIN_LOOKBACK)..q {
+            if fwd[p] > best.0 && fits(p, q) {
+                best = (fwd[p], p);
+            }
+        }
+        fwd[q] = len(q) + best.0;
+        pred[q] = best.1;
+    }
+    let mut bwd = vec![0.0; m];
+    for p in (0..m).rev() {
+        let mut best = 0.0;
+        for q in p + 1..(p + 1 + CHAIN_LOOKBACK).min(m) {
+            if bwd[q] > best && fits(p, q) {
+                best = bwd[q];
+            }
+        }
+        bwd[p] = len(p) + best;
+    }
+    let mut last = 0;
+    for r in 1..m {
+        if fwd[r] > fwd[last] {
+            last = r;
+        }
+    }
+    let best = fwd[last];
+    let mut chosen = vec![false; m];
+    let mut r = last;
+    while r != usize::MAX {
+        chosen[r] = true;
+        r = pred[r];
+    }
+    for r in (0..m).filter(|&r| !chosen[r]) {
+        let through = fwd[r] + bwd[r] - len(r);
+        let (a, b) = (idx[runs[r].0], idx[runs[r].1]);
+        if len(r) > ROBUST_MEDOID_HALF as f64 && best - through < len(r) {
+            let before = if runs[r].0 > 0 { steps[runs[r].0 - 1] } else { steps[runs[r].1] };
+            return Err(Error::invalid(
+                "quats",
+                format!(
+                    "the {} consecutive samples at t = {} … {} jump {:.0}° from their neighbours, \
+                     and the samples around them do not outnumber them two to one: the robust fit \
+                     cannot tell which are glitches (give the bad ones weight 0)",
+                    len(r),
+                    t[a],
+                    t[b],
+                    before.to_degrees()
+                ),
+            ));
+        }
+        for &i in &idx[runs[r].0..=runs[r].1] {
+            mask[i] = false;
+        }
+    }
+    Ok(mask)
+}
+
 /// Controls at the knots' Greville-like abscissae, slerped between the neighbouring `anchors`
 /// (one per sample).
 pub(super) fn initial_controls_from(data: &Data, anchors: &[Quat], lay: &layout::Layout) -> Vec<Quat> {
@@ -254,5 +391,33 @@ mod tests {
             // centre is 30 samples in)
             assert!(ang(out[i], clean[i]) < 0.3, "sample {i}: {}", ang(out[i], clean[i]));
         }
+    }
+
+    /// The consensus of runs drops a burst of 50 frames turned by one rotation (longer than
+    /// the medoid's window, which followed it) and keeps every other sample; a burst of 140
+    /// between runs of 130 (they outnumber it, but not two to one) is an error naming it.
+    #[test]
+    fn consensus_drops_long_bursts_and_names_contested_ones() {
+        let n = 400;
+        let t: Vec<f64> = (0..n).map(|i| i as f64 * 0.01).collect();
+        let clean: Vec<Quat> = t.iter().map(|&s| so3::exp([0.6 * s.sin(), 0.3 * s, 0.1])).collect();
+        let burst = |lo: usize, hi: usize| {
+            let mut y = clean.clone();
+            for q in &mut y[lo..hi] {
+                *q = *q * so3::exp([0.0, 2.97, 0.0]);
+            }
+            Data { t: t.clone(), y, w: vec![1.0; n] }
+        };
+        let mask = consensus_mask(&burst(100, 150)).unwrap();
+        for (i, k) in mask.iter().enumerate() {
+            assert_eq!(*k, !(100..150).contains(&i), "sample {i}");
+        }
+        assert!(consensus_mask(&Data { t: t.clone(), y: clean.clone(), w: vec![1.0; n] })
+            .unwrap()
+            .iter()
+            .all(|k| *k));
+        let e = consensus_mask(&burst(130, 270)).unwrap_err();
+        assert!(matches!(e, Error::Invalid { arg: "quats", .. }), "{e}");
+        assert!(e.to_string().contains("the 140 consecutive samples at t = 1.3 … "), "{e}");
     }
 }
