@@ -197,8 +197,8 @@ def fit_rotations_gyro(
     bias: list[float],
     time_offset: float,
     rotation: list[float],
-    knots_per_sample: float = 1.0,
-    bandwidth: float = 1.0,
+    knots_per_sample: float | None = None,
+    bandwidth: float | None = None,
     progress: object = None,
 ) -> dict: ...  # fit_rotations' dict + gyro_parameters, gyro_covariance, …
 def fit_positions(

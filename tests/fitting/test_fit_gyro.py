@@ -80,6 +80,9 @@ def test_vanishing_gyro_weight_gives_the_plain_fit():
     f = qs.fit(t, q, gyro=imu, gyro_noise=1e9, noise_std=0.01, estimate=(), **kw)
     tt = np.linspace(a, b, 301)
     assert qs.angle_between(f(tt), plain(tt)).max() < 1e-7
+    # the orientation term's degrees of freedom and GCV score are the plain fit's in the limit
+    assert f.effective_dof == pytest.approx(plain.effective_dof, rel=1e-6)
+    assert f.score == pytest.approx(plain.score, rel=1e-6)
     f2 = qs.fit(t, q, gyro=imu, gyro_noise=0.01, noise_std=0.01, estimate=(), **kw)
     assert qs.angle_between(f2(tt), plain(tt)).max() > 1e-4
 
@@ -205,3 +208,62 @@ def test_bias_standard_deviation_matches_monte_carlo():
     # 40 draws: the sample standard deviation is within ±25 % of the truth at about 2σ
     assert np.all((emp / stated > 0.7) & (emp / stated < 1.4)), (emp, stated)
     assert np.all(np.abs(np.mean(est, axis=0) - bias) < 3 * stated / np.sqrt(40) + 1e-6)
+
+
+def test_gyro_fit_states_its_degrees_of_freedom_and_score():
+    """effective_dof is the trace of the orientation term's hat matrix in the joint system
+    (curve and sensor parameters), score its GCV score n·RSS / (n − edf)² (n = 3 per key)."""
+    rng = np.random.default_rng(8)
+    m = _motion(8, 6.0)
+    sq = np.radians(0.2)
+    t, q = _keys(m, 10.0, sq, rng)
+    imu = simulate(m, rate=100, noise=MEMS, seed=8)
+    f = qs.fit(t, q, gyro=imu, gyro_noise=MEMS, noise_std=sq)
+    n = 3 * t.size
+    assert 0.0 < f.effective_dof < n
+    rss = float(np.sum(f.residuals**2))
+    assert f.score == pytest.approx(n * rss / (n - f.effective_dof) ** 2, rel=1e-6)
+    # estimating the sensor parameters spends degrees of freedom of the orientation term
+    f0 = qs.fit(t, q, gyro=imu, gyro_noise=MEMS, noise_std=sq, estimate=())
+    assert f.effective_dof > f0.effective_dof
+
+
+def test_sensor_standard_deviations_match_monte_carlo():
+    """The stated standard deviations of the bias, time offset and rotation against the
+    scatter of the estimates over 150 noise draws of one small problem (8 s, 10 Hz keys of
+    0.1°, a consumer gyroscope at 100 Hz with a planted bias, offset and rotation), and the
+    coverage of the nominal 95 % intervals. At knots of 0.618 gyroscope spacings (the
+    samples' phases inside the knot intervals equidistribute) and λ of a bandwidth of 0.1
+    spacings; at the default knots (one per sample) the offset locks to the sample grid and
+    this fails (offset coverage 73 %), as it does at a bandwidth of one spacing (bias and
+    rotation coverage 77–79 %)."""
+    m = _motion(9, 8.0)
+    a, b = m.domain
+    sq = np.radians(0.1)
+    bias = np.radians([0.3, -0.2, 0.1])
+    rot = qs.from_rotvec([0.05, -0.03, 0.08])
+    offset = 0.004
+    sensor = SensorModel(rotation=rot, time_offset=offset, gyro_bias=bias)
+    gt = np.arange(a + 0.05, b - 0.05, 1 / 100)
+    tk = np.arange(a, b + 1e-9, 0.1)
+    sigma_g = MEMS.white_std(100.0)[0]
+    dtg = float(np.median(np.diff(gt)))
+    lam = (sq / sigma_g) ** 2 / dtg * (0.1 * dtg) ** 2  # κ ρ_g h², h = 0.1 spacings
+    kw = dict(knots=0.618033988749895 * dtg, smoothing=lam)
+    err, sd = [], []
+    for draw in range(150):
+        rng = np.random.default_rng(2000 + draw)
+        imu = simulate(m, times=gt, sensor=sensor, noise=MEMS, seed=draw)
+        q = qs.multiply(m(tk), qs.from_rotvec(rng.normal(0.0, sq, (tk.size, 3))))
+        g = qs.fit(tk, q, gyro=imu, gyro_noise=MEMS, noise_std=sq, **kw).gyro
+        drot = qs.as_rotvec(qs.multiply(qs.conjugate(rot), g.rotation))
+        err.append(np.r_[g.bias - bias, g.time_offset - offset, drot])
+        sd.append(np.r_[g.bias_std, g.time_offset_std, g.rotation_std])
+    err, sd = np.array(err), np.array(sd)
+    ratio = np.std(err, axis=0, ddof=1) / np.mean(sd, axis=0)
+    cover = np.mean(np.abs(err) <= 1.96 * sd, axis=0)
+    names = ("bias_x", "bias_y", "bias_z", "time_offset", "rot_x", "rot_y", "rot_z")
+    report = dict(zip(names, zip(np.round(ratio, 2), np.round(cover, 3))))
+    # 150 draws: the sample standard deviation is within ±12 % at 2σ, the coverage ±3.6 %
+    assert np.all((ratio > 0.7) & (ratio < 1.4)), report
+    assert np.all((cover >= 0.88) & (cover <= 0.99)), report

@@ -32,6 +32,52 @@ fn reporter(cb: Option<Py<PyAny>>) -> impl FnMut(&str, usize, f64) -> bool + Sen
     }
 }
 
+/// The samples of a fit, converted once for every entry point that takes them (the fits and
+/// the posteriors): times, values (`quats` (N, 4) as quaternions or `positions` (N, 3) as
+/// rows, shape-checked by [`rows_of`] with the argument's name), the sample weights and the
+/// fit's final IRLS weights. Lengths and values are checked by the core (one message each).
+struct Samples<V> {
+    t: Vec<f64>,
+    v: Vec<V>,
+    w: Option<Vec<f64>>,
+    rw: Option<Vec<f64>>,
+}
+
+impl<V> Samples<V> {
+    fn new(
+        times: &PyReadonlyArray1<'_, f64>,
+        values: PyResult<Vec<V>>,
+        weights: Option<&PyReadonlyArray1<'_, f64>>,
+        robust_weights: Option<&PyReadonlyArray1<'_, f64>>,
+    ) -> PyResult<Self> {
+        Ok(Samples { t: vec_of(times), v: values?, w: weights.map(vec_of), rw: robust_weights.map(vec_of) })
+    }
+}
+
+impl Samples<quatspline::quat::Quat> {
+    /// Orientation samples: `quats` (N, 4), w x y z.
+    fn quats(
+        times: &PyReadonlyArray1<'_, f64>,
+        quats: &PyReadonlyArray2<'_, f64>,
+        weights: Option<&PyReadonlyArray1<'_, f64>>,
+        robust_weights: Option<&PyReadonlyArray1<'_, f64>>,
+    ) -> PyResult<Self> {
+        Samples::new(times, quats_of(quats, "quats"), weights, robust_weights)
+    }
+}
+
+impl Samples<[f64; 3]> {
+    /// Position samples: `positions` (N, 3).
+    fn positions(
+        times: &PyReadonlyArray1<'_, f64>,
+        positions: &PyReadonlyArray2<'_, f64>,
+        weights: Option<&PyReadonlyArray1<'_, f64>>,
+        robust_weights: Option<&PyReadonlyArray1<'_, f64>>,
+    ) -> PyResult<Self> {
+        Samples::new(times, rows_of::<3>(positions, "positions"), weights, robust_weights)
+    }
+}
+
 /// Orientation fit; returns a dict of the result fields.
 #[pyfunction]
 #[pyo3(signature = (times, quats, weights, penalty, order, smoothing, knots_spacing, knots_array,
@@ -55,9 +101,7 @@ fn fit_rotations<'py>(
     adaptivity: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let mode = adaptivity.parse::<fit::Adaptivity>().map_err(to_py)?;
-    let t = vec_of(&times);
-    let q = quats_of(&quats, "quats")?;
-    let w = weights.as_ref().map(vec_of);
+    let Samples { t, v: q, w, .. } = Samples::quats(&times, &quats, weights.as_ref(), None)?;
     let opts = FitOptions {
         penalty: penalty.parse::<Penalty>().map_err(to_py)?,
         order,
@@ -71,25 +115,7 @@ fn fit_rotations<'py>(
     let mut rep = reporter(progress);
     let r = guarded(py, "fit", move || fit::fit_adaptive(&t, &q, w.as_deref(), &opts, mode, &mut rep))?;
     let d = PyDict::new(py);
-    let ctrl: Vec<f64> = r.ctrl.iter().flat_map(|q| q.to_wxyz()).collect();
-    d.set_item("ctrl", ctrl.into_pyarray(py).reshape([r.ctrl.len(), 4])?)?;
-    d.set_item("dt", r.dt)?;
-    d.set_item("t0", r.t0)?;
-    d.set_item("order", r.order)?;
-    let full = r.breaks.as_ref().map(|b| fit::layout::full_knots(b, r.order).into_pyarray(py));
-    d.set_item("knots_full", full)?;
-    d.set_item("breaks", r.breaks.as_ref().map(|b| b.clone().into_pyarray(py)))?;
-    d.set_item("residuals", r.residuals.into_pyarray(py))?;
-    d.set_item("robust_weights", r.robust_weights.into_pyarray(py))?;
-    d.set_item("robust_scale", r.robust_scale)?;
-    d.set_item("smoothing", r.lambda)?;
-    d.set_item("smoothing_requested", r.lambda_requested)?;
-    d.set_item("effective_dof", r.edf)?;
-    d.set_item("score", r.score)?;
-    d.set_item("iterations", r.iterations)?;
-    d.set_item("final_step", r.final_step)?;
-    d.set_item("converged", r.converged)?;
-    d.set_item("penalty_weights", r.penalty_weights.map(|v| v.into_pyarray(py)))?;
+    put_fit_result(py, &d, r)?;
     Ok(d)
 }
 
@@ -122,7 +148,7 @@ fn put_fit_result(py: Python<'_>, d: &Bound<'_, PyDict>, r: fit::FitResult) -> P
 #[pyfunction]
 #[pyo3(signature = (times, quats, weights, gyro_times, gyro, penalty, order, smoothing, knots_spacing,
                     knots_array, max_iter, tol, sigma_gyro, sigma_orientation, estimate,
-                    bias, time_offset, rotation, knots_per_sample=1.0, bandwidth=1.0, progress=None))]
+                    bias, time_offset, rotation, knots_per_sample=None, bandwidth=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn fit_rotations_gyro<'py>(
     py: Python<'py>,
@@ -144,13 +170,11 @@ fn fit_rotations_gyro<'py>(
     bias: [f64; 3],
     time_offset: f64,
     rotation: [f64; 4],
-    knots_per_sample: f64,
-    bandwidth: f64,
+    knots_per_sample: Option<f64>,
+    bandwidth: Option<f64>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let t = vec_of(&times);
-    let q = quats_of(&quats, "quats")?;
-    let w = weights.as_ref().map(vec_of);
+    let Samples { t, v: q, w, .. } = Samples::quats(&times, &quats, weights.as_ref(), None)?;
     let gt = vec_of(&gyro_times);
     let gw = rows_of::<3>(&gyro, "gyro")?;
     let opts = FitOptions {
@@ -174,8 +198,8 @@ fn fit_rotations_gyro<'py>(
             rotation: quatspline::quat::Quat::from_wxyz(rotation).normalize(),
             scale: [0.0; 3],
         },
-        knots_per_sample,
-        bandwidth,
+        knots_per_sample: knots_per_sample.unwrap_or(fit::GyroOptions::default().knots_per_sample),
+        bandwidth: bandwidth.unwrap_or(fit::GyroOptions::default().bandwidth),
     };
     let mut rep = reporter(progress);
     let r =
@@ -310,9 +334,7 @@ fn fit_positions<'py>(
     robust: Option<&str>,
     robust_scale: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let t = vec_of(&times);
-    let x = rows_of::<3>(&positions, "positions")?;
-    let w = weights.as_ref().map(vec_of);
+    let Samples { t, v: x, w, .. } = Samples::positions(&times, &positions, weights.as_ref(), None)?;
     let pen = penalty.parse::<Penalty>().map_err(to_py)?;
     let rob = robust.map_or(Ok(Robust::None), str::parse).map_err(to_py)?;
     let knots = knots_of(knots_spacing, knots_array);
@@ -430,10 +452,8 @@ fn fit_posterior<'py>(
     smoothing: f64,
     penalty_weights: Option<PyReadonlyArray1<'py, f64>>,
 ) -> PyResult<PyFitPosterior> {
-    let t = vec_of(&times);
-    let q = quats_of(&quats, "quats")?;
-    let w = weights.as_ref().map(vec_of);
-    let rw = robust_weights.as_ref().map(vec_of);
+    let Samples { t, v: q, w, rw } =
+        Samples::quats(&times, &quats, weights.as_ref(), robust_weights.as_ref())?;
     let c = quats_of(&ctrl, "ctrl")?;
     let br = breaks.as_ref().map(vec_of);
     let pw = penalty_weights.as_ref().map(vec_of);
@@ -496,10 +516,8 @@ fn position_posterior<'py>(
     penalty: &str,
     smoothing: f64,
 ) -> PyResult<PyPositionPosterior> {
-    let t = vec_of(&times);
-    let x = rows_of::<3>(&positions, "positions")?;
-    let w = weights.as_ref().map(vec_of);
-    let rw = robust_weights.as_ref().map(vec_of);
+    let Samples { t, v: x, w, rw } =
+        Samples::positions(&times, &positions, weights.as_ref(), robust_weights.as_ref())?;
     let c = rows_of::<3>(&ctrl, "ctrl")?;
     let br = breaks.as_ref().map(vec_of);
     let pen = penalty.parse::<Penalty>().map_err(to_py)?;

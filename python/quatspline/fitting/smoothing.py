@@ -784,7 +784,9 @@ def fit(
         gyroscope sample and ``smoothing="auto"`` to λ = κ ρ_g h^{2m} (ρ_g the gyroscope's
         rate, h one gyroscope sample spacing; "gcv" and "adaptive" are not available); robust
         losses and ``penalty="auto"`` are not available. The result's ``gyro`` holds the
-        estimates and their standard deviations.
+        estimates and their standard deviations (the marginal covariance of the joint fit,
+        given σ_g and σ_q; see the IMU guide on the estimates' bias at the default knots);
+        ``effective_dof`` and ``score`` are those of the orientation term in the joint fit.
     gyro_noise : None, quatspline.io.ImuNoise or float
         σ_g, the gyroscope's white noise per axis and sample (rad/s): an ImuNoise gives it
         from its noise density at the record's rate; None estimates it from the record
