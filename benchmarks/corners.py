@@ -7,7 +7,13 @@ Keys: a random walk with steps of about 0.3 rad (``bench.random_walk``, seed 4) 
 the best of ``--repeat`` runs (the machine may be shared: the minimum is the least disturbed
 run). The CPU is named from /proc/cpuinfo.
 
-Run: ``python benchmarks/corners.py [--n 100000] [--keys 1000] [--repeat 5] [--only arc]``.
+The spherical Bézier curve costs n(n − 1)/2 slerps per sample for n control points (de
+Casteljau): its rows also give the cost per slerp (the floor of the algorithm is that count
+times the vector slerp's cost), and ``--only bezier`` sweeps the number of points to find the
+most that stay within 1 µs per sample.
+
+Run: ``python benchmarks/corners.py [--n 100000] [--keys 1000] [--repeat 5]
+[--only arc|corners|bezier]``.
 """
 
 from __future__ import annotations
@@ -20,7 +26,7 @@ import numpy as np
 import quatspline as qs
 from _common import cpu_model
 from bench import random_walk
-from engine_bench import best_ns
+from engine_bench import best_ns, best_ns_interleaved
 
 
 def corners(keys: int) -> list[tuple[str, qs.Spline]]:
@@ -102,31 +108,40 @@ def build_us(s: qs.Spline, repeat: int) -> float:
 
 
 def arc_table(rows, n: int, repeat: int) -> None:
-    """Arc-length splines against their floor: the original spline evaluated per sample on
-    the jet path (forced ``reference`` kernels), which the composition does once per sample
-    (values of the original's value, ω from its jet of order 4); and the construction of the
-    arc-length spline, µs per segment."""
+    """Arc-length splines against their floor, the original spline's own evaluation at the
+    same number of samples (the batch path maps every time through the tabulated inverse, then
+    evaluates the original's kernel on the mapped times: the difference is the inverse); and
+    the per-sample path the arc-length spline took before (forced ``reference`` kernels), and
+    the construction of the arc-length spline, µs per segment."""
     mode = qs.simd_status()[0]
     print(
-        "| spline | values | original, jet path | ω | original's ω, jet path | values, 2 threads "
-        "| construction (µs/segment) |"
+        "| spline | values | original's values | ω | original's ω | values, per-sample path "
+        "| values, 2 threads | construction (µs/segment) |"
     )
-    print("|---|---:|---:|---:|---:|---:|---:|")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|")
     for name, s, r in rows:
         ts = np.linspace(*s.domain, n)
         build = build_us(s, repeat)
         qs.set_num_threads(1)
-        val = best_ns(lambda r=r, ts=ts: r(ts), n, repeat)
-        om = best_ns(lambda r=r, ts=ts: r.angular_velocity(ts), n, repeat)
+        val, orig, om, orig_om = best_ns_interleaved(
+            [
+                lambda r=r, ts=ts: r(ts),
+                lambda s=s, ts=ts: s(ts),
+                lambda r=r, ts=ts: r.angular_velocity(ts),
+                lambda s=s, ts=ts: s.angular_velocity(ts),
+            ],
+            n,
+            repeat,
+        )
         qs.set_simd("reference")
-        ref_val = best_ns(lambda s=s, ts=ts: s(ts), n, repeat)
-        ref_om = best_ns(lambda s=s, ts=ts: s.angular_velocity(ts), n, repeat)
+        few = ts[::20]  # the per-sample path is slow: every 20th time
+        per_sample = best_ns(lambda r=r, few=few: r(few), len(few), min(repeat, 3))
         qs.set_simd(mode)
         qs.set_num_threads(0)
         two = best_ns(lambda r=r, ts=ts: r(ts), n, repeat)
         print(
-            f"| arc_length({name}) | {val:,.1f} | {ref_val:,.1f} | {om:,.1f} | {ref_om:,.1f} "
-            f"| {two:,.1f} | {build:,.1f} |",
+            f"| arc_length({name}) | {val:,.1f} | {orig:,.1f} | {om:,.1f} | {orig_om:,.1f} "
+            f"| {per_sample:,.1f} | {two:,.1f} | {build:,.1f} |",
             flush=True,
         )
 
@@ -159,20 +174,43 @@ def table(rows: list[tuple[str, qs.Spline]], n: int, repeat: int) -> None:
         print(f"- {line}")
 
 
+def bezier_sweep(n: int, repeat: int) -> None:
+    """Values of the spherical Bézier curve by number of control points (one thread): ns per
+    sample and per slerp, and the most points measured within 1 µs per sample."""
+    q = random_walk(65, 4, 0.3)
+    print("| points | slerps per sample | ns per sample | ns per slerp |")
+    print("|---:|---:|---:|---:|")
+    qs.set_num_threads(1)
+    within = 0
+    for points in (8, 16, 24, 32, 36, 40, 44, 48, 56, 65):
+        s = qs.SphericalBezier(q[:points], domain=(0.0, 1.0))
+        ts = np.linspace(0.0, 1.0, n)
+        ns = best_ns(lambda s=s, ts=ts: s(ts), n, repeat)
+        slerps = points * (points - 1) // 2
+        if ns <= 1000.0:
+            within = points
+        print(f"| {points} | {slerps:,} | {ns:,.1f} | {ns / slerps:.2f} |", flush=True)
+    qs.set_num_threads(0)
+    print(f"\nWithin 1 µs per sample: up to {within} points (of those measured).")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=100_000, help="samples per row")
     ap.add_argument("--keys", type=int, default=1000, help="keys of the spline methods")
     ap.add_argument("--repeat", type=int, default=5)
-    ap.add_argument("--only", choices=("arc", "corners"), default=None)
+    ap.add_argument("--only", choices=("arc", "corners", "bezier"), default=None)
     a = ap.parse_args()
     print(f"CPU: {cpu_model()}; ns per sample, best of {a.repeat} runs, {a.n:,} sorted samples\n")
-    if a.only != "corners":
+    if a.only in (None, "arc"):
         print(f"## Arc-length splines ({a.keys:,} keys)\n")
         arc_table(arc_families(a.keys), a.n, a.repeat)
-    if a.only != "arc":
+    if a.only in (None, "corners"):
         print(f"\n## Registry methods at their limits ({a.keys:,} keys)\n")
         table(corners(a.keys), a.n, a.repeat)
+    if a.only in (None, "bezier"):
+        print("\n## Spherical Bézier: points within 1 µs per sample (values, 1 thread)\n")
+        bezier_sweep(a.n, a.repeat)
 
 
 if __name__ == "__main__":

@@ -335,6 +335,11 @@ SLERP_FAMILY = {
     ),
     "bezier 8": lambda: qs.SphericalBezier(Q[:8], domain=(T[0], T[-1])),
     "bezier 16": lambda: qs.SphericalBezier(Q[:16], domain=(-1.0, 1.0)),
+    # beyond 16 points the kernel's records live on the heap and its pyramid is taller
+    "bezier 17": lambda: qs.SphericalBezier(Q[:17], domain=(-1.0, 1.0)),
+    "bezier 33 small steps": lambda: qs.SphericalBezier(
+        random_walk(33, 5, step=0.14), domain=(0.0, 2.0)
+    ),
 }
 
 
@@ -359,7 +364,7 @@ def test_slerp_family_kernels_equal_reference(name, mode):
     assert not np.array_equal(s(t), r0)  # the kernel, not the reference, ran
 
 
-@pytest.mark.parametrize("name", ["squad", "catmull_rom", "bezier 8"])
+@pytest.mark.parametrize("name", ["squad", "catmull_rom", "bezier 8", "bezier 33 small steps"])
 @pytest.mark.parametrize("mode", MODES)
 def test_slerp_family_thread_count_independent_bits(name, mode):
     force(mode)
@@ -376,6 +381,62 @@ def test_slerp_family_thread_count_independent_bits(name, mode):
         np.testing.assert_array_equal(results[0], r)
     order = np.argsort(t)
     np.testing.assert_array_equal(results[0][order], s(np.sort(t)))
+
+
+# ---- arc-length splines: the times mapped first, then the original's kernel ----
+
+ARC = {
+    "slerp": lambda: qs.PiecewiseSlerp(Q, T),
+    "squad": lambda: qs.Squad(Q, T),
+    "catmull_rom": lambda: qs.CatmullRom(Q, T),
+    "natural": lambda: qs.NaturalSpline(Q, T),
+    "c3": lambda: qs.C3Spline(Q, T),
+    "bspline": lambda: qs.CumulativeBSpline(Q, dt=0.5, t0=T[0]),
+    "beta": lambda: qs.BetaSpline(Q, beta1=1.3, beta2=0.4, times=T[:38]),
+    "bezier 8": lambda: qs.SphericalBezier(Q[:8], domain=(T[0], T[-1])),
+}
+
+
+@pytest.mark.parametrize("name", list(ARC))
+@pytest.mark.parametrize("mode", MODES)
+def test_arc_length_batch_equals_the_per_sample_path(name, mode):
+    # values (and q') by the original's kernel at the mapped times, ω where the original has
+    # closed-form rates; higher orders by the jets: every row within the kernels' bound
+    s = qs.arc_length(ARC[name]())
+    qs.set_simd("reference")
+    ref = run_all(s)
+    force(mode)
+    got = run_all(s)
+    for key, (t, r) in ref.items():
+        kind, what, order = key
+        block = 4 if what == "q" else 3
+        assert got[key][1].shape == r.shape, key
+        assert worst(s, t, got[key][1], r, block, order) <= 1.0, key
+    t = sample_sets(s)["sorted"]
+    qs.set_simd("reference")
+    r0 = s(t)
+    force(mode)
+    assert not np.array_equal(s(t), r0)  # the batch path, not the reference, ran
+
+
+@pytest.mark.parametrize("name", ["slerp", "natural", "bezier 8"])
+@pytest.mark.parametrize("mode", MODES)
+def test_arc_length_thread_count_independent_bits(name, mode):
+    force(mode)
+    s = qs.arc_length(ARC[name]())
+    t = np.random.default_rng(5).uniform(*s.domain, 60_000)
+    try:
+        results = []
+        for n in (1, 2, 3):
+            qs.set_num_threads(n)
+            results.append((s(t), s.angular_velocity(t)))
+    finally:
+        qs.set_num_threads(0)
+    for r in results[1:]:
+        for a, b in zip(results[0], r):
+            np.testing.assert_array_equal(a, b)
+    order = np.argsort(t)
+    np.testing.assert_array_equal(results[0][0][order], s(np.sort(t)))
 
 
 def _pairs(n, seed):

@@ -6,15 +6,7 @@ use quatspline::Quat;
 use std::hint::black_box;
 
 fn keys(n: usize) -> Vec<Quat> {
-    let mut q = vec![Quat::new(0.5, 0.5, -0.5, 0.5)];
-    for k in 1..n {
-        let a = 0.3 + 0.05 * (k % 8) as f64;
-        let (s, c) = (0.5 * a).sin_cos();
-        let ax = [(k as f64).sin(), (1.7 * k as f64).cos(), 0.5];
-        let m = (ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]).sqrt();
-        q.push(q[k - 1] * Quat::new(c, s * ax[0] / m, s * ax[1] / m, s * ax[2] / m));
-    }
-    q
+    quatspline::testing::profile_keys(n)
 }
 
 fn evaluation(c: &mut Criterion) {

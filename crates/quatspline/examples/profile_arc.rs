@@ -1,8 +1,10 @@
 //! Times arc-length splines per sample on one core against their floor, the original spline's
-//! own jet evaluation at the same samples (a quick profile, not a benchmark): value (order 1)
-//! and value with first derivative (order 2, what ω needs); the best of 7 runs.
+//! own evaluation at the same samples (a quick profile, not a benchmark): values through the
+//! engine (the batch path: times mapped through the tabulated inverse, then the original's
+//! kernel) and per sample (`segment_jet1`, the reference path), ω through the engine; the best
+//! of 7 runs. Keys: `quatspline::testing::profile_keys` (as `profile_eval` and the criterion
+//! benchmarks).
 use quatspline::spline::*;
-use quatspline::Quat;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -19,15 +21,7 @@ fn best(mut f: impl FnMut() -> f64, n: usize) -> f64 {
 }
 
 fn main() {
-    let n = 200;
-    let mut q = vec![Quat::new(0.5, 0.5, -0.5, 0.5)];
-    for k in 1..n {
-        let a = 0.3 + 0.05 * (k % 8) as f64;
-        let (s, c) = (0.5 * a).sin_cos();
-        let ax = [(k as f64).sin(), (1.7 * k as f64).cos(), 0.5];
-        let m = (ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]).sqrt();
-        q.push(q[k - 1] * Quat::new(c, s * ax[0] / m, s * ax[1] / m, s * ax[2] / m));
-    }
+    let q = quatspline::testing::profile_keys(200);
     let splines: Vec<Arc<dyn Spline>> = vec![
         Arc::new(PiecewiseSlerp::new(&q, None, true).unwrap()),
         Arc::new(Squad::new(&q, None, true).unwrap()),
@@ -45,32 +39,31 @@ fn main() {
         let build = build.elapsed().as_secs_f64() * 1e6 / s.segments() as f64;
         let (a, b) = r.domain();
         let t: Vec<f64> = (0..m).map(|i| a + (b - a) * i as f64 / m as f64).collect();
-        let run = |sp: &dyn Spline, order: usize| {
+        let mut out = vec![0.0; 4 * m];
+        let mut engine = |sp: &dyn Spline, omega: bool| {
             best(
                 || {
-                    let mut acc = 0.0;
-                    for &ti in &t {
-                        let k = sp.locate(ti);
-                        acc += if order == 1 {
-                            sp.segment_jet1(k, ti).value().w
-                        } else {
-                            sp.segment_jet2(k, ti).derivative(1).w
-                        };
+                    if omega {
+                        angular_into(sp, &t, 0, 1, Frame::World, Extrapolate::Raise, &mut out[..3 * m])
+                            .unwrap();
+                    } else {
+                        evaluate_into(sp, &t, 0, 0, Extrapolate::Raise, &mut out).unwrap();
                     }
-                    acc
+                    out[0]
                 },
                 m,
             )
         };
+        let (val, orig, om, orig_om) =
+            (engine(&r, false), engine(&*s, false), engine(&r, true), engine(&*s, true));
+        let per_sample = |sp: &dyn Spline| {
+            best(|| t.iter().map(|&ti| sp.segment_jet1(sp.locate(ti), ti).value().w).sum(), m)
+        };
         println!(
-            "arc_length({}): value {:.1} ns (original {:.1}), first derivative {:.1} ns (original {:.1}); \
-             build {:.1} µs/segment, {:.1} table pieces/segment",
+            "arc_length({}): values {val:.1} ns (original {orig:.1}), ω {om:.1} ns (original {orig_om:.1}), \
+             per sample {:.1} ns; build {build:.1} µs/segment, {:.1} table pieces/segment",
             s.name(),
-            run(&r, 1),
-            run(&*s, 1),
-            run(&r, 2),
-            run(&*s, 2),
-            build,
+            per_sample(&r),
             r.table_pieces() as f64 / s.segments() as f64
         );
     }

@@ -5,15 +5,7 @@ use quatspline::Quat;
 use std::time::Instant;
 
 fn main() {
-    let n = 1000;
-    let mut q = vec![Quat::new(0.5, 0.5, -0.5, 0.5)];
-    for k in 1..n {
-        let a = 0.3 + 0.05 * (k % 8) as f64;
-        let (s, c) = (0.5 * a).sin_cos();
-        let ax = [(k as f64).sin(), (1.7 * k as f64).cos(), 0.5];
-        let m = (ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]).sqrt();
-        q.push(q[k - 1] * Quat::new(c, s * ax[0] / m, s * ax[1] / m, s * ax[2] / m));
-    }
+    let q = quatspline::testing::profile_keys(1000);
     let t: Vec<f64> = (0..1_000_000).map(|i| i as f64 * 996.0 / 1e6).collect();
     let splines: Vec<Box<dyn Spline>> = vec![
         Box::new(PiecewiseSlerp::new(&q, None, true).unwrap()),

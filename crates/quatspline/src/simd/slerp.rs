@@ -1,5 +1,7 @@
 //! Batch kernels of the slerp family: Squad, the cubic spherical Bézier segments of
-//! Catmull–Rom / Kochanek–Bartels, and the spherical Bézier curve (de Casteljau with slerp).
+//! Catmull–Rom / Kochanek–Bartels, and the spherical Bézier curve (de Casteljau with slerp) of
+//! every degree it takes (up to 65 control points: n(n − 1)/2 slerps per sample, vectorised
+//! across samples, one lane each).
 //!
 //! **Data.** One flat record per segment (a multiple of 4 doubles, so that records can be
 //! transposed 4 at a time): the segment's start time t₀ and length h, then
@@ -30,12 +32,16 @@ const BUILD_CHUNK: usize = 4096;
 use crate::jet::Axis;
 use crate::quat::Quat;
 
-/// The most control points a de Casteljau table takes (a cubic segment has 4; spherical
-/// Bézier curves beyond this keep the jets).
-pub const MAX_POINTS: usize = 16;
+/// The most control points a de Casteljau table takes: a cubic segment has 4, a spherical
+/// Bézier curve up to 65 (`spline::spherical_bezier::MAX_DEGREE` + 1).
+pub const MAX_POINTS: usize = 65;
+/// Up to this many points a record is read into stack arrays and the pyramid has 15 rows of
+/// room (the common shapes); beyond, the records live on the heap (once per call of the
+/// kernel, not per sample) and the pyramid has [`MAX_POINTS`] − 1 rows.
+const SMALL_POINTS: usize = 16;
 /// Fields per control point of a de Casteljau record: cⱼ, (nⱼ, aⱼ), eⱼ, (xⱼ, 0, 0, 0).
 const PER_POINT: usize = 16;
-const MAX_STRIDE: usize = 4 + PER_POINT * (MAX_POINTS - 1);
+const SMALL_STRIDE: usize = 4 + PER_POINT * (SMALL_POINTS - 1);
 const SQUAD_STRIDE: usize = 20;
 /// The series slerp below serves a de Casteljau segment when every angle between consecutive
 /// control points (half the rotation angle, rad) is at most `SERIES_MAX_ANGLE[i]` for a tier
@@ -257,7 +263,7 @@ fn q4<V: Copy>(f: &[V], h: &[V], o: usize) -> Q4<P2<V>> {
 /// pyramid, the first level included (from cⱼ to eⱼ), is [`slerp_series`] with the same
 /// coefficients βₖ(u), βₖ(1 − u) for all of them.
 #[inline(always)]
-fn body<V: Lanes, const SQUAD: bool, const TIER: usize>(
+fn body<V: Lanes, const SQUAD: bool, const TIER: usize, const CAP: usize>(
     f: &[V],
     h: &[V],
     points: usize,
@@ -266,9 +272,9 @@ fn body<V: Lanes, const SQUAD: bool, const TIER: usize>(
     let u = (tv - g(f, h, 0)) / g(f, h, 1);
     if !SQUAD {
         match TIER {
-            1 => return series_pyramid::<V, { SERIES_TERMS[0] }>(f, h, points, u),
-            2 => return series_pyramid::<V, { SERIES_TERMS[1] }>(f, h, points, u),
-            3 => return series_pyramid::<V, { SERIES_TERMS[2] }>(f, h, points, u),
+            1 => return series_pyramid::<V, { SERIES_TERMS[0] }, CAP>(f, h, points, u),
+            2 => return series_pyramid::<V, { SERIES_TERMS[1] }, CAP>(f, h, points, u),
+            3 => return series_pyramid::<V, { SERIES_TERMS[2] }, CAP>(f, h, points, u),
             _ => {}
         }
     }
@@ -280,7 +286,7 @@ fn body<V: Lanes, const SQUAD: bool, const TIER: usize>(
         return slerp(a, b, w);
     }
     let zero = P2::<V>::splat(0.0);
-    let mut b = [[zero; 4]; MAX_POINTS - 1];
+    let mut b = [[zero; 4]; CAP];
     let m = points - 1;
     for (j, bj) in b.iter_mut().enumerate().take(m) {
         let o = 4 + PER_POINT * j;
@@ -298,16 +304,21 @@ fn body<V: Lanes, const SQUAD: bool, const TIER: usize>(
 /// beyond 4 points, Horner's up to 4 (see [`series`]; `points` is a constant in the common
 /// shapes, so the choice folds away).
 #[inline(always)]
-fn series_pyramid<V: Lanes, const K: usize>(f: &[V], h: &[V], points: usize, u: P2<V>) -> Q4<P2<V>> {
+fn series_pyramid<V: Lanes, const K: usize, const CAP: usize>(
+    f: &[V],
+    h: &[V],
+    points: usize,
+    u: P2<V>,
+) -> Q4<P2<V>> {
     if points > 4 {
-        pyramid::<V, K, true>(f, h, points, u)
+        pyramid::<V, K, true, CAP>(f, h, points, u)
     } else {
-        pyramid::<V, K, false>(f, h, points, u)
+        pyramid::<V, K, false, CAP>(f, h, points, u)
     }
 }
 
 #[inline(always)]
-fn pyramid<V: Lanes, const K: usize, const ESTRIN: bool>(
+fn pyramid<V: Lanes, const K: usize, const ESTRIN: bool, const CAP: usize>(
     f: &[V],
     h: &[V],
     points: usize,
@@ -316,7 +327,7 @@ fn pyramid<V: Lanes, const K: usize, const ESTRIN: bool>(
     let one = P2::<V>::splat(1.0);
     let (bw, bv) = (series_coefficients::<_, K>(u), series_coefficients::<_, K>(one - u));
     let zero = P2::<V>::splat(0.0);
-    let mut b = [[zero; 4]; MAX_POINTS - 1];
+    let mut b = [[zero; 4]; CAP];
     let m = points - 1;
     for (j, bj) in b.iter_mut().enumerate().take(m) {
         let o = 4 + PER_POINT * j;
@@ -362,17 +373,17 @@ unsafe fn fetch<V: Lanes>(
 }
 
 #[inline(always)]
-unsafe fn run<V: Lanes, const SQUAD: bool>(
+unsafe fn run<V: Lanes, const SQUAD: bool, const CAP: usize>(
     tab: &SlerpTable,
     points: usize,
     seg: &[u32],
     t: &[f64],
     out: &mut [f64],
+    la: &mut [V],
+    lb: &mut [V],
 ) {
     let n = t.len();
     let stride = tab.stride;
-    let z = V::splat(0.0);
-    let (mut la, mut lb) = ([z; MAX_STRIDE], [z; MAX_STRIDE]);
     let (mut ca, mut cb) = (usize::MAX, usize::MAX);
     let w = 2 * V::N;
     let mut i = 0;
@@ -386,11 +397,11 @@ unsafe fn run<V: Lanes, const SQUAD: bool>(
             tl[l] = t[k];
             idx[l / V::N][l % V::N] = seg[k] as usize * stride;
         }
-        fetch(tab, &idx[0], &mut la, &mut ca);
-        fetch(tab, &idx[1], &mut lb, &mut cb);
+        fetch(tab, &idx[0], la, &mut ca);
+        fetch(tab, &idx[1], lb, &mut cb);
         let tv = P2(V::load(tl.as_ptr()), V::load(tl.as_ptr().add(V::N)));
         let o = if SQUAD {
-            body::<V, true, 0>(&la[..stride], &lb[..stride], points, tv)
+            body::<V, true, 0, CAP>(&la[..stride], &lb[..stride], points, tv)
         } else {
             // each lane's path is chosen by its own record's flag (field 2: 0 general, else
             // 1 + series tier), so that no row depends on its neighbours: a vector mixing
@@ -413,10 +424,10 @@ unsafe fn run<V: Lanes, const SQUAD: bool>(
                     continue;
                 }
                 let r = match k {
-                    1 => body::<V, false, 1>(f, h, points, tv),
-                    2 => body::<V, false, 2>(f, h, points, tv),
-                    3 => body::<V, false, 3>(f, h, points, tv),
-                    _ => body::<V, false, 0>(f, h, points, tv),
+                    1 => body::<V, false, 1, CAP>(f, h, points, tv),
+                    2 => body::<V, false, 2, CAP>(f, h, points, tv),
+                    3 => body::<V, false, 3, CAP>(f, h, points, tv),
+                    _ => body::<V, false, 0, CAP>(f, h, points, tv),
                 };
                 o = Some(match o {
                     None => r,
@@ -446,14 +457,24 @@ unsafe fn run<V: Lanes, const SQUAD: bool>(
     }
 }
 
-/// `run` with the common point counts folded into constants.
+/// `run` with the common point counts folded into constants; records of up to
+/// [`SMALL_POINTS`] points in stack arrays, larger ones in two heap buffers per call (a
+/// spherical Bézier curve is one record, broadcast once per call).
 #[inline(always)]
 unsafe fn shaped<V: Lanes>(tab: &SlerpTable, seg: &[u32], t: &[f64], out: &mut [f64]) {
+    const SMALL: usize = SMALL_POINTS - 1;
+    let z = V::splat(0.0);
+    if tab.stride > SMALL_STRIDE {
+        let (mut la, mut lb) = (vec![z; tab.stride], vec![z; tab.stride]);
+        return run::<V, false, { MAX_POINTS - 1 }>(tab, tab.points, seg, t, out, &mut la, &mut lb);
+    }
+    let (mut la, mut lb) = ([z; SMALL_STRIDE], [z; SMALL_STRIDE]);
+    let (la, lb) = (&mut la[..], &mut lb[..]);
     match (tab.kind, tab.points) {
-        (Kind::Squad, _) => run::<V, true>(tab, 4, seg, t, out),
-        (_, 4) => run::<V, false>(tab, 4, seg, t, out),
-        (_, 8) => run::<V, false>(tab, 8, seg, t, out),
-        (_, p) => run::<V, false>(tab, p, seg, t, out),
+        (Kind::Squad, _) => run::<V, true, SMALL>(tab, 4, seg, t, out, la, lb),
+        (_, 4) => run::<V, false, SMALL>(tab, 4, seg, t, out, la, lb),
+        (_, 8) => run::<V, false, SMALL>(tab, 8, seg, t, out, la, lb),
+        (_, p) => run::<V, false, SMALL>(tab, p, seg, t, out, la, lb),
     }
 }
 

@@ -33,6 +33,15 @@
 //!   of s come from s' = c / v(s) solved in Taylor mode with the inner speed v as a jet in s,
 //!   so the composed derivatives are exact: s'' = −c² v'/v³, s''' = c³ (3v'² − v v'')/v⁵.
 //!
+//! Batch evaluation ([`crate::simd::BatchKernel`]): where the inner spline has batch kernels,
+//! a run of samples is mapped first — t → (inner segment, s(t)), the same numbers as the
+//! per-sample path — and the inner kernel then evaluates the whole run of s at once. Values
+//! (and first derivatives) and ω take this path; the rows equal the per-sample path's to the
+//! inner kernel's own bound. With c the constant speed and ω_in the inner angular velocity at
+//! s, the chain rule gives q'(t) = q_in'(s)·s'(t) and ω(t) = ω_in(s)·s'(t), s'(t) = c/v(s),
+//! v = |ω_in(s)| = 2|q_in'(s)|; for a time stretch s' = 1/λ and the k-th derivative or rate
+//! scales by λ⁻ᵏ. Higher orders of an arc-length map keep the jets.
+//!
 //! Continuity: the same order as the inner spline (v is C^(k−1) where q is C^k, so s is C^k).
 //! Holds — stretches where the inner curve does not move — take no time after arc-length
 //! reparameterisation (a segment of zero length is dropped); at an isolated point where the
@@ -262,6 +271,8 @@ pub struct Reparameterized {
     ranges: Vec<(usize, usize)>,
     length: f64,
     name: &'static str,
+    /// Segment search over `joints` for the batch path.
+    locator: crate::simd::Locator,
 }
 
 impl Reparameterized {
@@ -282,12 +293,13 @@ impl Reparameterized {
         Ok(Reparameterized {
             inner,
             map: TimeMap::Scale { t0: a, s0: a, factor },
-            joints,
             inner_seg: (0..n).collect(),
             table: Vec::new(),
             ranges: Vec::new(),
             length: f64::NAN,
             name: "retimed",
+            locator: crate::simd::Locator::new(&joints),
+            joints,
         })
     }
 
@@ -397,12 +409,13 @@ impl Reparameterized {
         Ok(Reparameterized {
             inner,
             map: TimeMap::ArcLength { t0: a, c },
-            joints,
             inner_seg,
             table,
             ranges,
             length,
             name: "arc_length",
+            locator: crate::simd::Locator::new(&joints),
+            joints,
         })
     }
 
@@ -437,6 +450,45 @@ impl Reparameterized {
         let ps = &self.table[start..end];
         let k = ps.partition_point(|p| p.phi <= target).saturating_sub(1);
         ps[k].eval(target)
+    }
+
+    /// [`Self::invert`] starting from the piece `hint` (an index into the table) of the
+    /// previous sample: for increasing targets a short walk forward replaces the binary
+    /// search. The piece is the same (the last one whose start is ≤ target, else the first),
+    /// so is s.
+    #[inline]
+    fn invert_from(&self, i: usize, target: f64, hint: &mut usize) -> f64 {
+        let (start, end) = self.ranges[i];
+        let mut k = *hint;
+        if !(k >= start && k < end && self.table[k].phi <= target) {
+            k = start + self.table[start..end].partition_point(|p| p.phi <= target).saturating_sub(1);
+        } else {
+            let mut steps = 0;
+            while k + 1 < end && self.table[k + 1].phi <= target {
+                k += 1;
+                steps += 1;
+                if steps == 8 {
+                    k += self.table[k..end].partition_point(|p| p.phi <= target).saturating_sub(1);
+                    break;
+                }
+            }
+        }
+        *hint = k;
+        self.table[k].eval(target)
+    }
+
+    /// The inner segments and parameters of a run of samples on outer segments `seg` (the
+    /// numbers [`Self::segment`] evaluates the inner spline at).
+    fn inner_times(&self, seg: &[u32], t: &[f64], iseg: &mut [u32], s: &mut [f64]) {
+        let mut hint = usize::MAX;
+        for (k, (&o, &tk)) in seg.iter().zip(t).enumerate() {
+            let o = o as usize;
+            iseg[k] = self.inner_seg[o] as u32;
+            s[k] = match self.map {
+                TimeMap::Scale { t0, s0, factor } => s0 + (tk - t0) / factor,
+                TimeMap::ArcLength { t0, c } => self.invert_from(o, c * (tk - t0), &mut hint),
+            };
+        }
     }
 
     #[inline]
@@ -512,6 +564,101 @@ impl Spline for Reparameterized {
     }
     fn continuity(&self) -> u8 {
         self.inner.continuity()
+    }
+    fn batch(&self) -> Option<&dyn crate::simd::BatchKernel> {
+        self.inner.batch().map(|_| self as &dyn crate::simd::BatchKernel)
+    }
+}
+
+/// Samples per block of the batch path (the inner times live on the stack).
+const BLOCK: usize = super::engine::CHUNK;
+
+/// s'(t) = c/v at inner speed `v` (0 where the inner curve stops, as the jet path reports).
+#[inline(always)]
+fn arc_rate(c: f64, v: f64) -> f64 {
+    if v <= 1e-300 || !v.is_finite() {
+        0.0
+    } else {
+        (1.0 / v) * c
+    }
+}
+
+impl crate::simd::BatchKernel for Reparameterized {
+    fn locator(&self) -> &crate::simd::Locator {
+        &self.locator
+    }
+
+    /// Rows q, q', … for a time stretch (q⁽ᵏ⁾ scaled by λ⁻ᵏ), q and q' for arc length; the
+    /// inner kernel evaluates them at the mapped times (module doc).
+    fn evaluate(&self, isa: crate::simd::Isa, seg: &[u32], t: &[f64], order: usize, out: &mut [f64]) -> bool {
+        let Some(k) = self.inner.batch() else { return false };
+        if matches!(self.map, TimeMap::ArcLength { .. }) && order > 1 {
+            return false;
+        }
+        let w = 4 * (order + 1);
+        let (mut iseg, mut s) = ([0u32; BLOCK], [0.0; BLOCK]);
+        for ((sc, tc), oc) in seg.chunks(BLOCK).zip(t.chunks(BLOCK)).zip(out.chunks_mut(BLOCK * w)) {
+            let n = sc.len();
+            self.inner_times(sc, tc, &mut iseg[..n], &mut s[..n]);
+            // the inner kernel covers an order for every sample or for none
+            if !k.evaluate(isa, &iseg[..n], &s[..n], order, oc) {
+                return false;
+            }
+            for row in oc.chunks_exact_mut(w) {
+                let d = match self.map {
+                    TimeMap::Scale { factor, .. } => 1.0 / factor,
+                    TimeMap::ArcLength { c, .. } => {
+                        if order == 0 {
+                            break;
+                        }
+                        let q1 = &row[4..8];
+                        let v = 2.0 * (q1[0] * q1[0] + q1[1] * q1[1] + q1[2] * q1[2] + q1[3] * q1[3]).sqrt();
+                        arc_rate(c, v)
+                    }
+                };
+                let mut f = 1.0;
+                for m in 1..=order {
+                    f *= d;
+                    row[4 * m..4 * m + 4].iter_mut().for_each(|x| *x *= f);
+                }
+            }
+        }
+        true
+    }
+
+    /// ω (arc length and stretch), dω/dt and d²ω/dt² (stretch: scaled by λ⁻²,λ⁻³) from the
+    /// inner kernel's rates at the mapped times (module doc).
+    fn angular(
+        &self,
+        isa: crate::simd::Isa,
+        seg: &[u32],
+        t: &[f64],
+        order: usize,
+        frame: crate::frame::Frame,
+        out: &mut [f64],
+    ) -> bool {
+        let Some(k) = self.inner.batch() else { return false };
+        if matches!(self.map, TimeMap::ArcLength { .. }) && order != 1 {
+            return false;
+        }
+        let (mut iseg, mut s) = ([0u32; BLOCK], [0.0; BLOCK]);
+        for ((sc, tc), oc) in seg.chunks(BLOCK).zip(t.chunks(BLOCK)).zip(out.chunks_mut(BLOCK * 3)) {
+            let n = sc.len();
+            self.inner_times(sc, tc, &mut iseg[..n], &mut s[..n]);
+            if !k.angular(isa, &iseg[..n], &s[..n], order, frame, oc) {
+                return false;
+            }
+            for row in oc.chunks_exact_mut(3) {
+                let f = match self.map {
+                    TimeMap::Scale { factor, .. } => (1.0 / factor).powi(order as i32),
+                    TimeMap::ArcLength { c, .. } => {
+                        arc_rate(c, (row[0] * row[0] + row[1] * row[1] + row[2] * row[2]).sqrt())
+                    }
+                };
+                row.iter_mut().for_each(|x| *x *= f);
+            }
+        }
+        true
     }
 }
 
