@@ -10,6 +10,7 @@ import warnings
 import numpy as np
 import pytest
 import quatspline as qs
+from quatspline.fitting._gyro import WEAK_STD, weak_components
 from quatspline.imu import SensorModel, simulate
 from quatspline.io import ImuData, ImuNoise
 
@@ -58,6 +59,7 @@ def test_recovers_planted_bias_offset_and_rotation(seed):
     # the stated standard deviations are honest to a generous factor
     assert np.all(np.abs(g.bias - bias) < 5 * g.bias_std + 1e-6)
     assert f.gyro_bias is g.bias and f.time_offset == g.time_offset
+    assert g.weak == ()  # a motion exciting every axis
     # and between sparse keys (5 Hz) the curve is closer to the truth than the plain fit's
     # (both are bounded by the keys' own 0.1° noise: measured ratios 0.2 … 0.7)
     ts, qs_ = t[::20], q[::20]
@@ -267,3 +269,36 @@ def test_sensor_standard_deviations_match_monte_carlo():
     # 150 draws: the sample standard deviation is within ±12 % at 2σ, the coverage ±3.6 %
     assert np.all((ratio > 0.7) & (ratio < 1.4)), report
     assert np.all((cover >= 0.88) & (cover <= 0.99)), report
+
+
+def test_parameters_the_motion_does_not_excite_are_named_in_a_warning():
+    # a turn about x alone, sensor aligned: nothing determines the y and z scale factors
+    rng = np.random.default_rng(3)
+    tk = np.arange(0.0, 20.5, 0.5)
+    angle = np.cumsum(rng.normal(0.0, 0.35, tk.size))
+    m = qs.spline("c3", qs.from_rotvec(np.outer(angle, [1.0, 0.0, 0.0])), tk)
+    a, b = m.domain
+    imu = simulate(m, times=np.arange(a + 0.05, b - 0.05, 1 / 200), noise=MEMS, seed=3)
+    sq = np.radians(0.1)
+    t, q = _keys(m, 100.0, sq, rng)
+    with pytest.warns(RuntimeWarning, match=r"determines .*scale_y.* weakly") as rec:
+        f = qs.fit(t, q, gyro=imu, gyro_noise=MEMS, noise_std=sq, estimate=("bias", "scale"))
+    assert {"scale_y", "scale_z"} <= set(f.gyro.weak), f.gyro.weak
+    assert "scale_x" not in f.gyro.weak and not any(w.startswith("bias") for w in f.gyro.weak)
+    assert "scale_x" not in str(rec[-1].message)
+    # the same record, scale held: nothing is weak and nothing is said
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        f = qs.fit(t, q, gyro=imu, gyro_noise=MEMS, noise_std=sq, estimate=("bias",))
+    assert f.gyro.weak == ()
+
+
+def test_weak_components_by_kind():
+    std = {
+        "bias_x": 1.0,  # a bias is never called weak: its size has no natural limit here
+        "rotation_x": 0.5 * WEAK_STD["rotation"],
+        "rotation_y": 2.0 * WEAK_STD["rotation"],
+        "scale_z": math.inf,
+        "time_offset": math.nan,
+    }
+    assert weak_components(tuple(std), std) == ("rotation_y", "scale_z", "time_offset")

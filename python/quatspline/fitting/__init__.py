@@ -6,7 +6,7 @@
 """
 
 from ._gyro import ESTIMATES as GYRO_ESTIMATES
-from ._gyro import GyroEstimate
+from ._gyro import WEAK_STD, GyroEstimate
 from .min_energy import MinimumEnergySpline
 from .smoothing import FittedPose, FittedSpline, fit
 
@@ -16,5 +16,6 @@ __all__ = [
     "FittedSpline",
     "GyroEstimate",
     "MinimumEnergySpline",
+    "WEAK_STD",
     "fit",
 ]

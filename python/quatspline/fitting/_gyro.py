@@ -25,6 +25,27 @@ __all__ = ["ESTIMATES", "GyroEstimate"]
 #: The sensor parameters the gyro-aided fit can estimate.
 ESTIMATES = ("bias", "time_offset", "rotation", "scale")
 DEFAULT_ESTIMATE = ("bias", "time_offset", "rotation")
+#: Standard deviations above which an estimated sensor parameter counts as weakly determined
+#: by the motion (named in a warning by the gyro-aided fit and by ``imu.calibrate``): 1° of
+#: rotation, 1 % of scale or misalignment, 1 ms of time offset.
+WEAK_STD = {
+    "rotation": math.radians(1.0),
+    "scale": 0.01,
+    "misalignment": 0.01,
+    "time_offset": 1e-3,
+}
+
+
+def weak_components(names, std: dict) -> tuple:
+    """The names among ``names`` (``"rotation_x"``, ``"scale_y"``, ``"time_offset"``, …) whose
+    standard deviation in ``std`` exceeds :data:`WEAK_STD` for their kind (or is not finite)."""
+
+    def kind(name: str) -> str:
+        return name if name in WEAK_STD else name.rpartition("_")[0]
+
+    return tuple(
+        n for n in names if kind(n) in WEAK_STD and not std.get(n, 0.0) <= WEAK_STD[kind(n)]
+    )
 
 
 @dataclass(frozen=True)
@@ -65,6 +86,10 @@ class GyroEstimate:
         Measured minus predicted rate at the solution, rad/s, sensor frame.
     rms : numpy.ndarray, shape (3,)
         RMS of ``residuals`` per axis, rad/s.
+    weak : tuple of str
+        Estimated components (names as in ``parameters``) whose standard deviation exceeds
+        :data:`WEAK_STD` (1° of rotation, 1 % of scale, 1 ms of time offset): the motion
+        determines them too loosely for their values to be used; the fit warns naming them.
     """
 
     bias: np.ndarray
@@ -83,6 +108,7 @@ class GyroEstimate:
     times: np.ndarray
     residuals: np.ndarray
     rms: np.ndarray
+    weak: tuple = ()
 
     @classmethod
     def from_result(cls, res: dict, estimated, sigma_g, sigma_q, times) -> GyroEstimate:
@@ -112,6 +138,7 @@ class GyroEstimate:
             times=times,
             residuals=res_g,
             rms=np.sqrt(np.mean(res_g**2, axis=0)) if len(res_g) else np.full(3, np.nan),
+            weak=weak_components(names, std),
         )
 
 

@@ -990,6 +990,14 @@ def _fit_gyro(t, q, gyro, *, estimate, smoothing, penalty, robust, gyro_noise, n
             cb.close()
     out = FittedSpline(res, penalty, kw["extrapolate"], data=None)
     out.gyro = GyroEstimate.from_result(res, names, sigma_g, sigma_q, gt)
+    if out.gyro.weak:
+        warnings.warn(
+            "fit: the motion determines " + ", ".join(out.gyro.weak) + " weakly (standard "
+            "deviations above 1° for rotation, 1 % for scale, 1 ms for the time offset); see "
+            "the fit's gyro.covariance, or hold them (estimate=...)",
+            RuntimeWarning,
+            stacklevel=3,
+        )
     return out
 
 

@@ -52,7 +52,7 @@ import numpy as np
 from .._util.checks import choice, real
 from .._util.optional import need
 from ..core.convert import as_matrix, from_matrix, from_rotvec
-from ..fitting import fit
+from ..fitting import WEAK_STD, fit
 from ..io import ImuData, Trajectory
 from ..plot import save
 
@@ -88,9 +88,6 @@ _SLICES = {
 # A direction of parameter space is unobservable when its scaled singular value is below this
 # fraction of the largest (double precision leaves ~1e-16 on an exactly singular one).
 _NULL_TOL = 1e-8
-# Standard errors above which an estimated component counts as weakly excited (warned, listed
-# in Calibration.weak): the motion determines it too loosely to be of use as a calibration.
-_WEAK = {"rotation": math.radians(1.0), "scale": 0.01, "misalignment": 0.01, "time_offset": 1e-3}
 # A sensor axis is silent when its rate's variance is below this multiple of its residual's.
 _SILENT = 10.0
 # Constants of the robust losses at 95 % efficiency for Gaussian noise (Huber 1964; Holland
@@ -692,7 +689,7 @@ def _result(problem, rot, x, fitted, free, estimate) -> Calibration:
             stacklevel=3,
         )
     weak_set = {
-        i for name, limit in _WEAK.items() for i in range(13)[_SLICES[name]] if se[i] > limit
+        i for name, limit in WEAK_STD.items() for i in range(13)[_SLICES[name]] if se[i] > limit
     }
     # A sensor axis whose measured rate varies less than √10 times what the model leaves
     # unexplained there carries no usable signal: the standard errors assume an exact
