@@ -26,7 +26,11 @@
 //! with its scale from the start's residuals, then from its own — gives σ̂ (median |r| / 1.5382,
 //! then three reweighted truncated mean squares: breakdown point 50 %; at least √tol) and the
 //! start of the loss asked for; beyond the breakdown point (3.06 σ̂ ≥ π) the fit is an error
-//! (`solver.rs`).
+//! (`solver.rs`). Before the pilot, a robust fit drops bursts of glitches longer than the
+//! medoid window by a consensus of runs (`start.rs`, `consensus_mask`): the samples are cut
+//! where consecutive ones jump, the chain of runs holding the most samples is kept and the
+//! other runs get weight 0; a run that the frames it contradicts do not outnumber two to one
+//! is an error naming its time range.
 //! For samples far from the curve (glitches up to a half turn): the data term's matrix is the
 //! Riemannian Hessian of ½ dist² (`so3::dist_hess_sqrt`) rather than J_l⁻¹ᵀJ_l⁻¹, which is 17×
 //! too stiff across a residual of 170° (the same to O(θ²) for noise; the gradient is the same);
