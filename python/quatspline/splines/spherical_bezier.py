@@ -49,9 +49,9 @@ class SphericalBezier(Spline):
     -----
     A sample costs n(n + 1)/2 slerps (de Casteljau), so the cost grows with the square of the
     degree. Values of every degree run on the batch kernel, the slerps of many samples at
-    once: on one core of an AVX-512 CPU about 30 ns per sample at 8 control points, 1 µs
-    near 20 and 7 µs at 65; it cannot fall below the slerp count times one vector slerp
-    (about 1 ns: 2.3 µs at 65 points; ``docs/performance.md``). Derivatives and angular rates
+    once: on one idle core of an AVX-512 CPU about 35 ns per sample at 8 control points,
+    0.35 µs at 32, 1 µs near 56 and 1.4 µs at 65 (0.8 µs on two cores), about 0.7 ns per
+    slerp (``docs/performance.md``). Derivatives and angular rates
     use exact per-sample derivatives and cost more. For many keys use a spline with local
     support (``CumulativeBSpline``).
 

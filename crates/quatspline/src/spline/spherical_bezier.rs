@@ -10,9 +10,9 @@
 //! [`MAX_DEGREE`] (a curve through 400 keys took 149 s for a 3,000-sample comparison). Values
 //! of every degree go through the batch kernel (`crate::simd::slerp`: one lane per sample, the
 //! pyramid of slerps vectorised across samples); its cost is the slerp count times the vector
-//! slerp's, so it grows as n²: on one AVX-512 core about 30 ns per sample at 8 control
-//! points, 1 µs near 20 and 7 µs at 65, never below the count times one vector slerp (about
-//! 1 ns: 2.3 µs at 65 points; `benchmarks/corners.py`). One Bézier curve of high
+//! slerp's, so it grows as n²: on one idle AVX-512 core about 35 ns per sample at 8 control
+//! points, 1 µs near 56 and 1.4 µs at 65, about 0.7 ns per slerp (`benchmarks/corners.py`).
+//! One Bézier curve of high
 //! degree through many keys is not a useful method anyway: it only passes through the end
 //! points and averages the rest away. For many keys use a spline with local support
 //! (`CumulativeBSpline`, registry "bspline") or `CumulativeBezier` (O(n) per sample).
