@@ -14,12 +14,6 @@ import quatspline as qs
 T = np.linspace(0.0, 8.0, 801)
 
 
-def angle(a, b):
-    """Rotation angle between quaternion arrays (sign-invariant)."""
-    r = qs.multiply(qs.conjugate(qs.normalize(a)), qs.normalize(b))
-    return 2 * np.arctan2(np.linalg.norm(r[..., 1:], axis=-1), np.abs(r[..., 0]))
-
-
 def rms(x):
     return float(np.sqrt(np.mean(np.asarray(x) ** 2)))
 
@@ -53,7 +47,7 @@ def noisy(kind, rng, deg=0.3):
 
 
 def error(f, truth):
-    return rms(angle(f(T), truth))
+    return rms(qs.angle_between(f(T), truth))
 
 
 # The robust fits' error over the clean fit's (same frames without glitches), worst of the
@@ -78,7 +72,7 @@ def test_robust_start_on_scattered_glitches(kind, glitches, frac):
         bad = rng.choice(len(T), int(frac * len(T)), replace=False)
         for s in bad:
             q[s] = qs.multiply(q[s], glitch(rng, glitches))
-        far = angle(q[bad], clean[bad]) > np.deg2rad(30)
+        far = qs.angle_between(q[bad], clean[bad]) > np.deg2rad(30)
         ref = error(qs.fit(T, clean), truth)
         for loss in ("huber", "cauchy"):
             f = qs.fit(T, q, robust=loss)
@@ -111,7 +105,7 @@ def near_the_floor(f, q, truth, burst, bound):
     out = np.ones(len(T), bool)
     out[burst] = False
     floor = floor_fit(q, burst)
-    a, b = angle(f(T), truth), angle(floor(T), truth)
+    a, b = qs.angle_between(f(T), truth), qs.angle_between(floor(T), truth)
     return rms(a[out]) <= bound * rms(b[out]) and np.max(a[burst]) < 0.3
 
 
@@ -173,4 +167,4 @@ def test_a_burst_longer_than_its_surroundings_is_followed():
     q[-100:] = qs.multiply(q[-100:], turn)
     f = qs.fit(T, q, robust="cauchy")
     assert np.all(f.robust_weights[:100] < 0.01) and np.all(f.robust_weights[-100:] < 0.01)
-    assert np.median(angle(f(T[100:-100]), truth[100:-100])) < np.deg2rad(0.3)
+    assert np.median(qs.angle_between(f(T[100:-100]), truth[100:-100])) < np.deg2rad(0.3)
